@@ -1,0 +1,1 @@
+"""MJCF models shipped with fsarm-sim (installed as ``fsarm_sim.models``)."""

@@ -1,0 +1,174 @@
+"""The ``fsarm`` command. Thin: parse arguments, call the library, print tables."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
+from fsarm_sim.errors import FsarmError
+
+app = typer.Typer(
+    help="Flexible-shaft arm simulator (MuJoCo). Run scenarios headless and report tracking metrics.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+console = Console()
+err_console = Console(stderr=True)
+
+
+@app.command("scenarios")
+def scenarios_cmd() -> None:
+    """List the registered scenarios."""
+    from fsarm_sim import scenarios
+
+    table = Table(title="fsarm scenarios")
+    for col in ("name", "duration [s]", "payload [kg]", "description"):
+        table.add_column(escape(col))
+    for sc in scenarios.REGISTRY.values():
+        table.add_row(sc.name, f"{sc.duration_s:g}", f"{sc.payload_kg:g}", sc.description)
+    console.print(table)
+
+
+@app.command("shafts")
+def shafts_cmd(
+    shaft_file: Annotated[
+        Path | None, typer.Option(help="coefficient file (TOML); default: built-in catalogue")
+    ] = None,
+) -> None:
+    """List the catalogue's bench shafts with their eq. 3/4 stiffnesses."""
+    from fsarm_sim.shaft import load_catalogue
+
+    cat = load_catalogue(shaft_file)
+    table = Table(title=f"shafts of {cat.source}")
+    for col in (
+        "name",
+        "D [mm]",
+        "L [mm]",
+        "K_sp(0)",
+        "K_sn(0)",
+        "K_sp(90°)",
+        "K_b",
+        "rating [N·m]",
+    ):
+        table.add_column(escape(col), justify="right")
+    for s in cat.shafts:
+        p = cat.shaft(s.diameter_mm, s.length_mm)
+        table.add_row(
+            s.name,
+            f"{s.diameter_mm:g}",
+            f"{s.length_mm:g}",
+            f"{p.k_series(0.0, 1):.2f}",
+            f"{p.k_series(0.0, -1):.2f}",
+            f"{p.k_series(math.pi / 2, 1):.2f}",
+            f"{p.kb:.2f}",
+            f"{p.rating_nm:.2f}",
+        )
+    console.print(table)
+    console.print("stiffness in N·m/rad; all coefficients are documented estimates (see the file)")
+
+
+@app.command("run")
+def run_cmd(
+    scenario: Annotated[str, typer.Argument(help="scenario name (see `fsarm scenarios`)")],
+    diameter_mm: Annotated[float, typer.Option(help="shaft diameter D, mm")] = 9.0,
+    length_mm: Annotated[float, typer.Option(help="shaft length L, mm")] = 450.0,
+    payload_kg: Annotated[
+        float | None, typer.Option(help="payload at the flange, kg (default: the scenario's)")
+    ] = None,
+    duration: Annotated[
+        float | None, typer.Option(help="simulated time, s (default: the scenario's)")
+    ] = None,
+    out: Annotated[Path, typer.Option(help="folder for the time series and its sidecar")] = Path(
+        "runs"
+    ),
+    json_file: Annotated[
+        Path | None, typer.Option("--json", help="write a JSON summary here")
+    ] = None,
+    fmt: Annotated[
+        str, typer.Option("--format", help="time-series format: csv or parquet")
+    ] = "csv",
+    shaft_file: Annotated[
+        Path | None, typer.Option(help="your own shaft coefficient file (TOML)")
+    ] = None,
+    extrapolate: Annotated[
+        bool, typer.Option(help="allow D/L outside the coefficient file's validity range")
+    ] = False,
+    series_hysteresis: Annotated[
+        bool, typer.Option(help="switch on Maxwell-slip series hysteresis")
+    ] = False,
+    integrator: Annotated[
+        str | None, typer.Option(help="Euler, RK4, implicit or implicitfast")
+    ] = None,
+    timestep: Annotated[
+        float | None, typer.Option(help="physics timestep, s (default 0.001)")
+    ] = None,
+    ctrl_dt: Annotated[float, typer.Option(help="control period, s")] = 0.001,
+    log_every: Annotated[int, typer.Option(help="log one row every N control ticks")] = 1,
+    backend: Annotated[
+        str, typer.Option(help="callback path: python (reference) or native")
+    ] = "python",
+) -> None:
+    """Run a scenario headless, print tracking metrics, write its time series."""
+    from fsarm_sim.model import Gains, SimConfig
+    from fsarm_sim.shaft import load_catalogue
+    from fsarm_sim.simulation import run_scenario
+    from fsarm_sim.timeseries import write_summary, write_timeseries
+
+    if backend not in ("python", "native"):
+        raise FsarmError(f"--backend must be 'python' or 'native', got {backend!r}")
+    shaft = load_catalogue(shaft_file).shaft(
+        diameter_mm, length_mm, extrapolate=extrapolate, series_hysteresis=series_hysteresis
+    )
+    cfg = SimConfig(
+        shaft=shaft, gains=Gains(ctrl_dt_s=ctrl_dt), timestep_s=timestep, integrator=integrator
+    )
+    result = run_scenario(
+        scenario,
+        cfg,
+        duration_s=duration,
+        payload_kg=payload_kg,
+        backend=backend,  # type: ignore[arg-type]
+        log_every_ticks=log_every,
+    )
+    m = result.metrics
+    table = Table(
+        title=f"{scenario}: D={diameter_mm:g} mm, L={length_mm:g} mm, payload={result.config.payload_kg:g} kg"
+    )
+    table.add_column("metric")
+    for j in ("q1", "q2", "q3"):
+        table.add_column(j, justify="right")
+    for key, label in (("rmse_deg", r"RMSE \[deg]"), ("max_abs_err_deg", r"max |error| \[deg]")):
+        vals = m[key]
+        assert isinstance(vals, dict)
+        table.add_row(label, *(f"{vals[j]:.4f}" for j in ("q1", "q2", "q3")))
+    console.print(table)
+    for key, label in (
+        ("tau_estimate_rmse_nm", "joint-3 torque estimate error, RMSE [N·m]"),
+        ("tau_estimate_max_abs_err_nm", "joint-3 torque estimate error, max [N·m]"),
+        ("peak_shaft_torque_nm", "peak shaft torque [N·m]"),
+        ("peak_motor_torque_nm", "peak joint-3 motor torque [N·m]"),
+        ("peak_motor_speed_rad_s", "peak joint-3 motor speed [rad/s]"),
+        ("realtime_factor", "real-time factor"),
+    ):
+        console.print(f"{label:<45} {m[key]:.4g}", markup=False)
+    path = write_timeseries(result, out, fmt)
+    console.print(f"time series: {path}  (sidecar {path.with_suffix('.json')})")
+    if json_file is not None:
+        write_summary(result, json_file)
+        console.print(f"summary: {json_file}")
+
+
+def main() -> None:
+    """Entry point: named errors become one red line and exit code 2, never a traceback."""
+    try:
+        app()
+    except FsarmError as exc:
+        err_console.print(f"[bold red]error:[/] {exc}")
+        raise SystemExit(2) from None

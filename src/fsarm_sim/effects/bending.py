@@ -1,0 +1,26 @@
+"""Parallel elasticity of the bent shaft at joint 2 (seed 000 eq. 2, 4, Fig. 9).
+
+The bent shaft pushes the arm back toward upright (phi_B = 0), i.e. it helps lift the gravity load
+("imperfect gravity compensation", about 8 N*m for the 9 mm x 450 mm prototype). Fig. 9 is nearly
+linear and stiffens at large bends:
+
+    M(phi) = K_b (phi + beta phi^3),   K_b from eq. 4,   restoring torque on joint 2 = -M.
+"""
+
+from __future__ import annotations
+
+
+def eq4_stiffness_nm_per_rad(q: tuple[float, ...], diameter_mm: float, length_mm: float) -> float:
+    """Seed 000 eq. 4: K_b(D, L) = q0 + q1 D + q2 L + q3 D^2 + q4 D L."""
+    d, ell = diameter_mm, length_mm
+    return q[0] + q[1] * d + q[2] * ell + q[3] * d * d + q[4] * d * ell
+
+
+def elastic_moment_nm(bend_rad: float, kb: float, beta: float) -> float:
+    """Bending moment M(phi) = K_b (phi + beta phi^3), positive for positive bend."""
+    return kb * (bend_rad + beta * bend_rad**3)
+
+
+def potential_j(bend_rad: float, kb: float, beta: float) -> float:
+    """Energy of the elastic bending moment: K_b (phi^2/2 + beta phi^4/4)."""
+    return kb * (0.5 * bend_rad**2 + 0.25 * beta * bend_rad**4)

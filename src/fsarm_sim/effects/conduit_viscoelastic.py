@@ -1,0 +1,32 @@
+"""Rate-dependent hysteresis of the rubber conduit at joint 2 (seed 000 Fig. 9, Sec. V).
+
+Generalized-Maxwell (Prony) branches in parallel with the elastic bending moment: a spring k_i in
+series with a dashpot whose internal deflection z_i is a continuous state (``data.act``):
+
+    M_i = k_i (phi - z_i),        dz_i/dt = (phi - z_i) / tau_i.
+
+Each branch stores 0.5 k_i (phi - z_i)^2 and dissipates k_i (phi - z_i)^2 / tau_i >= 0, so the
+loop area is positive and depends on the bending rate (it vanishes for slow or static bends).
+"""
+
+from __future__ import annotations
+
+
+def branch_moment_nm(bend_rad: float, z_rad: float, k_branch: float) -> float:
+    """Moment carried by one branch (positive resists positive bend)."""
+    return k_branch * (bend_rad - z_rad)
+
+
+def branch_rate(bend_rad: float, z_rad: float, tau_s: float) -> float:
+    """dz/dt of one branch."""
+    return (bend_rad - z_rad) / tau_s
+
+
+def branch_potential_j(bend_rad: float, z_rad: float, k_branch: float) -> float:
+    """Energy stored in one branch spring."""
+    return 0.5 * k_branch * (bend_rad - z_rad) ** 2
+
+
+def branch_dissipation_w(bend_rad: float, z_rad: float, k_branch: float, tau_s: float) -> float:
+    """Power dissipated in one branch dashpot (never negative)."""
+    return k_branch * (bend_rad - z_rad) ** 2 / tau_s

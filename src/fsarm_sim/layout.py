@@ -1,0 +1,111 @@
+"""Where per-model parameters and per-run states live, so process-global callbacks find them.
+
+MuJoCo callbacks are process-global (toolchain.md). Everything a callback needs therefore travels
+*inside* the model and data it receives:
+
+* ``model.numeric("fsarm_params")`` - parameter vector (layout ``P_*`` below), written at build;
+* ``model.numeric("fsarm_ref")``    - reference table, one row per control tick:
+  ``q_ref[3], qd_ref[3], qdd_ref[3]``;
+* ``data.userdata``                 - discrete controller memory, held outputs and logs (``U_*``);
+* ``data.act``                      - continuous internal states (conduit branches, slip elements),
+  integrated by MuJoCo.
+
+The indices are plain module-level ints so that Numba-compiled kernels can use them as constants.
+"""
+
+from __future__ import annotations
+
+PARAMS_NAME = "fsarm_params"
+REF_NAME = "fsarm_ref"
+MAGIC = 7013.0  # first parameter; marks an fsarm model so callbacks ignore foreign models
+REF_COLS = 9
+
+# --- structure (read from the compiled MJCF, never typed twice) ---
+P_MAGIC = 0
+P_QADR_Q1 = 1
+P_QADR_Q2 = 2
+P_QADR_Q3 = 3
+P_QADR_ROT = 4
+P_DOF_Q1 = 5
+P_DOF_Q2 = 6
+P_DOF_Q3 = 7
+P_DOF_ROT = 8
+P_COEF_M = 9  # theta_m = COEF_M * rotor angle   (1 / i_G1)
+P_COEF_S = 10  # theta_s = COEF_S * q3           (i_G2)
+P_ACT_BR1 = 11
+P_ACT_BR2 = 12
+P_ACT_SLIP1 = 13  # three consecutive slip elements
+P_CTRL_J1 = 14
+P_CTRL_J2 = 15
+P_CTRL_J3 = 16
+P_MADR_Q1 = 17  # index of the diagonal of the joint-space inertia in data.M (CSR)
+P_MADR_Q2 = 18
+P_MADR_Q3 = 19
+# --- shaft (the "true" plant) ---
+P_K_POS = 20
+P_S_POS = 21
+P_K_NEG = 22
+P_S_NEG = 23
+P_B_POS = 24
+P_B_NEG = 25
+P_KB = 26
+P_BETA = 27
+P_BR_K1 = 28
+P_BR_TAU1 = 29
+P_BR_K2 = 30
+P_BR_TAU2 = 31
+P_SLIP_K1 = 32  # three consecutive
+# --- effect switches (1.0 on, 0.0 off) ---
+P_EN_SERIES = 35
+P_EN_BEND = 36
+P_EN_CONDUIT = 37
+P_EN_SLIP = 38
+P_EN_COUPLING = 39
+P_EN_CONTROL = 40
+# --- control ---
+P_CTRL_DT = 41
+P_N_TICKS = 42
+P_WN1 = 43
+P_ZETA1 = 44
+P_WN2 = 45
+P_ZETA2 = 46
+P_WN3 = 47
+P_ZETA3 = 48
+P_TAU_KP = 49  # torque PID: rad/s of shaft-input speed per N*m of torque error
+P_TAU_KI = 50
+P_TAU_KD = 51
+P_SPD_KP = 52  # EPOS-like speed loop, motor side: N*m per rad/s
+P_SPD_KI = 53
+P_OMEGA_MAX = 54  # motor speed limit, rad/s (motor side)
+P_TAU_MOT_MAX = 55  # motor torque (current) limit, N*m (motor side)
+P_TAU1_MAX = 56
+P_TAU2_MAX = 57
+P_CM_K_POS = 58  # the controller's own shaft model (virtual torque sensor, eq. 8)
+P_CM_S_POS = 59
+P_CM_K_NEG = 60
+P_CM_S_NEG = 61
+P_CM_KB = 62
+P_CM_BETA = 63
+P_CM_BEND_COMP = 64  # 1: joint-2 controller adds the modeled elastic bending moment
+P_SPEED_FF = 65  # 1: torque PID adds the measured shaft-output speed as feedforward
+N_PARAMS = 66
+
+# --- data.userdata ---
+U_TICK = 0  # index+1 of the last control tick processed (0: none yet)
+U_MEM = 1  # controller memory: torque-PID integral, previous error, speed-loop integral, init
+U_PRE = 5  # the same memory as it was before the current tick (a tick is re-done from here)
+N_MEM = 4
+U_OUT = 9  # held motor commands: joint 1, joint 2 (joint torque), joint-3 motor (rotor torque)
+U_LOG = 12  # logs of the last control tick
+L_TAU_D_JOINT = 0  # joint-3 desired joint torque, N*m
+L_TAU_D_SHAFT = 1  # desired shaft torque, N*m
+L_TAU_MODEL = 2  # modeled shaft torque tau_m (virtual torque sensor), N*m
+L_OMEGA_D = 3  # desired shaft-input speed omega_d, rad/s
+L_PID_P = 4
+L_PID_I = 5
+L_PID_D = 6
+L_TAU_SHAFT = 7  # true shaft torque (written by the passive callback), N*m
+L_TAU_BEND = 8  # total bending torque on joint 2 (elastic + conduit + coupling), N*m
+L_TAU_CONDUIT = 9  # conduit (visco-elastic) part of it, N*m
+N_LOG = 10
+N_USERDATA = U_LOG + N_LOG

@@ -1,0 +1,343 @@
+"""Build a configured MuJoCo model of the arm: MJCF + shaft + payload + gains + reference.
+
+The MJCF (``models/fsarm/fsarm.xml``) is the one place where geometry, masses, inertias, gear
+ratios and limits are written. This module reads them back by name from the compiled model and
+adds what belongs to one run: the payload mass, the shaft parameters, controller gains and the
+reference table (see :mod:`fsarm_sim.layout` for where each lands).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from importlib import resources
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+from fsarm_sim import callbacks
+from fsarm_sim import layout as L
+from fsarm_sim.errors import InvalidParameterError, ModelStructureError
+from fsarm_sim.shaft import ShaftParams, load_catalogue
+
+PAYLOAD_MAX_KG = 15.0  # seed 000 Table III
+# A payload is a 15-kg-class block bolted to the flange: a cylinder r = 60 mm, h = 100 mm with its
+# centre 50 mm beyond the flange (estimate; gives tau_3 ~ 66 N*m at rated payload with the arm
+# horizontal, close to Table III's 67 N*m).
+PAYLOAD_COM_OFFSET_M = 0.05
+PAYLOAD_RADIUS_M = 0.06
+PAYLOAD_HEIGHT_M = 0.10
+
+
+def model_path(name: str = "fsarm") -> Path:
+    """Path of a packaged MJCF (``fsarm``, ``series_bench``, ``parallel_bench``)."""
+    folder = "fsarm" if name == "fsarm" else "bench"
+    file = "fsarm.xml" if name == "fsarm" else f"{name}.xml"
+    return Path(str(resources.files("fsarm_sim.models").joinpath(folder, file)))
+
+
+@dataclass(frozen=True)
+class Gains:
+    """Controller settings. Defaults were tuned on ``fig14-sine`` (README: Tuning)."""
+
+    ctrl_dt_s: float = 0.001  # 1 kHz (seed 001 ran both loops at 1 kHz)
+    wn_rad_s: tuple[float, float, float] = (20.0, 20.0, 25.0)  # position loops, natural frequency
+    zeta: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    torque_kp: float = 4.0  # rad/s of shaft-input speed per N*m of torque error
+    torque_ki: float = 40.0  # rad/s per N*m*s
+    torque_kd: float = 0.0  # rad/s per N*m/s (off: differentiating the encoder twist is noisy)
+    speed_kp: float = 0.009  # N*m per rad/s, motor side (EPOS-like speed loop)
+    speed_ki: float = 0.3  # N*m per rad
+    speed_ff: bool = (
+        True  # add measured shaft-output speed to omega_d (see controllers/joint3_torque.py)
+    )
+    bend_compensation: bool = True  # joint-2 loop adds the modeled elastic bending moment
+
+    def validate(self) -> None:
+        values = {
+            "ctrl_dt_s": self.ctrl_dt_s,
+            "torque_kp": self.torque_kp,
+            "torque_ki": self.torque_ki,
+            "torque_kd": self.torque_kd,
+            "speed_kp": self.speed_kp,
+            "speed_ki": self.speed_ki,
+            **{f"wn_rad_s[{i}]": v for i, v in enumerate(self.wn_rad_s)},
+            **{f"zeta[{i}]": v for i, v in enumerate(self.zeta)},
+        }
+        for name, v in values.items():
+            if not math.isfinite(v) or v < 0.0:
+                raise InvalidParameterError(f"gain {name} must be a finite number >= 0, got {v!r}")
+        if self.ctrl_dt_s <= 0.0:
+            raise InvalidParameterError(f"ctrl_dt_s must be > 0, got {self.ctrl_dt_s!r}")
+
+
+@dataclass(frozen=True)
+class Effects:
+    """Which shaft effects act on the plant. Slip hysteresis also needs non-zero element stiffness."""
+
+    series: bool = True
+    bending: bool = True
+    conduit: bool = True
+    slip: bool = True
+    coupling: bool = True  # energy-consistency term of eq. 8 on joint 2 (physics.py)
+    control: bool = True
+
+
+@dataclass(frozen=True)
+class SimConfig:
+    """Everything that defines one simulated run except its reference."""
+
+    shaft: ShaftParams = field(default_factory=lambda: load_catalogue().shaft())
+    payload_kg: float = 0.0
+    gains: Gains = field(default_factory=Gains)
+    effects: Effects = field(default_factory=Effects)
+    controller_shaft: ShaftParams | None = None  # the controller's eq. 8 model; None: same as shaft
+    timestep_s: float | None = None  # None: the MJCF's (1 ms)
+    integrator: str | None = None  # "Euler", "RK4", "implicit", "implicitfast"; None: the MJCF's
+    joint_damping: bool = True  # harmonic-drive/hypoid/motor viscous damping of the MJCF
+
+    def with_(self, **changes: object) -> SimConfig:
+        return replace(self, **changes)  # type: ignore[arg-type]
+
+    def validate(self) -> None:
+        if not math.isfinite(self.payload_kg) or not 0.0 <= self.payload_kg <= PAYLOAD_MAX_KG:
+            raise InvalidParameterError(
+                f"payload must be between 0 and {PAYLOAD_MAX_KG:g} kg (seed 000 Table III), got {self.payload_kg!r}"
+            )
+        self.gains.validate()
+        if self.timestep_s is not None and (
+            not math.isfinite(self.timestep_s) or self.timestep_s <= 0.0
+        ):
+            raise InvalidParameterError(f"timestep must be > 0 s, got {self.timestep_s!r}")
+        if self.integrator is not None and self.integrator not in INTEGRATORS:
+            raise InvalidParameterError(
+                f"integrator must be one of {sorted(INTEGRATORS)}, got {self.integrator!r}"
+            )
+
+
+INTEGRATORS = {
+    "Euler": mujoco.mjtIntegrator.mjINT_EULER,
+    "RK4": mujoco.mjtIntegrator.mjINT_RK4,
+    "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
+    "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
+}
+
+
+@dataclass(frozen=True)
+class ArmStructure:
+    """Indices and ratios read from the compiled MJCF."""
+
+    qadr: tuple[int, int, int, int]  # q1, q2, q3, rotor
+    dof: tuple[int, int, int, int]
+    coef_m: float  # 1 / i_G1
+    coef_s: float  # i_G2
+    act_branch: tuple[int, int]
+    act_slip: int
+    ctrl: tuple[int, int, int]
+    madr: tuple[int, int, int]
+    tau_max: tuple[float, float, float]  # j1, j2 joint torque; j3 motor (rotor) torque
+    motor_speed_limit: float
+    twist_tendon: int
+
+    @property
+    def i_g1(self) -> float:
+        return 1.0 / self.coef_m
+
+    @property
+    def i_g2(self) -> float:
+        return self.coef_s
+
+
+def _id(model: mujoco.MjModel, kind: mujoco.mjtObj, name: str) -> int:
+    i = mujoco.mj_name2id(model, kind, name)
+    if i < 0:
+        raise ModelStructureError(
+            f"the MJCF has no {kind.name[6:].lower()} named '{name}', which fsarm-sim needs"
+        )
+    return int(i)
+
+
+def _fixed_tendon(model: mujoco.MjModel, name: str) -> dict[int, float]:
+    t = _id(model, mujoco.mjtObj.mjOBJ_TENDON, name)
+    adr, num = int(model.tendon_adr[t]), int(model.tendon_num[t])
+    out: dict[int, float] = {}
+    for w in range(adr, adr + num):
+        if model.wrap_type[w] != mujoco.mjtWrap.mjWRAP_JOINT:
+            raise ModelStructureError(f"tendon '{name}' must be a fixed tendon of joints")
+        out[int(model.wrap_objid[w])] = float(model.wrap_prm[w])
+    return out
+
+
+def read_structure(model: mujoco.MjModel) -> ArmStructure:
+    """Find joints, gear ratios, states and limits by name; check they are consistent."""
+    J = mujoco.mjtObj.mjOBJ_JOINT
+    joints = [_id(model, J, n) for n in ("q1", "q2", "q3", "j3_rotor")]
+    rotor, q3 = joints[3], joints[2]
+    tm, ts, tw = (
+        _fixed_tendon(model, "theta_m"),
+        _fixed_tendon(model, "theta_s"),
+        _fixed_tendon(model, "shaft_twist"),
+    )
+    if set(tm) != {rotor} or set(ts) != {q3}:
+        raise ModelStructureError("tendon 'theta_m' must use only j3_rotor and 'theta_s' only q3")
+    coef_m, coef_s = tm[rotor], ts[q3]
+    if coef_m <= 0.0 or coef_s <= 0.0:
+        raise ModelStructureError(
+            "gear-ratio coefficients of 'theta_m' and 'theta_s' must be positive"
+        )
+    if set(tw) != {rotor, q3} or abs(tw[rotor] - coef_m) > 1e-12 or abs(tw[q3] + coef_s) > 1e-12:
+        raise ModelStructureError(
+            "tendon 'shaft_twist' must equal theta_m - theta_s (same coefficients)"
+        )
+    A = mujoco.mjtObj.mjOBJ_ACTUATOR
+    br = [_id(model, A, f"conduit_branch{i}") for i in (1, 2)]
+    slips = [_id(model, A, f"shaft_slip{i}") for i in (1, 2, 3)]
+    slip_adr = [int(model.actuator_actadr[a]) for a in slips]
+    if slip_adr != [slip_adr[0], slip_adr[0] + 1, slip_adr[0] + 2]:
+        raise ModelStructureError("the three shaft_slip actuators must be consecutive")
+    motors = [_id(model, A, n) for n in ("j1_motor", "j2_motor", "j3_motor")]
+    tau_max = tuple(
+        float(max(abs(model.actuator_ctrlrange[a, 0]), abs(model.actuator_ctrlrange[a, 1])))
+        for a in motors
+    )
+    speed = model.numeric("j3_motor_speed_limit").data
+    dofs = [int(model.jnt_dofadr[j]) for j in joints]
+    madr = [int(model.M_rowadr[d] + model.M_rownnz[d] - 1) for d in dofs[:3]]
+    return ArmStructure(
+        qadr=tuple(int(model.jnt_qposadr[j]) for j in joints),  # type: ignore[arg-type]
+        dof=tuple(dofs),  # type: ignore[arg-type]
+        coef_m=coef_m,
+        coef_s=coef_s,
+        act_branch=(int(model.actuator_actadr[br[0]]), int(model.actuator_actadr[br[1]])),
+        act_slip=slip_adr[0],
+        ctrl=tuple(motors),  # type: ignore[arg-type]
+        madr=tuple(madr),  # type: ignore[arg-type]
+        tau_max=tau_max,  # type: ignore[arg-type]
+        motor_speed_limit=float(speed[0]),
+        twist_tendon=_id(model, mujoco.mjtObj.mjOBJ_TENDON, "shaft_twist"),
+    )
+
+
+def _spec(
+    config: SimConfig, ref_table: npt.NDArray[np.float64], path: Path | None
+) -> mujoco.MjSpec:
+    spec = mujoco.MjSpec.from_file(str(path or model_path()))
+    if config.payload_kg > 0.0:
+        m, r, h = config.payload_kg, PAYLOAD_RADIUS_M, PAYLOAD_HEIGHT_M
+        body = spec.body("payload")
+        body.mass = m
+        body.ipos = [0.0, 0.0, PAYLOAD_COM_OFFSET_M]
+        body.inertia = [
+            m * (3 * r * r + h * h) / 12.0,
+            m * (3 * r * r + h * h) / 12.0,
+            m * r * r / 2.0,
+        ]
+        body.explicitinertial = True
+    sh = config.shaft
+    for i in range(3):
+        act = spec.actuator(f"shaft_slip{i + 1}")
+        limit = sh.slip_f[i] / sh.slip_k[i] if sh.slip_k[i] > 0.0 else 1e-12
+        act.actlimited = mujoco.mjtLimited.mjLIMITED_TRUE
+        act.actrange = [-limit, limit]
+    spec.add_numeric(name=L.PARAMS_NAME, size=L.N_PARAMS, data=np.zeros(L.N_PARAMS))
+    spec.add_numeric(name=L.REF_NAME, size=ref_table.size, data=ref_table.ravel())
+    spec.nuserdata = L.N_USERDATA
+    return spec
+
+
+def build_model(
+    config: SimConfig, ref_table: npt.NDArray[np.float64], path: Path | None = None
+) -> mujoco.MjModel:
+    """Compile the arm for one run and write its parameters into ``fsarm_params``.
+
+    ``ref_table`` has one row per control tick: ``q_ref[3], qd_ref[3], qdd_ref[3]``.
+    """
+    config.validate()
+    ref = np.ascontiguousarray(ref_table, dtype=np.float64)
+    if ref.ndim != 2 or ref.shape[1] != L.REF_COLS or ref.shape[0] < 1:
+        raise InvalidParameterError(
+            f"reference table must have shape (n_ticks >= 1, {L.REF_COLS}), got {ref.shape}"
+        )
+    if not np.all(np.isfinite(ref)):
+        raise InvalidParameterError("reference table contains NaN or infinite values")
+    with callbacks.suspended():
+        model = _spec(config, ref, path).compile()
+    if config.timestep_s is not None:
+        model.opt.timestep = config.timestep_s
+    if config.integrator is not None:
+        model.opt.integrator = INTEGRATORS[config.integrator]
+    ratio = config.gains.ctrl_dt_s / model.opt.timestep
+    if ratio < 1.0 - 1e-9 or abs(ratio - round(ratio)) > 1e-6:
+        raise InvalidParameterError(
+            f"control period {config.gains.ctrl_dt_s:g} s must be a whole multiple of the physics "
+            f"timestep {model.opt.timestep:g} s"
+        )
+    if not config.joint_damping:
+        model.dof_damping[:] = 0.0
+    st = read_structure(model)
+    model.tendon_armature[st.twist_tendon] = config.shaft.inertia_kgm2  # eq. 1 J as tendon inertia
+    write_params(model, st, config, ref.shape[0])
+    return model
+
+
+def write_params(model: mujoco.MjModel, st: ArmStructure, config: SimConfig, n_ticks: int) -> None:
+    """Fill ``fsarm_params`` (layout.P_*)."""
+    p = model.numeric(L.PARAMS_NAME).data
+    sh, cm_sh, g, fx = (
+        config.shaft,
+        config.controller_shaft or config.shaft,
+        config.gains,
+        config.effects,
+    )
+    on = {True: 1.0, False: 0.0}
+    p[:] = 0.0
+    p[L.P_MAGIC] = L.MAGIC
+    p[L.P_QADR_Q1], p[L.P_QADR_Q2], p[L.P_QADR_Q3], p[L.P_QADR_ROT] = st.qadr
+    p[L.P_DOF_Q1], p[L.P_DOF_Q2], p[L.P_DOF_Q3], p[L.P_DOF_ROT] = st.dof
+    p[L.P_COEF_M], p[L.P_COEF_S] = st.coef_m, st.coef_s
+    p[L.P_ACT_BR1], p[L.P_ACT_BR2] = st.act_branch
+    p[L.P_ACT_SLIP1] = st.act_slip
+    p[L.P_CTRL_J1], p[L.P_CTRL_J2], p[L.P_CTRL_J3] = st.ctrl
+    p[L.P_MADR_Q1], p[L.P_MADR_Q2], p[L.P_MADR_Q3] = st.madr
+    p[L.P_K_POS], p[L.P_S_POS], p[L.P_K_NEG], p[L.P_S_NEG] = sh.k_pos, sh.s_pos, sh.k_neg, sh.s_neg
+    p[L.P_B_POS], p[L.P_B_NEG] = sh.damping_pos, sh.damping_neg
+    p[L.P_KB], p[L.P_BETA] = sh.kb, sh.beta
+    p[L.P_BR_K1], p[L.P_BR_K2] = sh.conduit_k
+    p[L.P_BR_TAU1], p[L.P_BR_TAU2] = sh.conduit_tau
+    p[L.P_SLIP_K1 : L.P_SLIP_K1 + 3] = sh.slip_k
+    p[L.P_EN_SERIES] = on[fx.series]
+    p[L.P_EN_BEND] = on[fx.bending]
+    p[L.P_EN_CONDUIT] = on[fx.conduit]
+    p[L.P_EN_SLIP] = on[fx.slip and any(k > 0.0 for k in sh.slip_k)]
+    p[L.P_EN_COUPLING] = on[fx.coupling]
+    p[L.P_EN_CONTROL] = on[fx.control]
+    p[L.P_CTRL_DT] = g.ctrl_dt_s
+    p[L.P_N_TICKS] = n_ticks
+    p[L.P_WN1], p[L.P_WN2], p[L.P_WN3] = g.wn_rad_s
+    p[L.P_ZETA1], p[L.P_ZETA2], p[L.P_ZETA3] = g.zeta
+    p[L.P_TAU_KP], p[L.P_TAU_KI], p[L.P_TAU_KD] = g.torque_kp, g.torque_ki, g.torque_kd
+    p[L.P_SPD_KP], p[L.P_SPD_KI] = g.speed_kp, g.speed_ki
+    p[L.P_OMEGA_MAX] = st.motor_speed_limit
+    p[L.P_TAU1_MAX], p[L.P_TAU2_MAX], p[L.P_TAU_MOT_MAX] = st.tau_max
+    p[L.P_CM_K_POS], p[L.P_CM_S_POS] = cm_sh.k_pos, cm_sh.s_pos
+    p[L.P_CM_K_NEG], p[L.P_CM_S_NEG] = cm_sh.k_neg, cm_sh.s_neg
+    p[L.P_CM_KB], p[L.P_CM_BETA] = cm_sh.kb, cm_sh.beta
+    p[L.P_CM_BEND_COMP] = on[g.bend_compensation]
+    p[L.P_SPEED_FF] = on[g.speed_ff]
+
+
+def params(model: mujoco.MjModel) -> npt.NDArray[np.float64] | None:
+    """The parameter vector of an fsarm model, or None for any other model."""
+    try:
+        p = model.numeric(L.PARAMS_NAME).data
+    except KeyError:
+        return None
+    if p.size != L.N_PARAMS or p[L.P_MAGIC] != L.MAGIC:
+        return None
+    return p
+
+
+def reference(model: mujoco.MjModel) -> npt.NDArray[np.float64]:
+    return model.numeric(L.REF_NAME).data

@@ -1,0 +1,368 @@
+"""Array kernels the callbacks run: shaft forces, state rates, and the control tick.
+
+Each kernel takes the parameter vector (``layout.P_*``), MuJoCo's state arrays and output arrays;
+no MuJoCo objects, no Python objects. The Python callbacks (:mod:`fsarm_sim.callbacks`) call them
+as they are; the native path compiles the very same functions with Numba.
+
+Where the shaft's reaction torques land: the twist is the fixed tendon
+``theta_m - theta_s = rotor / i_G1 - i_G2 q3``; its torque enters as generalized forces on the
+rotor joint (``-tau / i_G1``) and on q3 (``+i_G2 tau``) and nowhere else. Joint-space forces are
+internal between a joint's parent and child bodies, so the reaction of the motor/gearbox acts on
+link 1 (the rotor's parent) and the reaction of the hypoid acts on link 2 (q3's parent): the
+world sees no torque from the shaft, which ``tests/test_physics.py`` checks through conservation
+of angular momentum about joint 1's axis.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import numpy.typing as npt
+
+from fsarm_sim.controllers.joint3_torque import speed_loop, torque_pid
+from fsarm_sim.controllers.joint_position import clamp, computed_torque
+from fsarm_sim.effects import bending, conduit_viscoelastic, maxwell_slip, series_stiffness
+from fsarm_sim.layout import (
+    L_OMEGA_D,
+    L_PID_D,
+    L_PID_I,
+    L_PID_P,
+    L_TAU_BEND,
+    L_TAU_CONDUIT,
+    L_TAU_D_JOINT,
+    L_TAU_D_SHAFT,
+    L_TAU_MODEL,
+    L_TAU_SHAFT,
+    N_MEM,
+    P_ACT_BR1,
+    P_ACT_BR2,
+    P_ACT_SLIP1,
+    P_B_NEG,
+    P_B_POS,
+    P_BETA,
+    P_BR_K1,
+    P_BR_K2,
+    P_BR_TAU1,
+    P_BR_TAU2,
+    P_CM_BEND_COMP,
+    P_CM_BETA,
+    P_CM_K_NEG,
+    P_CM_K_POS,
+    P_CM_KB,
+    P_CM_S_NEG,
+    P_CM_S_POS,
+    P_COEF_M,
+    P_COEF_S,
+    P_CTRL_DT,
+    P_CTRL_J1,
+    P_CTRL_J2,
+    P_CTRL_J3,
+    P_DOF_Q1,
+    P_DOF_Q2,
+    P_DOF_Q3,
+    P_DOF_ROT,
+    P_EN_BEND,
+    P_EN_CONDUIT,
+    P_EN_CONTROL,
+    P_EN_COUPLING,
+    P_EN_SERIES,
+    P_EN_SLIP,
+    P_K_NEG,
+    P_K_POS,
+    P_KB,
+    P_MADR_Q1,
+    P_MADR_Q2,
+    P_MADR_Q3,
+    P_N_TICKS,
+    P_OMEGA_MAX,
+    P_QADR_Q1,
+    P_QADR_Q2,
+    P_QADR_Q3,
+    P_QADR_ROT,
+    P_S_NEG,
+    P_S_POS,
+    P_SLIP_K1,
+    P_SPD_KI,
+    P_SPD_KP,
+    P_SPEED_FF,
+    P_TAU1_MAX,
+    P_TAU2_MAX,
+    P_TAU_KD,
+    P_TAU_KI,
+    P_TAU_KP,
+    P_TAU_MOT_MAX,
+    P_WN1,
+    P_WN2,
+    P_WN3,
+    P_ZETA1,
+    P_ZETA2,
+    P_ZETA3,
+    REF_COLS,
+    U_LOG,
+    U_MEM,
+    U_OUT,
+    U_PRE,
+    U_TICK,
+)
+
+FloatArray = npt.NDArray[np.float64]
+TICK_TOLERANCE = 1e-6  # fraction of a control period within which a call counts as "on the tick"
+
+
+def twist_and_rate(prm: FloatArray, qpos: FloatArray, qvel: FloatArray) -> tuple[float, float]:
+    """Shaft twist theta_m - theta_s (rad) and its rate (rad/s), from the tendon coefficients."""
+    cm = prm[P_COEF_M]
+    cs = prm[P_COEF_S]
+    twist = cm * qpos[int(prm[P_QADR_ROT])] - cs * qpos[int(prm[P_QADR_Q3])]
+    rate = cm * qvel[int(prm[P_DOF_ROT])] - cs * qvel[int(prm[P_DOF_Q3])]
+    return twist, rate
+
+
+def shaft_torque(prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray) -> float:
+    """True torque carried by the shaft (N*m): eq. 8 + eq. 1 damping + Maxwell-slip elements."""
+    twist, rate = twist_and_rate(prm, qpos, qvel)
+    bend = qpos[int(prm[P_QADR_Q2])]
+    tau = 0.0
+    if prm[P_EN_SERIES] > 0.5:
+        tau += series_stiffness.elastic_torque_nm(
+            twist, bend, prm[P_K_POS], prm[P_S_POS], prm[P_K_NEG], prm[P_S_NEG]
+        )
+        tau += series_stiffness.damping_torque_nm(twist, rate, prm[P_B_POS], prm[P_B_NEG])
+    if prm[P_EN_SLIP] > 0.5:
+        a0 = int(prm[P_ACT_SLIP1])
+        for i in range(3):
+            tau += maxwell_slip.element_torque_nm(act[a0 + i], prm[P_SLIP_K1 + i])
+    return tau
+
+
+def bending_torques(
+    prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray
+) -> tuple[float, float]:
+    """(total, conduit part) of the torque the bent shaft puts on joint 2 (N*m)."""
+    bend = qpos[int(prm[P_QADR_Q2])]
+    total = 0.0
+    conduit = 0.0
+    if prm[P_EN_BEND] > 0.5:
+        total -= bending.elastic_moment_nm(bend, prm[P_KB], prm[P_BETA])
+    if prm[P_EN_CONDUIT] > 0.5:
+        conduit -= conduit_viscoelastic.branch_moment_nm(
+            bend, act[int(prm[P_ACT_BR1])], prm[P_BR_K1]
+        )
+        conduit -= conduit_viscoelastic.branch_moment_nm(
+            bend, act[int(prm[P_ACT_BR2])], prm[P_BR_K2]
+        )
+        total += conduit
+    if prm[P_EN_SERIES] > 0.5 and prm[P_EN_COUPLING] > 0.5:
+        twist, _ = twist_and_rate(prm, qpos, qvel)
+        total += series_stiffness.bend_coupling_torque_nm(twist, bend, prm[P_S_POS], prm[P_S_NEG])
+    return total, conduit
+
+
+def passive_forces(
+    prm: FloatArray,
+    qpos: FloatArray,
+    qvel: FloatArray,
+    act: FloatArray,
+    qfrc: FloatArray,
+    log: FloatArray,
+) -> None:
+    """mjcb_passive body: *add* the shaft's generalized forces to ``qfrc`` (qfrc_passive)."""
+    tau = shaft_torque(prm, qpos, qvel, act)
+    qfrc[int(prm[P_DOF_ROT])] -= prm[P_COEF_M] * tau
+    qfrc[int(prm[P_DOF_Q3])] += prm[P_COEF_S] * tau
+    total, conduit = bending_torques(prm, qpos, qvel, act)
+    qfrc[int(prm[P_DOF_Q2])] += total
+    log[L_TAU_SHAFT] = tau
+    log[L_TAU_BEND] = total
+    log[L_TAU_CONDUIT] = conduit
+
+
+def state_rate(
+    prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray, act_adr: int
+) -> float:
+    """mjcb_act_dyn body: d(act[act_adr])/dt for the internal states."""
+    bend = qpos[int(prm[P_QADR_Q2])]
+    if act_adr == int(prm[P_ACT_BR1]):
+        return conduit_viscoelastic.branch_rate(bend, act[act_adr], prm[P_BR_TAU1])
+    if act_adr == int(prm[P_ACT_BR2]):
+        return conduit_viscoelastic.branch_rate(bend, act[act_adr], prm[P_BR_TAU2])
+    _, rate = twist_and_rate(prm, qpos, qvel)
+    return maxwell_slip.element_rate(rate)
+
+
+def shaft_potential(prm: FloatArray, qpos: FloatArray, act: FloatArray) -> float:
+    """Energy stored in the enabled shaft elements (J), for energy bookkeeping."""
+    cm = prm[P_COEF_M]
+    twist = cm * qpos[int(prm[P_QADR_ROT])] - prm[P_COEF_S] * qpos[int(prm[P_QADR_Q3])]
+    bend = qpos[int(prm[P_QADR_Q2])]
+    v = 0.0
+    if prm[P_EN_SERIES] > 0.5:
+        v += series_stiffness.potential_j(
+            twist, bend, prm[P_K_POS], prm[P_S_POS], prm[P_K_NEG], prm[P_S_NEG]
+        )
+    if prm[P_EN_SLIP] > 0.5:
+        a0 = int(prm[P_ACT_SLIP1])
+        for i in range(3):
+            v += maxwell_slip.element_potential_j(act[a0 + i], prm[P_SLIP_K1 + i])
+    if prm[P_EN_BEND] > 0.5:
+        v += bending.potential_j(bend, prm[P_KB], prm[P_BETA])
+    if prm[P_EN_CONDUIT] > 0.5:
+        v += conduit_viscoelastic.branch_potential_j(bend, act[int(prm[P_ACT_BR1])], prm[P_BR_K1])
+        v += conduit_viscoelastic.branch_potential_j(bend, act[int(prm[P_ACT_BR2])], prm[P_BR_K2])
+    return v
+
+
+def control_tick(
+    prm: FloatArray,
+    ref: FloatArray,
+    k: int,
+    qpos: FloatArray,
+    qvel: FloatArray,
+    bias: FloatArray,
+    mass: FloatArray,
+    mem_in: FloatArray,
+    mem_out: FloatArray,
+    out: FloatArray,
+    log: FloatArray,
+) -> None:
+    """One control tick: joints 1-2 position loops, joint-3 cascade of Fig. 13.
+
+    Reads memory ``mem_in`` (torque-PID integral, previous error, speed-loop integral, init flag),
+    writes ``mem_out``, motor commands ``out`` (joint-1 torque, joint-2 torque, joint-3 rotor torque)
+    and ``log``.
+    """
+    row = min(k, int(prm[P_N_TICKS]) - 1) * REF_COLS
+    dt = prm[P_CTRL_DT]
+    cm = prm[P_COEF_M]
+    cs = prm[P_COEF_S]
+    q2 = qpos[int(prm[P_QADR_Q2])]
+    q3 = qpos[int(prm[P_QADR_Q3])]
+    dof1 = int(prm[P_DOF_Q1])
+    dof2 = int(prm[P_DOF_Q2])
+    dof3 = int(prm[P_DOF_Q3])
+    # joints 1 and 2: computed-torque position loops
+    tau1 = computed_torque(
+        qpos[int(prm[P_QADR_Q1])],
+        qvel[dof1],
+        ref[row],
+        ref[row + 3],
+        ref[row + 6],
+        mass[int(prm[P_MADR_Q1])],
+        bias[dof1],
+        prm[P_WN1],
+        prm[P_ZETA1],
+    )
+    tau2 = computed_torque(
+        q2,
+        qvel[dof2],
+        ref[row + 1],
+        ref[row + 4],
+        ref[row + 7],
+        mass[int(prm[P_MADR_Q2])],
+        bias[dof2],
+        prm[P_WN2],
+        prm[P_ZETA2],
+    )
+    if prm[P_CM_BEND_COMP] > 0.5:
+        tau2 += bending.elastic_moment_nm(q2, prm[P_CM_KB], prm[P_CM_BETA])
+    out[0] = clamp(tau1, prm[P_TAU1_MAX])
+    out[1] = clamp(tau2, prm[P_TAU2_MAX])
+    # joint 3, outer loop: desired joint torque -> desired shaft torque
+    tau_d_joint = computed_torque(
+        q3,
+        qvel[dof3],
+        ref[row + 2],
+        ref[row + 5],
+        ref[row + 8],
+        mass[int(prm[P_MADR_Q3])],
+        bias[dof3],
+        prm[P_WN3],
+        prm[P_ZETA3],
+    )
+    tau_d = tau_d_joint / cs
+    # virtual torque sensor: eq. 8 on the two encoders and the joint-2 encoder
+    theta_m = cm * qpos[int(prm[P_QADR_ROT])]
+    theta_s = cs * q3
+    tau_m = series_stiffness.elastic_torque_nm(
+        theta_m - theta_s, q2, prm[P_CM_K_POS], prm[P_CM_S_POS], prm[P_CM_K_NEG], prm[P_CM_S_NEG]
+    )
+    omega_ff = cs * qvel[dof3] if prm[P_SPEED_FF] > 0.5 else 0.0
+    omega_max_shaft = prm[P_OMEGA_MAX] * cm
+    omega_d, integ, err, p_term, i_term, d_term = torque_pid(
+        tau_d,
+        tau_m,
+        mem_in[0],
+        mem_in[1],
+        mem_in[3],
+        dt,
+        prm[P_TAU_KP],
+        prm[P_TAU_KI],
+        prm[P_TAU_KD],
+        omega_ff,
+        omega_max_shaft,
+    )
+    omega_motor = qvel[int(prm[P_DOF_ROT])]
+    tau_mot, s_integ = speed_loop(
+        omega_d / cm, omega_motor, mem_in[2], dt, prm[P_SPD_KP], prm[P_SPD_KI], prm[P_TAU_MOT_MAX]
+    )
+    out[2] = tau_mot
+    mem_out[0] = integ
+    mem_out[1] = err
+    mem_out[2] = s_integ
+    mem_out[3] = 1.0
+    log[L_TAU_D_JOINT] = tau_d_joint
+    log[L_TAU_D_SHAFT] = tau_d
+    log[L_TAU_MODEL] = tau_m
+    log[L_OMEGA_D] = omega_d
+    log[L_PID_P] = p_term
+    log[L_PID_I] = i_term
+    log[L_PID_D] = d_term
+
+
+def control(
+    prm: FloatArray,
+    ref: FloatArray,
+    time: float,
+    qpos: FloatArray,
+    qvel: FloatArray,
+    bias: FloatArray,
+    mass: FloatArray,
+    userdata: FloatArray,
+    ctrl: FloatArray,
+) -> None:
+    """mjcb_control body: run the controllers on their clock ticks, hold the outputs between.
+
+    A call counts as a tick when ``time`` is within TICK_TOLERANCE of a multiple of the control
+    period. The first call of a new tick snapshots the controller memory; every call on that same
+    tick recomputes from the snapshot. So extra ``mj_forward`` calls, finite differencing that
+    perturbs the state (``mjd_transitionFD`` does not restore ``userdata``) and RK4's stage at
+    t+h are all harmless: the last call before integration - ``mj_step``'s own forward at the
+    start of the step - always has the final word, with the true state. Between ticks (RK4's
+    half-step stages, physics substeps) the held outputs are applied unchanged.
+    """
+    if prm[P_EN_CONTROL] < 0.5:
+        return
+    x = time / prm[P_CTRL_DT]
+    k = int(math.floor(x + 0.5))  # noqa: RUF046  (explicit int for Numba)
+    if abs(x - k) < TICK_TOLERANCE and k >= 0:
+        if userdata[U_TICK] != k + 1.0:
+            for i in range(N_MEM):
+                userdata[U_PRE + i] = userdata[U_MEM + i]
+            userdata[U_TICK] = k + 1.0
+        control_tick(
+            prm,
+            ref,
+            k,
+            qpos,
+            qvel,
+            bias,
+            mass,
+            userdata[U_PRE : U_PRE + N_MEM],
+            userdata[U_MEM : U_MEM + N_MEM],
+            userdata[U_OUT : U_OUT + 3],
+            userdata[U_LOG:],
+        )
+    ctrl[int(prm[P_CTRL_J1])] = userdata[U_OUT]
+    ctrl[int(prm[P_CTRL_J2])] = userdata[U_OUT + 1]
+    ctrl[int(prm[P_CTRL_J3])] = userdata[U_OUT + 2]

@@ -1,0 +1,270 @@
+"""Scenario runner: owns the loop and the clocks, records time series, fails on MuJoCo warnings."""
+
+from __future__ import annotations
+
+import importlib
+import math
+import time as _time
+from dataclasses import dataclass, field
+from typing import Literal
+
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+from fsarm_sim import callbacks, physics, scenarios
+from fsarm_sim import layout as L
+from fsarm_sim.errors import InvalidParameterError, SimulationWarningError
+from fsarm_sim.model import ArmStructure, SimConfig, build_model, read_structure
+
+Array = npt.NDArray[np.float64]
+Backend = Literal["python", "native"]
+MAX_DURATION_S = 3600.0
+WARNING_CHECK_EVERY = 500  # steps
+
+
+@dataclass
+class RunResult:
+    scenario: str
+    config: SimConfig
+    duration_s: float
+    columns: dict[str, Array]
+    metrics: dict[str, float | dict[str, float]] = field(default_factory=dict)
+
+
+def check_duration(duration_s: float) -> float:
+    if (
+        not isinstance(duration_s, int | float)
+        or not math.isfinite(duration_s)
+        or duration_s <= 0.0
+    ):
+        raise InvalidParameterError(
+            f"duration must be a finite number of seconds > 0, got {duration_s!r}"
+        )
+    if duration_s > MAX_DURATION_S:
+        raise InvalidParameterError(
+            f"duration must be at most {MAX_DURATION_S:g} s per run, got {duration_s!r}"
+        )
+    return float(duration_s)
+
+
+def raise_on_warning(data: mujoco.MjData) -> None:
+    """Turn any MuJoCo warning into a SimulationWarningError naming it."""
+    hits = [
+        f"{mujoco.mjtWarning(i).name} (x{int(w.number)}, info {int(w.lastinfo)})"
+        for i, w in enumerate(data.warning)
+        if w.number > 0
+    ]
+    if hits:
+        raise SimulationWarningError(f"MuJoCo warned at t = {data.time:.4f} s: {'; '.join(hits)}")
+
+
+def install_backend(backend: Backend) -> None:
+    if backend == "python":
+        callbacks.install_python()
+    elif backend == "native":
+        try:
+            native = importlib.import_module("fsarm_sim.native")  # compiles on first use
+        except ModuleNotFoundError as exc:
+            raise InvalidParameterError(
+                "the native callback backend is not available in this build"
+            ) from exc
+        native.install()
+    else:
+        raise InvalidParameterError(f"backend must be 'python' or 'native', got {backend!r}")
+
+
+def initial_state(model: mujoco.MjModel, data: mujoco.MjData, st: ArmStructure) -> None:
+    """Start at the reference's first pose in static equilibrium.
+
+    The shaft is pre-twisted to carry joint 3's gravity torque, the conduit branches are relaxed,
+    and the speed-loop integrator already holds the motor torque that twist needs (bumpless start).
+    """
+    prm = model.numeric(L.PARAMS_NAME).data
+    ref = model.numeric(L.REF_NAME).data
+    mujoco.mj_resetData(model, data)
+    for j in range(3):
+        data.qpos[st.qadr[j]] = ref[j]
+    data.qvel[:] = 0.0
+    data.qpos[st.qadr[3]] = data.qpos[st.qadr[2]] * st.coef_s / st.coef_m
+    mujoco.mj_kinematics(model, data)
+    mujoco.mj_comPos(model, data)
+    mujoco.mj_rne(model, data, 0, data.qfrc_bias)  # gravity only (qvel = 0)
+    tau_shaft = float(data.qfrc_bias[st.dof[2]]) / st.coef_s
+    side = 1.0 if tau_shaft >= 0.0 else -1.0
+    bend = data.qpos[st.qadr[1]]
+    k = (
+        (prm[L.P_K_POS] + prm[L.P_S_POS] * abs(bend))
+        if side > 0
+        else (prm[L.P_K_NEG] + prm[L.P_S_NEG] * abs(bend))
+    )
+    if prm[L.P_EN_SERIES] > 0.5 and k > 0.0:
+        data.qpos[st.qadr[3]] = (st.coef_s * data.qpos[st.qadr[2]] + tau_shaft / k) / st.coef_m
+    data.act[st.act_branch[0]] = bend
+    data.act[st.act_branch[1]] = bend
+    if prm[L.P_SPD_KI] > 0.0:
+        data.userdata[L.U_MEM + 2] = st.coef_m * tau_shaft / prm[L.P_SPD_KI]
+    data.userdata[L.U_TICK] = 0.0
+    data.time = 0.0
+
+
+class Simulation:
+    """One configured model and data, stepped with fsarm's callbacks."""
+
+    def __init__(self, config: SimConfig, ref_table: Array, backend: Backend = "python") -> None:
+        self.config = config
+        self.model = build_model(config, ref_table)
+        self.data = mujoco.MjData(self.model)
+        self.structure = read_structure(self.model)
+        self.backend = backend
+        install_backend(backend)
+        initial_state(self.model, self.data, self.structure)
+
+    @property
+    def params(self) -> Array:
+        return self.model.numeric(L.PARAMS_NAME).data
+
+    def step(self, n: int = 1) -> None:
+        mujoco.mj_step(self.model, self.data, nstep=n)
+
+    def run(self, duration_s: float, log_every_ticks: int = 1) -> tuple[dict[str, Array], float]:
+        """Step for ``duration_s``; return recorded columns and the stepping wall time (s)."""
+        duration_s = check_duration(duration_s)
+        if log_every_ticks < 0:
+            raise InvalidParameterError(
+                f"log_every_ticks must be >= 0 (0: no logging), got {log_every_ticks}"
+            )
+        m, d = self.model, self.data
+        steps_per_tick = round(self.config.gains.ctrl_dt_s / m.opt.timestep)
+        n_steps = round(duration_s / m.opt.timestep)
+        stride = steps_per_tick * log_every_ticks if log_every_ticks > 0 else n_steps + 1
+        n_rec = n_steps // stride + 1 if log_every_ticks > 0 else 0
+        t_rec = np.empty(n_rec)
+        qpos_rec = np.empty((n_rec, m.nq))
+        qvel_rec = np.empty((n_rec, m.nv))
+        act_rec = np.empty((n_rec, m.na))
+        ud_rec = np.empty((n_rec, L.N_USERDATA))
+        r = 0
+        start = _time.perf_counter()
+        step = 0
+        while step < n_steps:
+            if r < n_rec and step % stride == 0:
+                t_rec[r] = d.time
+                qpos_rec[r] = d.qpos
+                qvel_rec[r] = d.qvel
+                act_rec[r] = d.act
+                mujoco.mj_step(m, d)
+                ud_rec[r] = d.userdata
+                r += 1
+                step += 1
+                continue
+            chunk = min(WARNING_CHECK_EVERY, n_steps - step)
+            if n_rec:
+                chunk = min(chunk, stride - step % stride)
+            mujoco.mj_step(m, d, nstep=chunk)
+            step += chunk
+            if step % WARNING_CHECK_EVERY < chunk:
+                raise_on_warning(d)
+        wall = _time.perf_counter() - start
+        raise_on_warning(d)
+        cols = self._columns(t_rec[:r], qpos_rec[:r], qvel_rec[:r], act_rec[:r], ud_rec[:r])
+        return cols, wall
+
+    def _columns(
+        self, t: Array, qpos: Array, qvel: Array, act: Array, ud: Array
+    ) -> dict[str, Array]:
+        st, prm = self.structure, self.params
+        ref = self.model.numeric(L.REF_NAME).data.reshape(-1, L.REF_COLS)
+        k = np.minimum(np.rint(t / self.config.gains.ctrl_dt_s).astype(int), ref.shape[0] - 1)
+        tau_shaft = np.array(
+            [physics.shaft_torque(prm, qpos[i], qvel[i], act[i]) for i in range(len(t))]
+        )
+        bend = np.array(
+            [physics.bending_torques(prm, qpos[i], qvel[i], act[i]) for i in range(len(t))]
+        ).reshape(-1, 2)
+        theta_m = st.coef_m * qpos[:, st.qadr[3]]
+        theta_s = st.coef_s * qpos[:, st.qadr[2]]
+        log = ud[:, L.U_LOG :]
+        cols: dict[str, Array] = {"t": t}
+        for j in range(3):
+            cols[f"q{j + 1}"] = qpos[:, st.qadr[j]]
+        for j in range(3):
+            cols[f"q{j + 1}_ref"] = ref[k, j]
+        for j in range(3):
+            cols[f"qd{j + 1}"] = qvel[:, st.dof[j]]
+        for j in range(3):
+            cols[f"qd{j + 1}_ref"] = ref[k, 3 + j]
+        cols.update(
+            theta_m=theta_m,
+            theta_s=theta_s,
+            twist=theta_m - theta_s,
+            phi_b=qpos[:, st.qadr[1]],
+            omega_m=st.coef_m * qvel[:, st.dof[3]],
+            omega_d=log[:, L.L_OMEGA_D],
+            tau_shaft=tau_shaft,
+            tau_model=log[:, L.L_TAU_MODEL],
+            tau_d_shaft=log[:, L.L_TAU_D_SHAFT],
+            tau_d_joint3=log[:, L.L_TAU_D_JOINT],
+            tau_bend=bend[:, 0],
+            tau_conduit=bend[:, 1],
+            pid_p=log[:, L.L_PID_P],
+            pid_i=log[:, L.L_PID_I],
+            pid_d=log[:, L.L_PID_D],
+            tau1=ud[:, L.U_OUT],
+            tau2=ud[:, L.U_OUT + 1],
+            tau_motor=ud[:, L.U_OUT + 2],
+        )
+        return cols
+
+
+def compute_metrics(
+    cols: dict[str, Array], duration_s: float, wall_s: float, st: ArmStructure | None = None
+) -> dict[str, float | dict[str, float]]:
+    """Tracking and torque-estimate metrics of a recorded run."""
+    rmse: dict[str, float] = {}
+    max_err: dict[str, float] = {}
+    for j in (1, 2, 3):
+        e = cols[f"q{j}"] - cols[f"q{j}_ref"]
+        rmse[f"q{j}"] = float(np.sqrt(np.mean(e * e)))
+        max_err[f"q{j}"] = float(np.max(np.abs(e)))
+    te = cols["tau_model"] - cols["tau_shaft"]
+    out: dict[str, float | dict[str, float]] = {
+        "rmse_rad": rmse,
+        "rmse_deg": {k: math.degrees(v) for k, v in rmse.items()},
+        "max_abs_err_rad": max_err,
+        "max_abs_err_deg": {k: math.degrees(v) for k, v in max_err.items()},
+        "tau_estimate_rmse_nm": float(np.sqrt(np.mean(te * te))),
+        "tau_estimate_max_abs_err_nm": float(np.max(np.abs(te))),
+        "peak_motor_torque_nm": float(np.max(np.abs(cols["tau_motor"]))),
+        "peak_motor_speed_rad_s": float(np.max(np.abs(cols["omega_m"])))
+        / (st.coef_m if st else 1.0),
+        "peak_shaft_torque_nm": float(np.max(np.abs(cols["tau_shaft"]))),
+        "peak_twist_rad": float(np.max(np.abs(cols["twist"]))),
+        "peak_tau2_nm": float(np.max(np.abs(cols["tau2"]))),
+        "sim_time_s": duration_s,
+        "wall_time_s": wall_s,
+        "realtime_factor": duration_s / wall_s if wall_s > 0 else float("inf"),
+    }
+    return out
+
+
+def run_scenario(
+    name: str,
+    config: SimConfig | None = None,
+    *,
+    duration_s: float | None = None,
+    payload_kg: float | None = None,
+    backend: Backend = "python",
+    log_every_ticks: int = 1,
+) -> RunResult:
+    """Run a registered scenario headless and compute its metrics."""
+    sc = scenarios.get(name)
+    duration = check_duration(sc.duration_s if duration_s is None else duration_s)
+    cfg = config or SimConfig()
+    cfg = cfg.with_(payload_kg=sc.payload_kg if payload_kg is None else payload_kg)
+    n_ticks = round(duration / cfg.gains.ctrl_dt_s) + 1
+    table = sc.reference(np.arange(n_ticks, dtype=np.float64) * cfg.gains.ctrl_dt_s)
+    sim = Simulation(cfg, table, backend)
+    cols, wall = sim.run(duration, log_every_ticks=max(log_every_ticks, 1))
+    metrics = compute_metrics(cols, duration, wall, sim.structure)
+    return RunResult(scenario=name, config=cfg, duration_s=duration, columns=cols, metrics=metrics)
