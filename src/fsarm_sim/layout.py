@@ -21,6 +21,8 @@ MAGIC = 7013.0  # first parameter; marks an fsarm model so callbacks ignore fore
 REF_COLS = 9
 
 # --- structure (read from the compiled MJCF, never typed twice) ---
+# A qpos/dof index of -1 means "absent" (bench models): its angle and rate read as 0 (for the
+# bend joint: P_BEND_FIXED) and no force is applied to it.
 P_MAGIC = 0
 P_QADR_Q1 = 1
 P_QADR_Q2 = 2
@@ -88,7 +90,13 @@ P_CM_KB = 62
 P_CM_BETA = 63
 P_CM_BEND_COMP = 64  # 1: joint-2 controller adds the modeled elastic bending moment
 P_SPEED_FF = 65  # 1: torque PID adds the measured shaft-output speed as feedforward
-N_PARAMS = 66
+P_BEND_FIXED = 66  # bend angle used when there is no bend joint (P_QADR_Q2 < 0), rad
+P_SETUP = 67  # 0: arm, 1: series bench, 2: parallel bench
+N_PARAMS = 68
+
+SETUP_ARM = 0.0
+SETUP_SERIES_BENCH = 1.0
+SETUP_PARALLEL_BENCH = 2.0
 
 # --- data.userdata ---
 U_TICK = 0  # index+1 of the last control tick processed (0: none yet)

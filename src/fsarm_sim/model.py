@@ -220,9 +220,14 @@ def read_structure(model: mujoco.MjModel) -> ArmStructure:
     )
 
 
-def _spec(
-    config: SimConfig, ref_table: npt.NDArray[np.float64], path: Path | None
+def build_spec(
+    config: SimConfig, ref_table: npt.NDArray[np.float64], path: Path | None = None
 ) -> mujoco.MjSpec:
+    """The MjSpec of one run (payload, state ranges, parameter/reference storage) before compiling.
+
+    ``build_spec(...).to_xml()`` is the exact MJCF of the run: feed it to Pinocchio so both
+    engines read the same numbers.
+    """
     spec = mujoco.MjSpec.from_file(str(path or model_path()))
     if config.payload_kg > 0.0:
         m, r, h = config.payload_kg, PAYLOAD_RADIUS_M, PAYLOAD_HEIGHT_M
@@ -263,7 +268,7 @@ def build_model(
     if not np.all(np.isfinite(ref)):
         raise InvalidParameterError("reference table contains NaN or infinite values")
     with callbacks.suspended():
-        model = _spec(config, ref, path).compile()
+        model = build_spec(config, ref, path).compile()
     if config.timestep_s is not None:
         model.opt.timestep = config.timestep_s
     if config.integrator is not None:
@@ -326,6 +331,7 @@ def write_params(model: mujoco.MjModel, st: ArmStructure, config: SimConfig, n_t
     p[L.P_CM_KB], p[L.P_CM_BETA] = cm_sh.kb, cm_sh.beta
     p[L.P_CM_BEND_COMP] = on[g.bend_compensation]
     p[L.P_SPEED_FF] = on[g.speed_ff]
+    p[L.P_SETUP] = L.SETUP_ARM
 
 
 def params(model: mujoco.MjModel) -> npt.NDArray[np.float64] | None:

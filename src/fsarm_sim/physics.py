@@ -40,6 +40,7 @@ from fsarm_sim.layout import (
     P_ACT_SLIP1,
     P_B_NEG,
     P_B_POS,
+    P_BEND_FIXED,
     P_BETA,
     P_BR_K1,
     P_BR_K2,
@@ -110,19 +111,38 @@ FloatArray = npt.NDArray[np.float64]
 TICK_TOLERANCE = 1e-6  # fraction of a control period within which a call counts as "on the tick"
 
 
+def coord(x: FloatArray, index: float) -> float:
+    """x[index], or 0 for an absent joint (index -1)."""
+    i = int(index)
+    return x[i] if i >= 0 else 0.0
+
+
+def bend_angle(prm: FloatArray, qpos: FloatArray) -> float:
+    """phi_B: the joint-2 angle on the arm, the held bend angle on a series bench."""
+    i = int(prm[P_QADR_Q2])
+    return qpos[i] if i >= 0 else prm[P_BEND_FIXED]
+
+
+def add_force(qfrc: FloatArray, index: float, value: float) -> None:
+    """qfrc[index] += value, unless the joint is absent."""
+    i = int(index)
+    if i >= 0:
+        qfrc[i] += value
+
+
 def twist_and_rate(prm: FloatArray, qpos: FloatArray, qvel: FloatArray) -> tuple[float, float]:
     """Shaft twist theta_m - theta_s (rad) and its rate (rad/s), from the tendon coefficients."""
     cm = prm[P_COEF_M]
     cs = prm[P_COEF_S]
-    twist = cm * qpos[int(prm[P_QADR_ROT])] - cs * qpos[int(prm[P_QADR_Q3])]
-    rate = cm * qvel[int(prm[P_DOF_ROT])] - cs * qvel[int(prm[P_DOF_Q3])]
+    twist = cm * coord(qpos, prm[P_QADR_ROT]) - cs * coord(qpos, prm[P_QADR_Q3])
+    rate = cm * coord(qvel, prm[P_DOF_ROT]) - cs * coord(qvel, prm[P_DOF_Q3])
     return twist, rate
 
 
 def shaft_torque(prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray) -> float:
     """True torque carried by the shaft (N*m): eq. 8 + eq. 1 damping + Maxwell-slip elements."""
     twist, rate = twist_and_rate(prm, qpos, qvel)
-    bend = qpos[int(prm[P_QADR_Q2])]
+    bend = bend_angle(prm, qpos)
     tau = 0.0
     if prm[P_EN_SERIES] > 0.5:
         tau += series_stiffness.elastic_torque_nm(
@@ -140,7 +160,7 @@ def bending_torques(
     prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray
 ) -> tuple[float, float]:
     """(total, conduit part) of the torque the bent shaft puts on joint 2 (N*m)."""
-    bend = qpos[int(prm[P_QADR_Q2])]
+    bend = bend_angle(prm, qpos)
     total = 0.0
     conduit = 0.0
     if prm[P_EN_BEND] > 0.5:
@@ -169,10 +189,10 @@ def passive_forces(
 ) -> None:
     """mjcb_passive body: *add* the shaft's generalized forces to ``qfrc`` (qfrc_passive)."""
     tau = shaft_torque(prm, qpos, qvel, act)
-    qfrc[int(prm[P_DOF_ROT])] -= prm[P_COEF_M] * tau
-    qfrc[int(prm[P_DOF_Q3])] += prm[P_COEF_S] * tau
+    add_force(qfrc, prm[P_DOF_ROT], -prm[P_COEF_M] * tau)
+    add_force(qfrc, prm[P_DOF_Q3], prm[P_COEF_S] * tau)
     total, conduit = bending_torques(prm, qpos, qvel, act)
-    qfrc[int(prm[P_DOF_Q2])] += total
+    add_force(qfrc, prm[P_DOF_Q2], total)
     log[L_TAU_SHAFT] = tau
     log[L_TAU_BEND] = total
     log[L_TAU_CONDUIT] = conduit
@@ -182,7 +202,7 @@ def state_rate(
     prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray, act_adr: int
 ) -> float:
     """mjcb_act_dyn body: d(act[act_adr])/dt for the internal states."""
-    bend = qpos[int(prm[P_QADR_Q2])]
+    bend = bend_angle(prm, qpos)
     if act_adr == int(prm[P_ACT_BR1]):
         return conduit_viscoelastic.branch_rate(bend, act[act_adr], prm[P_BR_TAU1])
     if act_adr == int(prm[P_ACT_BR2]):
@@ -193,9 +213,8 @@ def state_rate(
 
 def shaft_potential(prm: FloatArray, qpos: FloatArray, act: FloatArray) -> float:
     """Energy stored in the enabled shaft elements (J), for energy bookkeeping."""
-    cm = prm[P_COEF_M]
-    twist = cm * qpos[int(prm[P_QADR_ROT])] - prm[P_COEF_S] * qpos[int(prm[P_QADR_Q3])]
-    bend = qpos[int(prm[P_QADR_Q2])]
+    twist, _ = twist_and_rate(prm, qpos, qpos)
+    bend = bend_angle(prm, qpos)
     v = 0.0
     if prm[P_EN_SERIES] > 0.5:
         v += series_stiffness.potential_j(
