@@ -165,6 +165,13 @@ def run_cmd(
         console.print(f"summary: {json_file}")
 
 
+def _register_extensions() -> None:
+    """Commands defined in their own modules (one line each)."""
+
+
+_register_extensions()
+
+
 def main() -> None:
     """Entry point: named errors become one red line and exit code 2, never a traceback."""
     try:
