@@ -14,14 +14,16 @@ path installs compiled versions of the same :mod:`fsarm_sim.physics` kernels.
 from __future__ import annotations
 
 import contextlib
+import importlib
 import weakref
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from typing import Any
 
 import mujoco
 
 from fsarm_sim import layout as L
 from fsarm_sim import physics
+from fsarm_sim.errors import InvalidParameterError
 
 _Cache = tuple[int, int, int, int] | None  # params start/end, ref start/end
 _cache: weakref.WeakKeyDictionary[Any, _Cache] = weakref.WeakKeyDictionary()
@@ -108,19 +110,26 @@ def suspended() -> Iterator[None]:
         mujoco.set_mjcb_control(saved[2])
 
 
+def _set_python() -> None:
+    mujoco.set_mjcb_passive(_passive)
+    mujoco.set_mjcb_act_dyn(_act_dyn)
+    mujoco.set_mjcb_control(_control)
+
+
 def install_python() -> None:
-    """Install the Python reference callbacks (idempotent)."""
+    """Install the Python reference callbacks process-wide (idempotent).
+
+    Caveat (mujoco 3.17 Python bindings): while *any* Python callback is installed, compiling a
+    model in the same process fails with "engine error: Python exception raised", because the
+    compiler runs the callbacks on a model that has no Python object yet. Prefer :func:`active`,
+    which installs them only while stepping, or compile inside :func:`suspended`.
+    """
     global _installed
-    setters: dict[str, tuple[Callable[[Any], None], Callable[[], Any], Any]] = {
-        "passive": (mujoco.set_mjcb_passive, mujoco.get_mjcb_passive, _passive),
-        "act_dyn": (mujoco.set_mjcb_act_dyn, mujoco.get_mjcb_act_dyn, _act_dyn),
-        "control": (mujoco.set_mjcb_control, mujoco.get_mjcb_control, _control),
-    }
-    for name, (setter, getter, fn) in setters.items():
-        current = getter()
-        if current is not fn and not _installed:
-            _previous[name] = current
-        setter(fn)
+    if not _installed:
+        _previous["passive"] = mujoco.get_mjcb_passive()
+        _previous["act_dyn"] = mujoco.get_mjcb_act_dyn()
+        _previous["control"] = mujoco.get_mjcb_control()
+    _set_python()
     _installed = True
 
 
@@ -132,3 +141,24 @@ def uninstall() -> None:
     mujoco.set_mjcb_control(_previous.get("control"))
     _previous.clear()
     _installed = False
+
+
+@contextlib.contextmanager
+def active(backend: str = "python") -> Iterator[None]:
+    """fsarm's callbacks inside the block (``python`` or ``native``), the previous ones after it.
+
+    Other models stepped inside the block are passed on untouched (see module docstring).
+    """
+    saved = (mujoco.get_mjcb_passive(), mujoco.get_mjcb_act_dyn(), mujoco.get_mjcb_control())
+    if backend == "python":
+        _set_python()
+    elif backend == "native":
+        importlib.import_module("fsarm_sim.native").install()
+    else:
+        raise InvalidParameterError(f"backend must be 'python' or 'native', got {backend!r}")
+    try:
+        yield
+    finally:
+        mujoco.set_mjcb_passive(saved[0])
+        mujoco.set_mjcb_act_dyn(saved[1])
+        mujoco.set_mjcb_control(saved[2])

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import importlib
 import math
 import time as _time
 from dataclasses import dataclass, field
@@ -59,21 +58,6 @@ def raise_on_warning(data: mujoco.MjData) -> None:
         raise SimulationWarningError(f"MuJoCo warned at t = {data.time:.4f} s: {'; '.join(hits)}")
 
 
-def install_backend(backend: Backend) -> None:
-    if backend == "python":
-        callbacks.install_python()
-    elif backend == "native":
-        try:
-            native = importlib.import_module("fsarm_sim.native")  # compiles on first use
-        except ModuleNotFoundError as exc:
-            raise InvalidParameterError(
-                "the native callback backend is not available in this build"
-            ) from exc
-        native.install()
-    else:
-        raise InvalidParameterError(f"backend must be 'python' or 'native', got {backend!r}")
-
-
 def initial_state(model: mujoco.MjModel, data: mujoco.MjData, st: ArmStructure) -> None:
     """Start at the reference's first pose in static equilibrium.
 
@@ -116,8 +100,9 @@ class Simulation:
         self.model = build_model(config, ref_table)
         self.data = mujoco.MjData(self.model)
         self.structure = read_structure(self.model)
-        self.backend = backend
-        install_backend(backend)
+        if backend not in ("python", "native"):
+            raise InvalidParameterError(f"backend must be 'python' or 'native', got {backend!r}")
+        self.backend: Backend = backend
         initial_state(self.model, self.data, self.structure)
 
     @property
@@ -125,7 +110,9 @@ class Simulation:
         return self.model.numeric(L.PARAMS_NAME).data
 
     def step(self, n: int = 1) -> None:
-        mujoco.mj_step(self.model, self.data, nstep=n)
+        """``n`` physics steps with fsarm's callbacks active."""
+        with callbacks.active(self.backend):
+            mujoco.mj_step(self.model, self.data, nstep=n)
 
     def run(self, duration_s: float, log_every_ticks: int = 1) -> tuple[dict[str, Array], float]:
         """Step for ``duration_s``; return recorded columns and the stepping wall time (s)."""
@@ -144,8 +131,30 @@ class Simulation:
         qvel_rec = np.empty((n_rec, m.nv))
         act_rec = np.empty((n_rec, m.na))
         ud_rec = np.empty((n_rec, L.N_USERDATA))
+        with callbacks.active(self.backend):
+            start = _time.perf_counter()
+            r = self._loop(n_steps, n_rec, stride, t_rec, qpos_rec, qvel_rec, act_rec, ud_rec)
+            wall = _time.perf_counter() - start
+        raise_on_warning(d)
+        cols = self._columns(t_rec[:r], qpos_rec[:r], qvel_rec[:r], act_rec[:r], ud_rec[:r])
+        return cols, wall
+
+    def _loop(
+        self,
+        n_steps: int,
+        n_rec: int,
+        stride: int,
+        t_rec: Array,
+        qpos_rec: Array,
+        qvel_rec: Array,
+        act_rec: Array,
+        ud_rec: Array,
+    ) -> int:
+        """Step ``n_steps``, recording a row every ``stride`` steps; check warnings as it goes.
+
+        Returns the number of rows recorded."""
+        m, d = self.model, self.data
         r = 0
-        start = _time.perf_counter()
         step = 0
         while step < n_steps:
             if r < n_rec and step % stride == 0:
@@ -165,10 +174,7 @@ class Simulation:
             step += chunk
             if step % WARNING_CHECK_EVERY < chunk:
                 raise_on_warning(d)
-        wall = _time.perf_counter() - start
-        raise_on_warning(d)
-        cols = self._columns(t_rec[:r], qpos_rec[:r], qvel_rec[:r], act_rec[:r], ud_rec[:r])
-        return cols, wall
+        return r
 
     def _columns(
         self, t: Array, qpos: Array, qvel: Array, act: Array, ud: Array

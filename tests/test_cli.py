@@ -1,0 +1,111 @@
+"""The fsarm command: thin, and bad input is one named line with exit code 2."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from fsarm_sim import cli
+
+
+def _fsarm(monkeypatch: pytest.MonkeyPatch, *args: str) -> int:
+    monkeypatch.setattr(sys, "argv", ["fsarm", *args])
+    try:
+        cli.main()
+    except SystemExit as exc:
+        return int(exc.code or 0)
+    return 0
+
+
+def test_scenarios_lists_registry(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert _fsarm(monkeypatch, "scenarios") == 0
+    out = capsys.readouterr().out
+    assert "fig14-sine" in out and "p2p-payload" in out
+
+
+def test_run_writes_timeseries_and_summary(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    summary = tmp_path / "s.json"
+    code = _fsarm(
+        monkeypatch,
+        "run",
+        "fig14-sine",
+        "--duration",
+        "0.5",
+        "--out",
+        str(tmp_path),
+        "--json",
+        str(summary),
+    )
+    assert code == 0
+    data = json.loads(summary.read_text())
+    assert set(data["rmse_rad"]) == {"q1", "q2", "q3"}
+    assert data["realtime_factor"] > 0
+    table = pd.read_csv(tmp_path / "fig14-sine.csv")
+    assert {"t", "q1", "q2", "q3", "q3_ref", "theta_m", "theta_s", "tau_shaft", "tau_model"} <= set(
+        table.columns
+    )
+    sidecar = json.loads((tmp_path / "fig14-sine.json").read_text())
+    assert sidecar["setup"] == "arm"
+    assert sidecar["shaft"] == {"diameter_mm": 9.0, "length_mm": 450.0}
+
+
+def test_run_parquet(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    assert (
+        _fsarm(
+            monkeypatch,
+            "run",
+            "step-q3",
+            "--duration",
+            "0.2",
+            "--out",
+            str(tmp_path),
+            "--format",
+            "parquet",
+        )
+        == 0
+    )
+    assert len(pd.read_parquet(tmp_path / "step-q3.parquet")) == 200
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["run", "nope"], "unknown scenario"),
+        (["run", "fig14-sine", "--duration", "nan"], "duration"),
+        (["run", "fig14-sine", "--duration", "-2"], "duration"),
+        (["run", "fig14-sine", "--diameter-mm", "20"], "validity range"),
+        (["run", "fig14-sine", "--length-mm", "100"], "validity range"),
+        (["run", "fig14-sine", "--shaft-file", "/no/such.toml"], "not found"),
+        (["run", "fig14-sine", "--payload-kg", "40"], "payload"),
+        (["run", "fig14-sine", "--format", "xlsx"], "format"),
+    ],
+)
+def test_bad_input_is_a_named_error(
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    tmp_path: Path,
+    args: list[str],
+    message: str,
+) -> None:
+    assert _fsarm(monkeypatch, *args, "--out", str(tmp_path)) == 2 if args[0] == "run" else True
+    err = capsys.readouterr().err
+    assert "error:" in err and message in err
+    assert "Traceback" not in err
+
+
+def test_malformed_coefficient_file(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[series]\n")
+    assert (
+        _fsarm(monkeypatch, "run", "fig14-sine", "--shaft-file", str(bad), "--out", str(tmp_path))
+        == 2
+    )
+    assert "missing key" in capsys.readouterr().err
