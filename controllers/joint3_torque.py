@@ -4,6 +4,12 @@
     omega_d = omega_ff + PID(tau_d - tau_m)              (desired shaft-input speed)
     tau_mot = sat(PI(i_G1 omega_d - omega_motor))        (EPOS-like speed loop, current limit)
 
+Gain scheduling: with an ideal speed loop the torque obeys d(tau)/dt = K (omega_d - omega_ff), so a
+proportional gain kp gives a torque-loop bandwidth of K kp. The gains are therefore set from a
+desired bandwidth and the controller's own eq. 8 stiffness K(phi_B, side) - the same model the
+virtual sensor uses - so the loop keeps its bandwidth when the bend angle or the shaft changes
+(seed 000 notes fixed gains "needed retuning").
+
 ``omega_ff`` is the measured shaft-output speed (i_G2 * dq3/dt): the input must turn that fast
 just to keep the twist - and so the torque - constant. It is an addition to Fig. 13 (switchable,
 ``speed_ff``) that removes the load motion from the torque loop; with it off the loop is the
@@ -13,6 +19,17 @@ paper's pure PID. Integrators use conditional integration (no windup while satur
 from __future__ import annotations
 
 from fsarm_sim.controllers.joint_position import clamp
+
+
+def scheduled_gains(
+    bandwidth_rad_s: float, integral_rad_s: float, derivative: float, stiffness_nm_per_rad: float
+) -> tuple[float, float, float]:
+    """(kp, ki, kd) of the torque PID for a loop bandwidth on a shaft of the given stiffness.
+
+    kp = w_t / K  [rad/s per N*m],  ki = w_t w_i / K,  kd = d / K  (d dimensionless).
+    """
+    k = max(stiffness_nm_per_rad, 1e-9)
+    return bandwidth_rad_s / k, bandwidth_rad_s * integral_rad_s / k, derivative / k
 
 
 def torque_pid(

@@ -45,3 +45,13 @@ def test_speed_loop_limits_and_antiwindup() -> None:
     assert integ == 0.2
     tau, integ = speed_loop(10.0, 9.0, 0.0, 0.001, 0.009, 0.3, 1.0)
     assert tau == pytest.approx(0.009 * 1.0 + 0.3 * 0.001)
+
+
+def test_scheduled_gains_keep_the_bandwidth() -> None:
+    from fsarm_sim.controllers.joint3_torque import scheduled_gains
+
+    for k in (1.0, 15.0, 45.0):
+        kp, ki, kd = scheduled_gains(60.0, 10.0, 0.0, k)
+        assert kp * k == pytest.approx(60.0)  # bandwidth K kp is independent of the shaft
+        assert ki * k == pytest.approx(600.0)
+        assert kd == 0.0

@@ -59,11 +59,11 @@ def test_payload_is_applied_and_limited() -> None:
 
 
 def test_parameters_reach_the_model() -> None:
-    cfg = SimConfig(gains=Gains(torque_kp=7.0))
+    cfg = SimConfig(gains=Gains(torque_bandwidth_rad_s=70.0))
     m = build_model(cfg, hold_table(0.1, 0.2, 0.3, n=5))
     p = m.numeric(L.PARAMS_NAME).data
     assert p[L.P_MAGIC] == L.MAGIC
-    assert p[L.P_TAU_KP] == 7.0
+    assert p[L.P_TAU_BW] == 70.0
     assert p[L.P_K_POS] == pytest.approx(cfg.shaft.k_pos)
     assert p[L.P_N_TICKS] == 5
     assert m.nuserdata == L.N_USERDATA
@@ -73,7 +73,7 @@ def test_parameters_reach_the_model() -> None:
     ("cfg", "match"),
     [
         (SimConfig(gains=Gains(ctrl_dt_s=0.0015)), "whole multiple"),
-        (SimConfig(gains=Gains(torque_kp=math.nan)), "torque_kp"),
+        (SimConfig(gains=Gains(torque_bandwidth_rad_s=math.nan)), "torque_bandwidth"),
         (SimConfig(gains=Gains(ctrl_dt_s=0.0)), "ctrl_dt_s"),
         (SimConfig(timestep_s=-1.0), "timestep"),
         (SimConfig(integrator="Verlet"), "integrator"),

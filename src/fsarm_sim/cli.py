@@ -158,6 +158,12 @@ def run_cmd(
         ("realtime_factor", "real-time factor"),
     ):
         console.print(f"{label:<45} {m[key]:.4g}", markup=False)
+    over = m["peak_shaft_torque_over_rating"]
+    if isinstance(over, float) and over > 1.0:
+        err_console.print(
+            f"[bold yellow]warning:[/] peak shaft torque is {over:.1f}x the shaft's nominal rating "
+            f"({shaft.rating_nm:.2f} N·m for D = {diameter_mm:g} mm): choose a thicker shaft"
+        )
     path = write_timeseries(result, out, fmt)
     console.print(f"time series: {path}  (sidecar {path.with_suffix('.json')})")
     if json_file is not None:

@@ -45,9 +45,11 @@ class Gains:
     ctrl_dt_s: float = 0.001  # 1 kHz (seed 001 ran both loops at 1 kHz)
     wn_rad_s: tuple[float, float, float] = (20.0, 20.0, 25.0)  # position loops, natural frequency
     zeta: tuple[float, float, float] = (1.0, 1.0, 1.0)
-    torque_kp: float = 4.0  # rad/s of shaft-input speed per N*m of torque error
-    torque_ki: float = 40.0  # rad/s per N*m*s
-    torque_kd: float = 0.0  # rad/s per N*m/s (off: differentiating the encoder twist is noisy)
+    # torque PID (Fig. 13), scheduled on the controller's eq. 8 stiffness K(phi_B, side):
+    # kp = w_t / K, ki = w_t w_i / K, kd = d / K  (controllers/joint3_torque.py)
+    torque_bandwidth_rad_s: float = 60.0  # w_t: well below the speed loop's ~300 rad/s
+    torque_integral_rad_s: float = 10.0  # w_i
+    torque_derivative: float = 0.0  # d (off: differentiating the encoder twist is noisy)
     speed_kp: float = 0.009  # N*m per rad/s, motor side (EPOS-like speed loop)
     speed_ki: float = 0.3  # N*m per rad
     speed_ff: bool = (
@@ -58,9 +60,9 @@ class Gains:
     def validate(self) -> None:
         values = {
             "ctrl_dt_s": self.ctrl_dt_s,
-            "torque_kp": self.torque_kp,
-            "torque_ki": self.torque_ki,
-            "torque_kd": self.torque_kd,
+            "torque_bandwidth_rad_s": self.torque_bandwidth_rad_s,
+            "torque_integral_rad_s": self.torque_integral_rad_s,
+            "torque_derivative": self.torque_derivative,
             "speed_kp": self.speed_kp,
             "speed_ki": self.speed_ki,
             **{f"wn_rad_s[{i}]": v for i, v in enumerate(self.wn_rad_s)},
@@ -322,7 +324,8 @@ def write_params(model: mujoco.MjModel, st: ArmStructure, config: SimConfig, n_t
     p[L.P_N_TICKS] = n_ticks
     p[L.P_WN1], p[L.P_WN2], p[L.P_WN3] = g.wn_rad_s
     p[L.P_ZETA1], p[L.P_ZETA2], p[L.P_ZETA3] = g.zeta
-    p[L.P_TAU_KP], p[L.P_TAU_KI], p[L.P_TAU_KD] = g.torque_kp, g.torque_ki, g.torque_kd
+    p[L.P_TAU_BW], p[L.P_TAU_WI] = g.torque_bandwidth_rad_s, g.torque_integral_rad_s
+    p[L.P_TAU_KDN] = g.torque_derivative
     p[L.P_SPD_KP], p[L.P_SPD_KI] = g.speed_kp, g.speed_ki
     p[L.P_OMEGA_MAX] = st.motor_speed_limit
     p[L.P_TAU1_MAX], p[L.P_TAU2_MAX], p[L.P_TAU_MOT_MAX] = st.tau_max

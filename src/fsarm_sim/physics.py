@@ -20,7 +20,7 @@ import math
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim.controllers.joint3_torque import speed_loop, torque_pid
+from fsarm_sim.controllers.joint3_torque import scheduled_gains, speed_loop, torque_pid
 from fsarm_sim.controllers.joint_position import clamp, computed_torque
 from fsarm_sim.effects import bending, conduit_viscoelastic, maxwell_slip, series_stiffness
 from fsarm_sim.layout import (
@@ -89,10 +89,10 @@ from fsarm_sim.layout import (
     P_SPEED_FF,
     P_TAU1_MAX,
     P_TAU2_MAX,
-    P_TAU_KD,
-    P_TAU_KI,
-    P_TAU_KP,
+    P_TAU_BW,
+    P_TAU_KDN,
     P_TAU_MOT_MAX,
+    P_TAU_WI,
     P_WN1,
     P_WN2,
     P_WN3,
@@ -308,6 +308,10 @@ def control_tick(
     )
     omega_ff = cs * qvel[dof3] if prm[P_SPEED_FF] > 0.5 else 0.0
     omega_max_shaft = prm[P_OMEGA_MAX] * cm
+    k_model = series_stiffness.stiffness_nm_per_rad(
+        theta_m - theta_s, q2, prm[P_CM_K_POS], prm[P_CM_S_POS], prm[P_CM_K_NEG], prm[P_CM_S_NEG]
+    )
+    kp, ki, kd = scheduled_gains(prm[P_TAU_BW], prm[P_TAU_WI], prm[P_TAU_KDN], k_model)
     omega_d, integ, err, p_term, i_term, d_term = torque_pid(
         tau_d,
         tau_m,
@@ -315,9 +319,9 @@ def control_tick(
         mem_in[1],
         mem_in[3],
         dt,
-        prm[P_TAU_KP],
-        prm[P_TAU_KI],
-        prm[P_TAU_KD],
+        kp,
+        ki,
+        kd,
         omega_ff,
         omega_max_shaft,
     )

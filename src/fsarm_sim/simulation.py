@@ -224,7 +224,11 @@ class Simulation:
 
 
 def compute_metrics(
-    cols: dict[str, Array], duration_s: float, wall_s: float, st: ArmStructure | None = None
+    cols: dict[str, Array],
+    duration_s: float,
+    wall_s: float,
+    st: ArmStructure | None = None,
+    rating_nm: float | None = None,
 ) -> dict[str, float | dict[str, float]]:
     """Tracking and torque-estimate metrics of a recorded run."""
     rmse: dict[str, float] = {}
@@ -246,6 +250,9 @@ def compute_metrics(
         / (st.coef_m if st else 1.0),
         "peak_shaft_torque_nm": float(np.max(np.abs(cols["tau_shaft"]))),
         "peak_twist_rad": float(np.max(np.abs(cols["twist"]))),
+        "peak_shaft_torque_over_rating": (
+            float(np.max(np.abs(cols["tau_shaft"]))) / rating_nm if rating_nm else float("nan")
+        ),
         "peak_tau2_nm": float(np.max(np.abs(cols["tau2"]))),
         "sim_time_s": duration_s,
         "wall_time_s": wall_s,
@@ -272,5 +279,5 @@ def run_scenario(
     table = sc.reference(np.arange(n_ticks, dtype=np.float64) * cfg.gains.ctrl_dt_s)
     sim = Simulation(cfg, table, backend)
     cols, wall = sim.run(duration, log_every_ticks=max(log_every_ticks, 1))
-    metrics = compute_metrics(cols, duration, wall, sim.structure)
+    metrics = compute_metrics(cols, duration, wall, sim.structure, cfg.shaft.rating_nm)
     return RunResult(scenario=name, config=cfg, duration_s=duration, columns=cols, metrics=metrics)
