@@ -10,7 +10,12 @@ command -v "$PY" >/dev/null 2>&1 || PY=python3
 [ -x .venv/bin/python ] || "$PY" -m venv .venv
 stamp=$(cat pyproject.toml requirements.lock | sha256sum | cut -c1-16)
 if [ "$(cat .venv/.setup-stamp 2>/dev/null)" != "$stamp" ]; then
-  .venv/bin/python -m pip install --quiet --upgrade pip
-  .venv/bin/python -m pip install --quiet -c requirements.lock -e ".[dev]"
+  echo "Setting up .venv with the pinned packages (first run: 1-2 minutes; log: .venv/setup.log) ..."
+  if ! { .venv/bin/python -m pip install --upgrade pip \
+         && .venv/bin/python -m pip install -c requirements.lock -e ".[dev]"; } >.venv/setup.log 2>&1; then
+    tail -n 30 .venv/setup.log >&2
+    echo "setup failed; full log in .venv/setup.log" >&2
+    exit 1
+  fi
   echo "$stamp" > .venv/.setup-stamp
 fi
