@@ -82,8 +82,8 @@ class Catalogue:
     damping_pos: float
     damping_neg: float
     slip_enabled: bool
-    slip_k: tuple[float, float, float]
-    slip_f: tuple[float, float, float]
+    slip_k_fraction: tuple[float, float, float]  # of the straight K_sp
+    slip_f_fraction: tuple[float, float, float]  # of the torque rating
     shafts: tuple[CatalogueShaft, ...] = field(default=())
 
     def check_range(self, diameter_mm: float, length_mm: float, extrapolate: bool = False) -> None:
@@ -143,11 +143,15 @@ class Catalogue:
             inertia_kgm2=self.inertia_kgm2,
             damping_pos=self.damping_pos,
             damping_neg=self.damping_neg,
-            slip_k=self.slip_k if slip_on else (0.0, 0.0, 0.0),
-            slip_f=self.slip_f,
+            slip_k=_scaled(self.slip_k_fraction, k_pos) if slip_on else (0.0, 0.0, 0.0),
+            slip_f=_scaled(self.slip_f_fraction, self.rating_nm(diameter_mm)),
             rating_nm=self.rating_nm(diameter_mm),
             bend_limit_rad=bend_max,
         )
+
+
+def _scaled(fractions: tuple[float, float, float], scale: float) -> tuple[float, float, float]:
+    return (fractions[0] * scale, fractions[1] * scale, fractions[2] * scale)
 
 
 def _get(table: dict[str, Any], dotted: str, source: str) -> Any:
@@ -244,16 +248,16 @@ def parse_catalogue(data: dict[str, Any], source: str) -> Catalogue:
     dyn = data.get("series", {}).get("dynamic", {})
     slip = data.get("series", {}).get("maxwell_slip", {})
     slip_k = _floats(
-        slip.get("stiffness_nm_per_rad", [0.0, 0.0, 0.0]),
+        slip.get("stiffness_fraction", [0.0, 0.0, 0.0]),
         3,
-        "series.maxwell_slip.stiffness_nm_per_rad",
+        "series.maxwell_slip.stiffness_fraction",
         source,
         positive=True,
     )
     slip_f = _floats(
-        slip.get("slip_torque_nm", [0.0, 0.0, 0.0]),
+        slip.get("slip_torque_fraction", [0.0, 0.0, 0.0]),
         3,
-        "series.maxwell_slip.slip_torque_nm",
+        "series.maxwell_slip.slip_torque_fraction",
         source,
         positive=True,
     )
@@ -294,8 +298,8 @@ def parse_catalogue(data: dict[str, Any], source: str) -> Catalogue:
             dyn.get("damping_neg_nms", 0.0), "series.dynamic.damping_neg_nms", source, minimum=0.0
         ),
         slip_enabled=bool(slip.get("enabled", False)),
-        slip_k=(slip_k[0], slip_k[1], slip_k[2]),
-        slip_f=(slip_f[0], slip_f[1], slip_f[2]),
+        slip_k_fraction=(slip_k[0], slip_k[1], slip_k[2]),
+        slip_f_fraction=(slip_f[0], slip_f[1], slip_f[2]),
         shafts=tuple(shafts),
     )
 
