@@ -54,12 +54,18 @@ def test_unknown_scenario() -> None:
 
 
 def test_mujoco_warning_fails_the_run() -> None:
-    """An unstable set-up (a 20 ms explicit step against the shaft spring) must not pass silently."""
+    """A bad state makes MuJoCo warn (and reset): the run must fail, not go on silently."""
+    sim = Simulation(SimConfig(), scenarios.get("step-q3").reference(np.arange(0, 200) * 0.001))
+    sim.data.qvel[0] = np.nan
+    with pytest.raises(SimulationWarningError, match="mjWARN_BADQVEL"):
+        sim.run(0.1)
+
+
+def test_timestep_too_large_for_the_shaft() -> None:
     cfg = SimConfig(timestep_s=0.02)
     cfg = cfg.with_(gains=cfg.gains.__class__(ctrl_dt_s=0.02))
-    sim = Simulation(cfg, scenarios.get("step-q3").reference(np.arange(0, 200) * 0.02))
-    with pytest.raises(SimulationWarningError, match="mjWARN"):
-        sim.run(3.0)
+    with pytest.raises(InvalidParameterError, match="too large for the shaft"):
+        Simulation(cfg, scenarios.get("step-q3").reference(np.arange(0, 200) * 0.02))
 
 
 def test_logging_stride_and_no_logging() -> None:

@@ -286,7 +286,39 @@ def build_model(
     st = read_structure(model)
     model.tendon_armature[st.twist_tendon] = config.shaft.inertia_kgm2  # eq. 1 J as tendon inertia
     write_params(model, st, config, ref.shape[0])
+    omega = shaft_mode_rad_s(model, st, config.shaft, ref[0, :3])
+    if config.effects.series and omega * model.opt.timestep > MAX_OMEGA_DT:
+        raise InvalidParameterError(
+            f"timestep {model.opt.timestep:g} s is too large for the shaft: its stiffest mode is "
+            f"{omega:.0f} rad/s and omega*dt must stay below {MAX_OMEGA_DT:g}; "
+            f"use a timestep of at most {MAX_OMEGA_DT / omega:.2g} s"
+        )
     return model
+
+
+MAX_OMEGA_DT = (
+    1.0  # explicit springs: stable below 2 (Euler) / 2.8 (RK4); 1 keeps phase errors small
+)
+
+
+def shaft_mode_rad_s(
+    model: mujoco.MjModel, st: ArmStructure, shaft: ShaftParams, q: npt.NDArray[np.float64]
+) -> float:
+    """Frequency of the rotor-against-load shaft mode at pose ``q`` with the stiffest eq. 3 side.
+
+    Two inertias on one spring: w^2 = K (c_m^2 / I_rotor + c_s^2 / M_33), with the twist
+    coefficients c_m = 1/i_G1 and c_s = i_G2 of the tendon.
+    """
+    data = mujoco.MjData(model)
+    data.qpos[list(st.qadr[:3])] = q
+    mujoco.mj_kinematics(model, data)
+    mujoco.mj_comPos(model, data)
+    mujoco.mj_crb(model, data)
+    full = np.zeros((model.nv, model.nv))
+    mujoco.mj_fullM(model, data, full)
+    k = max(shaft.k_pos, shaft.k_neg) + sum(shaft.slip_k)
+    inv = st.coef_m**2 / full[st.dof[3], st.dof[3]] + st.coef_s**2 / full[st.dof[2], st.dof[2]]
+    return float(np.sqrt(k * inv))
 
 
 def write_params(model: mujoco.MjModel, st: ArmStructure, config: SimConfig, n_ticks: int) -> None:
