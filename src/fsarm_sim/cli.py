@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib
 import math
 from pathlib import Path
 from typing import Annotated
@@ -114,6 +115,18 @@ def run_cmd(
     backend: Annotated[
         str, typer.Option(help="callback path: python (reference) or native")
     ] = "python",
+    rrd: Annotated[
+        Path | None, typer.Option(help="write a Rerun recording (.rrd) of the run here")
+    ] = None,
+    rrd_rate: Annotated[
+        float | None, typer.Option(help="recording rate, rows per simulated s (default 100)")
+    ] = None,
+    spawn: Annotated[
+        bool, typer.Option(help="open the recording in the Rerun viewer if one can run here")
+    ] = False,
+    figures: Annotated[
+        Path | None, typer.Option(help="write the run's static figures (PNG) into this folder")
+    ] = None,
 ) -> None:
     """Run a scenario headless, print tracking metrics, write its time series."""
     from fsarm_sim.model import Gains, SimConfig
@@ -123,6 +136,9 @@ def run_cmd(
 
     if backend not in ("python", "native"):
         raise FsarmError(f"--backend must be 'python' or 'native', got {backend!r}")
+    from fsarm_sim.cli_review import check_review_options, review_outputs
+
+    check_review_options(rrd_rate)
     shaft = load_catalogue(shaft_file).shaft(
         diameter_mm, length_mm, extrapolate=extrapolate, series_hysteresis=series_hysteresis
     )
@@ -169,10 +185,20 @@ def run_cmd(
     if json_file is not None:
         write_summary(result, json_file)
         console.print(f"summary: {json_file}")
+    review_outputs(
+        result,
+        rrd=rrd,
+        rrd_rate=rrd_rate,
+        spawn=spawn,
+        figures_dir=figures,
+        out=out,
+        console=console,
+    )
 
 
 def _register_extensions() -> None:
     """Commands defined in their own modules (one line each)."""
+    importlib.import_module("fsarm_sim.cli_review").register(app)
 
 
 _register_extensions()

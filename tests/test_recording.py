@@ -1,0 +1,286 @@
+"""Rerun recordings: written headless, read back with Rerun's own reader (rerun.chunk.RrdReader),
+entities, time range and values checked against the run and against independent kinematics."""
+
+from __future__ import annotations
+
+import math
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import mujoco
+import numpy as np
+import pytest
+
+from fsarm_sim import cli, recording
+from fsarm_sim.errors import FsarmError, InvalidParameterError
+from fsarm_sim.model import model_path
+from fsarm_sim.simulation import RunResult, run_scenario
+
+RrdReader = pytest.importorskip("rerun.chunk").RrdReader
+
+DURATION_S = 1.5
+RATE_HZ = 50.0
+
+
+@pytest.fixture(scope="module")
+def run() -> RunResult:
+    # p2p-payload: all three joints move (from 0.5 s) and the payload is drawn
+    return run_scenario("p2p-payload", duration_s=DURATION_S)
+
+
+@pytest.fixture(scope="module")
+def rrd(run: RunResult, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    path = tmp_path_factory.mktemp("rrd") / "p2p.rrd"
+    before = {k: v.copy() for k, v in run.columns.items()}
+    recording.record_run(run, path, rate_hz=RATE_HZ)
+    for k, v in before.items():  # recording reads the columns, never writes them
+        np.testing.assert_array_equal(run.columns[k], v, err_msg=k)
+    return path
+
+
+@pytest.fixture(scope="module")
+def chunks(rrd: Path) -> dict[str, list[dict[str, Any]]]:
+    """entity path -> the record batches (as python dicts) of its chunks."""
+    out: dict[str, list[dict[str, Any]]] = {}
+    for c in RrdReader(rrd).stream().collect().stream():
+        out.setdefault(c.entity_path, []).append(c.to_record_batch().to_pydict())
+    return out
+
+
+def _temporal(
+    chunks: dict[str, list[dict[str, Any]]], path: str, column: str
+) -> tuple[np.ndarray, list[Any]]:
+    """(sim_time in s, values) of a temporal component, concatenated over chunks, sorted."""
+    t: list[float] = []
+    vals: list[Any] = []
+    for b in chunks[path]:
+        if "sim_time" in b and column in b:
+            t += [
+                x.total_seconds() if hasattr(x, "total_seconds") else x * 1e-9
+                for x in b["sim_time"]
+            ]
+            vals += b[column]
+    order = np.argsort(t, kind="stable")
+    return np.asarray(t)[order], [vals[i] for i in order]
+
+
+def _static(chunks: dict[str, list[dict[str, Any]]], path: str, column: str) -> Any:
+    for b in chunks[path]:
+        if "sim_time" not in b and column in b:
+            return b[column][0]
+    raise AssertionError(f"{path} has no static {column}")
+
+
+def test_file_holds_one_recording_and_its_blueprint(rrd: Path) -> None:
+    reader = RrdReader(rrd)
+    recs = reader.recordings()
+    assert len(recs) == 1 and recs[0].application_id == recording.APPLICATION_ID
+    assert len(reader.blueprints()) == 1
+
+
+def test_rerun_tool_verifies_the_file(rrd: Path) -> None:
+    """Rerun's own command-line tool loads and interprets every chunk (archetypes well-formed)."""
+    exe = shutil.which("rerun") or str(Path(sys.executable).with_name("rerun"))
+    if not Path(exe).exists():
+        pytest.skip("the rerun executable is not installed next to this Python")
+    proc = subprocess.run(
+        [exe, "rrd", "verify", str(rrd)], capture_output=True, text=True, timeout=120
+    )
+    assert proc.returncode == 0, proc.stderr[-2000:]
+
+
+def test_expected_entities(chunks: dict[str, list[dict[str, Any]]]) -> None:
+    expected = {
+        "/run/metadata",
+        "/world/arm/link1",
+        "/world/arm/link2",
+        "/world/arm/link3",
+        "/world/arm/payload",
+        "/world/arm/link2/link2_tube",
+        "/world/arm/link3/link3_tube",
+        "/world/arm/payload/payload_geom",
+        "/world/shaft",
+        "/loops/torque_twist/tau_shaft",
+        "/loops/torque_twist/tau_model",
+        "/loops/bending/moment_bend",
+    }
+    for panel in recording.ARM_PANELS:
+        expected |= {f"/{panel.entity}/{s.column}" for s in panel.series}
+    missing = expected - set(chunks)
+    assert not missing, f"missing entities: {sorted(missing)}"
+    text = _static(chunks, "/run/metadata", "TextDocument:text")[0]
+    assert "p2p-payload" in text and "fsarm_sim_version" in text and '"payload_kg": 15.0' in text
+
+
+def test_time_range_and_rate(chunks: dict[str, list[dict[str, Any]]], run: RunResult) -> None:
+    t, _ = _temporal(chunks, "/signals/joint3/q3", "Scalars:scalars")
+    assert t[0] == 0.0
+    assert t[-1] == pytest.approx(run.columns["t"][-1], abs=1e-9)
+    assert len(t) == round(DURATION_S * RATE_HZ) + 1
+    tb, _ = _temporal(chunks, "/world/arm/link3", "Transform3D:translation")
+    np.testing.assert_allclose(tb, t, atol=1e-9)
+
+
+def test_series_values_match_the_run(
+    chunks: dict[str, list[dict[str, Any]]], run: RunResult
+) -> None:
+    cols = run.columns
+    rows = recording.decimate(cols["t"], RATE_HZ)
+    cases = {
+        "/signals/joint3/q3": np.degrees(cols["q3"][rows]),
+        "/signals/joint2/q2_ref": np.degrees(cols["q2_ref"][rows]),
+        "/signals/errors/e3": np.degrees(cols["q3"][rows] - cols["q3_ref"][rows]),
+        "/signals/shaft_torque/tau_shaft": cols["tau_shaft"][rows],
+        "/signals/shaft_torque/tau_model": cols["tau_model"][rows],
+        "/signals/speed/omega_d": cols["omega_d"][rows],
+        "/signals/pid/pid_i": cols["pid_i"][rows],
+    }
+    for path, want in cases.items():
+        _, vals = _temporal(chunks, path, "Scalars:scalars")
+        np.testing.assert_allclose(np.ravel(vals), want, rtol=1e-12, atol=1e-12, err_msg=path)
+    _, lim = _temporal(chunks, "/signals/motor_torque/tau_motor_limit_pos", "Scalars:scalars")
+    assert np.all(np.ravel(lim) > 0.0) and np.ptp(np.ravel(lim)) == 0.0
+
+
+def _rot_z(a: float) -> np.ndarray:
+    return np.array([[math.cos(a), -math.sin(a), 0], [math.sin(a), math.cos(a), 0], [0, 0, 1]])
+
+
+def _rot_y(a: float) -> np.ndarray:
+    return np.array([[math.cos(a), 0, math.sin(a)], [0, 1, 0], [-math.sin(a), 0, math.cos(a)]])
+
+
+def test_3d_arm_follows_independent_kinematics(
+    chunks: dict[str, list[dict[str, Any]]], run: RunResult
+) -> None:
+    """Flange (payload body) and shaft-route ends from hand-written forward kinematics with the
+    MJCF's offsets: q1 about z, q2 and q3 about y."""
+    model = mujoco.MjModel.from_xml_path(str(model_path()))
+    bpos = {
+        n: model.body_pos[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, n)]
+        for n in ("link2", "link3", "payload")
+    }
+    spos = {
+        n: model.site_pos[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, n)]
+        for n in ("shaft_in", "shaft_out")
+    }
+    hyp = model.body_pos[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "hypoid_housing")]
+    cols = run.columns
+    rows = recording.decimate(cols["t"], RATE_HZ)
+    _, flange = _temporal(chunks, "/world/arm/payload", "Transform3D:translation")
+    _, strips = _temporal(chunks, "/world/shaft", "LineStrips3D:strips")
+    assert len(flange) == len(rows) == len(strips)
+    moved = 0.0
+    for i, r in enumerate(rows):
+        q1, q2, q3 = cols["q1"][r], cols["q2"][r], cols["q3"][r]
+        rz, r2, r23 = _rot_z(q1), _rot_z(q1) @ _rot_y(q2), _rot_z(q1) @ _rot_y(q2 + q3)
+        p2 = rz @ bpos["link2"]
+        want_flange = p2 + r2 @ bpos["link3"] + r23 @ bpos["payload"]
+        np.testing.assert_allclose(np.ravel(flange[i]), want_flange, atol=1e-9)
+        route = np.asarray(strips[i][0], dtype=float).reshape(-1, 3)
+        np.testing.assert_allclose(route[0], rz @ spos["shaft_in"], atol=1e-6)
+        np.testing.assert_allclose(route[-1], p2 + r2 @ (hyp + spos["shaft_out"]), atol=1e-6)
+        # the route arrives along link 2's axis: it bends with q2
+        tangent = route[-1] - route[-2]
+        axis2 = r2 @ np.array([0.0, 0.0, 1.0])
+        assert float(tangent @ axis2) / np.linalg.norm(tangent) > 0.95
+        moved = max(
+            moved,
+            float(
+                np.linalg.norm(
+                    route[len(route) // 2]
+                    - np.asarray(strips[0][0]).reshape(-1, 3)[len(route) // 2]
+                )
+            ),
+        )
+    assert moved > 0.01  # joint 2 moves 45 deg in this run: the drawn shaft visibly bends
+
+
+def test_loops_are_the_recorded_pairs(
+    chunks: dict[str, list[dict[str, Any]]], run: RunResult
+) -> None:
+    cols = run.columns
+    rows = recording.decimate(cols["t"], RATE_HZ)
+    _, segs = _temporal(chunks, "/loops/bending/moment_bend", "LineStrips2D:strips")
+    ends = np.array([np.asarray(s[0], dtype=float).reshape(2, 2)[1] for s in segs])
+    # x: bend in degrees; y: the moment M = -tau_bend, negated again for Rerun's downward y
+    np.testing.assert_allclose(
+        ends[:, 0], np.degrees(cols["phi_b"][rows[1:]]), rtol=1e-6, atol=1e-9
+    )
+    np.testing.assert_allclose(ends[:, 1], cols["tau_bend"][rows[1:]], rtol=1e-6, atol=1e-9)
+
+
+def test_decimate() -> None:
+    t = np.arange(0.0, 1.0005, 0.001)
+    rows = recording.decimate(t, 100.0)
+    assert rows[0] == 0 and rows[-1] == len(t) - 1 and len(rows) == 101
+    assert len(recording.decimate(t, None)) == len(t)
+    np.testing.assert_array_equal(recording.decimate(t[:-3], 100.0)[-2:], [990, len(t) - 4])
+    for bad in (0.0, -5.0, math.nan, math.inf):
+        with pytest.raises(InvalidParameterError, match="recording rate"):
+            recording.decimate(t, bad)
+
+
+def test_spawn_without_display_reports_instead_of_raising(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    monkeypatch.setattr(sys, "platform", "linux")
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    msg = recording.spawn_viewer(tmp_path / "x.rrd")
+    assert msg.startswith("no viewer opened") and "x.rrd" in msg
+
+
+def _fsarm(monkeypatch: pytest.MonkeyPatch, *args: str) -> int:
+    monkeypatch.setattr(sys, "argv", ["fsarm", *args])
+    try:
+        cli.main()
+    except SystemExit as exc:
+        return int(exc.code or 0)
+    return 0
+
+
+def test_cli_run_writes_recording_and_figures(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    rrd = tmp_path / "r" / "step.rrd"
+    code = _fsarm(
+        monkeypatch,
+        "run",
+        "step-q3",
+        "--duration",
+        "0.3",
+        "--out",
+        str(tmp_path / "runs"),
+        "--rrd",
+        str(rrd),
+        "--rrd-rate",
+        "20",
+        "--spawn",
+        "--figures",
+        str(tmp_path / "figs"),
+    )
+    assert code == 0
+    out = capsys.readouterr().out
+    assert "no viewer opened" in out or "viewer started" in out
+    assert len(RrdReader(rrd).recordings()) == 1
+    assert sorted(p.name for p in (tmp_path / "figs").iterdir()) == [
+        "step-q3_bending.png",
+        "step-q3_torque_twist.png",
+        "step-q3_tracking.png",
+    ]
+
+
+def test_cli_rejects_bad_rate_before_running(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    code = _fsarm(monkeypatch, "run", "step-q3", "--out", str(tmp_path), "--rrd-rate", "0")
+    assert code == 2
+    assert "--rrd-rate" in capsys.readouterr().err
+    assert not any(tmp_path.iterdir())  # failed before the run wrote anything
+    assert issubclass(InvalidParameterError, FsarmError)
