@@ -92,7 +92,8 @@ P_CM_BEND_COMP = 64  # 1: joint-2 controller adds the modeled elastic bending mo
 P_SPEED_FF = 65  # 1: torque PID adds the measured shaft-output speed as feedforward
 P_BEND_FIXED = 66  # bend angle used when there is no bend joint (P_QADR_Q2 < 0), rad
 P_SETUP = 67  # 0: arm, 1: series bench, 2: parallel bench
-N_PARAMS = 68
+P_RK4 = 68  # 1 when the model integrates with RK4 (see physics.control)
+N_PARAMS = 69
 
 SETUP_ARM = 0.0
 SETUP_SERIES_BENCH = 1.0

@@ -243,6 +243,16 @@ def build_spec(
         ]
         body.explicitinertial = True
     sh = config.shaft
+    if sh.inertia_kgm2 > 0.0:
+        # eq. 1 J: the shaft's own inertia, lumped half at each end (the standard discretization
+        # of a torsional shaft; a rigidly spinning shaft then has kinetic energy J w^2 / 2).
+        # As joint armature both MuJoCo and Pinocchio read it. (A tendon armature J on
+        # shaft_twist would be wrong twice over: it gives a rigid spin no energy, and MuJoCo 3.17
+        # drops its coupling term between the rotor and q3, which sit on different branches.)
+        with callbacks.suspended():
+            st = read_structure(mujoco.MjSpec.from_file(str(path or model_path())).compile())
+        spec.joint("j3_rotor").armature += 0.5 * sh.inertia_kgm2 * st.coef_m**2
+        spec.joint("q3").armature += 0.5 * sh.inertia_kgm2 * st.coef_s**2
     for i in range(3):
         act = spec.actuator(f"shaft_slip{i + 1}")
         limit = sh.slip_f[i] / sh.slip_k[i] if sh.slip_k[i] > 0.0 else 1e-12
@@ -284,7 +294,6 @@ def build_model(
     if not config.joint_damping:
         model.dof_damping[:] = 0.0
     st = read_structure(model)
-    model.tendon_armature[st.twist_tendon] = config.shaft.inertia_kgm2  # eq. 1 J as tendon inertia
     write_params(model, st, config, ref.shape[0])
     omega = shaft_mode_rad_s(model, st, config.shaft, ref[0, :3])
     if config.effects.series and omega * model.opt.timestep > MAX_OMEGA_DT:
@@ -367,6 +376,7 @@ def write_params(model: mujoco.MjModel, st: ArmStructure, config: SimConfig, n_t
     p[L.P_CM_BEND_COMP] = on[g.bend_compensation]
     p[L.P_SPEED_FF] = on[g.speed_ff]
     p[L.P_SETUP] = L.SETUP_ARM
+    p[L.P_RK4] = on[model.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4]
 
 
 def params(model: mujoco.MjModel) -> npt.NDArray[np.float64] | None:

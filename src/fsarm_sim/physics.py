@@ -81,6 +81,7 @@ from fsarm_sim.layout import (
     P_QADR_Q2,
     P_QADR_Q3,
     P_QADR_ROT,
+    P_RK4,
     P_S_NEG,
     P_S_POS,
     P_SLIP_K1,
@@ -362,30 +363,37 @@ def control(
     perturbs the state (``mjd_transitionFD`` does not restore ``userdata``) and RK4's stage at
     t+h are all harmless: the last call before integration - ``mj_step``'s own forward at the
     start of the step - always has the final word, with the true state. Between ticks (RK4's
-    half-step stages, physics substeps) the held outputs are applied unchanged.
+    half-step stages, physics substeps) the held outputs are applied unchanged, and so is RK4's
+    last stage, which lands on the next tick with a predicted state.
     """
     if prm[P_EN_CONTROL] < 0.5:
         return
     x = time / prm[P_CTRL_DT]
     k = int(math.floor(x + 0.5))  # noqa: RUF046  (explicit int for Numba)
     if abs(x - k) < TICK_TOLERANCE and k >= 0:
+        recompute = True
         if userdata[U_TICK] != k + 1.0:
             for i in range(N_MEM):
                 userdata[U_PRE + i] = userdata[U_MEM + i]
             userdata[U_TICK] = k + 1.0
-        control_tick(
-            prm,
-            ref,
-            k,
-            qpos,
-            qvel,
-            bias,
-            mass,
-            userdata[U_PRE : U_PRE + N_MEM],
-            userdata[U_MEM : U_MEM + N_MEM],
-            userdata[U_OUT : U_OUT + 3],
-            userdata[U_LOG:],
-        )
+            # Under RK4 the first call at a new tick is the 4th stage of the step that ends on it,
+            # with a predicted state: keep applying the held output there (zero-order hold);
+            # mj_step's own forward at the tick computes the new output from the true state.
+            recompute = not (prm[P_RK4] > 0.5 and k > 0)
+        if recompute:
+            control_tick(
+                prm,
+                ref,
+                k,
+                qpos,
+                qvel,
+                bias,
+                mass,
+                userdata[U_PRE : U_PRE + N_MEM],
+                userdata[U_MEM : U_MEM + N_MEM],
+                userdata[U_OUT : U_OUT + 3],
+                userdata[U_LOG:],
+            )
     ctrl[int(prm[P_CTRL_J1])] = userdata[U_OUT]
     ctrl[int(prm[P_CTRL_J2])] = userdata[U_OUT + 1]
     ctrl[int(prm[P_CTRL_J3])] = userdata[U_OUT + 2]
