@@ -72,3 +72,26 @@ def test_logging_stride_and_no_logging() -> None:
     r = run_scenario("step-q3", duration_s=0.5, log_every_ticks=10)
     assert len(r.columns["t"]) == 50
     assert r.columns["t"][1] == pytest.approx(0.01)
+
+
+def test_interrupted_run_keeps_finished_work(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Ctrl-C during a long run: the finished part is returned, marked as interrupted."""
+    import mujoco
+
+    from fsarm_sim import simulation
+
+    calls = {"n": 0}
+    real_step = mujoco.mj_step
+
+    def step(m, d, nstep=1):  # type: ignore[no-untyped-def]
+        calls["n"] += 1
+        if calls["n"] == 300:
+            raise KeyboardInterrupt
+        real_step(m, d, nstep=nstep)
+
+    monkeypatch.setattr(simulation.mujoco, "mj_step", step)
+    r = run_scenario("fig14-sine", duration_s=5.0)
+    assert r.interrupted
+    assert 0.1 < r.duration_s < 5.0
+    assert len(r.columns["t"]) == 299
+    assert np.all(np.isfinite(r.columns["q3"]))

@@ -154,6 +154,11 @@ def run_cmd(
         log_every_ticks=log_every,
     )
     m = result.metrics
+    if result.interrupted:
+        err_console.print(
+            f"[bold yellow]interrupted[/] at t = {result.duration_s:.3f} s: metrics and time series "
+            "cover the finished part only"
+        )
     table = Table(
         title=f"{scenario}: D={diameter_mm:g} mm, L={length_mm:g} mm, payload={result.config.payload_kg:g} kg"
     )
@@ -200,7 +205,6 @@ def _register_extensions() -> None:
     """Commands defined in their own modules (one line each)."""
     importlib.import_module("fsarm_sim.cli_review").register(app)
     importlib.import_module("fsarm_sim.cli_dynamics").register(app)
-    importlib.import_module("fsarm_sim.cli_sweep").register(app)
 
 
 _register_extensions()

@@ -29,6 +29,7 @@ class RunResult:
     duration_s: float
     columns: dict[str, Array]
     metrics: dict[str, float | dict[str, float]] = field(default_factory=dict)
+    interrupted: bool = False  # Ctrl-C ended the run early; columns hold what was finished
 
 
 def check_duration(duration_s: float) -> float:
@@ -103,6 +104,8 @@ class Simulation:
         if backend not in ("python", "native"):
             raise InvalidParameterError(f"backend must be 'python' or 'native', got {backend!r}")
         self.backend: Backend = backend
+        self.interrupted = False
+        self._rows = 0
         initial_state(self.model, self.data, self.structure)
 
     @property
@@ -115,7 +118,11 @@ class Simulation:
             mujoco.mj_step(self.model, self.data, nstep=n)
 
     def run(self, duration_s: float, log_every_ticks: int = 1) -> tuple[dict[str, Array], float]:
-        """Step for ``duration_s``; return recorded columns and the stepping wall time (s)."""
+        """Step for ``duration_s``; return recorded columns and the stepping wall time (s).
+
+        Ctrl-C (KeyboardInterrupt) stops the run early but keeps what was recorded: the columns
+        then end at the interruption and ``self.interrupted`` is True.
+        """
         duration_s = check_duration(duration_s)
         if log_every_ticks < 0:
             raise InvalidParameterError(
@@ -131,10 +138,16 @@ class Simulation:
         qvel_rec = np.empty((n_rec, m.nv))
         act_rec = np.empty((n_rec, m.na))
         ud_rec = np.empty((n_rec, L.N_USERDATA))
+        self.interrupted = False
+        self._rows = 0
         with callbacks.active(self.backend):
             start = _time.perf_counter()
-            r = self._loop(n_steps, n_rec, stride, t_rec, qpos_rec, qvel_rec, act_rec, ud_rec)
+            try:
+                self._loop(n_steps, n_rec, stride, t_rec, qpos_rec, qvel_rec, act_rec, ud_rec)
+            except KeyboardInterrupt:
+                self.interrupted = True
             wall = _time.perf_counter() - start
+        r = self._rows
         raise_on_warning(d)
         cols = self._columns(t_rec[:r], qpos_rec[:r], qvel_rec[:r], act_rec[:r], ud_rec[:r])
         return cols, wall
@@ -149,10 +162,10 @@ class Simulation:
         qvel_rec: Array,
         act_rec: Array,
         ud_rec: Array,
-    ) -> int:
+    ) -> None:
         """Step ``n_steps``, recording a row every ``stride`` steps; check warnings as it goes.
 
-        Returns the number of rows recorded."""
+        ``self._rows`` counts the complete rows, so an interruption keeps them."""
         m, d = self.model, self.data
         r = 0
         step = 0
@@ -165,6 +178,7 @@ class Simulation:
                 mujoco.mj_step(m, d)
                 ud_rec[r] = d.userdata
                 r += 1
+                self._rows = r
                 step += 1
                 continue
             chunk = min(WARNING_CHECK_EVERY, n_steps - step)
@@ -174,7 +188,6 @@ class Simulation:
             step += chunk
             if step % WARNING_CHECK_EVERY < chunk:
                 raise_on_warning(d)
-        return r
 
     def _columns(
         self, t: Array, qpos: Array, qvel: Array, act: Array, ud: Array
@@ -279,5 +292,16 @@ def run_scenario(
     table = sc.reference(np.arange(n_ticks, dtype=np.float64) * cfg.gains.ctrl_dt_s)
     sim = Simulation(cfg, table, backend)
     cols, wall = sim.run(duration, log_every_ticks=max(log_every_ticks, 1))
+    if sim.interrupted:
+        if len(cols["t"]) < 2:
+            raise KeyboardInterrupt  # nothing worth keeping yet
+        duration = float(sim.data.time)
     metrics = compute_metrics(cols, duration, wall, sim.structure, cfg.shaft.rating_nm)
-    return RunResult(scenario=name, config=cfg, duration_s=duration, columns=cols, metrics=metrics)
+    return RunResult(
+        scenario=name,
+        config=cfg,
+        duration_s=duration,
+        columns=cols,
+        metrics=metrics,
+        interrupted=sim.interrupted,
+    )

@@ -44,6 +44,7 @@ def run_metadata(result: RunResult) -> dict[str, Any]:
             "setup": "arm",
             "scenario": result.scenario,
             "duration_s": result.duration_s,
+            "interrupted": result.interrupted,
             "shaft": {"diameter_mm": sh.diameter_mm, "length_mm": sh.length_mm},
             "shaft_params": asdict(sh),
             "payload_kg": cfg.payload_kg,
