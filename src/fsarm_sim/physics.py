@@ -131,13 +131,17 @@ def add_force(qfrc: FloatArray, index: float, value: float) -> None:
         qfrc[i] += value
 
 
+def twist_angle(prm: FloatArray, qpos: FloatArray) -> float:
+    """Shaft twist theta_m - theta_s (rad), from the tendon coefficients."""
+    return prm[P_COEF_M] * coord(qpos, prm[P_QADR_ROT]) - prm[P_COEF_S] * coord(
+        qpos, prm[P_QADR_Q3]
+    )
+
+
 def twist_and_rate(prm: FloatArray, qpos: FloatArray, qvel: FloatArray) -> tuple[float, float]:
-    """Shaft twist theta_m - theta_s (rad) and its rate (rad/s), from the tendon coefficients."""
-    cm = prm[P_COEF_M]
-    cs = prm[P_COEF_S]
-    twist = cm * coord(qpos, prm[P_QADR_ROT]) - cs * coord(qpos, prm[P_QADR_Q3])
-    rate = cm * coord(qvel, prm[P_DOF_ROT]) - cs * coord(qvel, prm[P_DOF_Q3])
-    return twist, rate
+    """Shaft twist (rad) and its rate (rad/s)."""
+    rate = prm[P_COEF_M] * coord(qvel, prm[P_DOF_ROT]) - prm[P_COEF_S] * coord(qvel, prm[P_DOF_Q3])
+    return twist_angle(prm, qpos), rate
 
 
 def shaft_torque(prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray) -> float:
@@ -175,7 +179,7 @@ def bending_torques(
         )
         total += conduit
     if prm[P_EN_SERIES] > 0.5 and prm[P_EN_COUPLING] > 0.5:
-        twist, _ = twist_and_rate(prm, qpos, qvel)
+        twist = twist_angle(prm, qpos)
         total += series_stiffness.bend_coupling_torque_nm(twist, bend, prm[P_S_POS], prm[P_S_NEG])
     return total, conduit
 
@@ -214,7 +218,7 @@ def state_rate(
 
 def shaft_potential(prm: FloatArray, qpos: FloatArray, act: FloatArray) -> float:
     """Energy stored in the enabled shaft elements (J), for energy bookkeeping."""
-    twist, _ = twist_and_rate(prm, qpos, qpos)
+    twist = twist_angle(prm, qpos)
     bend = bend_angle(prm, qpos)
     v = 0.0
     if prm[P_EN_SERIES] > 0.5:
