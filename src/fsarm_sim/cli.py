@@ -205,6 +205,7 @@ def _register_extensions() -> None:
     """Commands defined in their own modules (one line each)."""
     importlib.import_module("fsarm_sim.cli_review").register(app)
     importlib.import_module("fsarm_sim.cli_dynamics").register(app)
+    importlib.import_module("fsarm_sim.cli_sweep").register(app)
 
 
 _register_extensions()

@@ -1,0 +1,213 @@
+"""Run many independent tasks (sweep points, bench runs) on one machine or on a Dask cluster.
+
+``run_tasks(fn, tasks, executor=..., workers=..., on_done=...)`` calls the picklable, module-level
+``fn(task) -> dict`` for every task and hands each :class:`Outcome` to ``on_done`` *in the calling
+process* as soon as it finishes (the sweep runner stores it there, so only one process writes the
+results store).
+
+* ``local`` with ``workers == 1``: in this process, one task after the other.
+* ``local`` with ``workers > 1`` (default: every core this process may use): a
+  ``concurrent.futures.ProcessPoolExecutor`` with the ``spawn`` start method (no fork of a
+  process that may hold MuJoCo state, open files or a progress-bar thread). At most
+  ``2 * workers`` tasks are in flight, so Ctrl-C stops quickly and huge sweeps do not queue
+  everything at once.
+* ``dask``: Dask distributed. ``scheduler=None`` starts a ``LocalCluster`` of ``workers``
+  single-threaded worker processes on this machine; ``scheduler="tcp://host:8786"`` uses a running
+  cluster (its workers must have fsarm-sim installed, the same version for the store to mean
+  anything). ``processes=False`` runs the workers as threads of this process (tests).
+
+MuJoCo's callbacks are process-global and fsarm installs them only while stepping
+(:func:`fsarm_sim.callbacks.active`), which is not safe for two threads of one process at the same
+time. Every task therefore runs under :data:`PROCESS_LOCK`: processes run in parallel, threads of
+one process take turns.
+"""
+
+from __future__ import annotations
+
+import os
+import socket
+import threading
+import time
+import traceback
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass
+from multiprocessing import get_context
+from typing import Any, Literal
+
+from fsarm_sim.errors import FsarmError
+
+ExecutorName = Literal["local", "dask"]
+EXECUTORS: tuple[str, ...] = ("local", "dask")
+PROCESS_LOCK = threading.Lock()
+TaskFn = Callable[[Any], dict[str, Any]]
+
+
+class ExecutorError(FsarmError, RuntimeError):
+    """Bad executor settings, or the executor could not be started or reached."""
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """One finished task: its result, or the error that stopped it."""
+
+    index: int
+    task: Any
+    result: dict[str, Any] | None
+    error: str | None
+    wall_s: float
+    host: str
+
+
+def available_cores() -> int:
+    """Cores this process may run on (CPU affinity where the OS has it)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def call_task(fn: TaskFn, index: int, task: Any) -> Outcome:
+    """Run one task, serialised per process, catching its exception into the outcome."""
+    start = time.perf_counter()
+    with PROCESS_LOCK:
+        try:
+            result = fn(task)
+            error = None
+        except FsarmError as exc:
+            result, error = None, f"{type(exc).__name__}: {exc}"
+        except Exception as exc:
+            result = None
+            error = f"{type(exc).__name__}: {exc}\n{traceback.format_exc(limit=6)}"
+    return Outcome(index, task, result, error, time.perf_counter() - start, socket.gethostname())
+
+
+def _check(executor: str, workers: int | None, scheduler: str | None) -> int:
+    if executor not in EXECUTORS:
+        raise ExecutorError(f"executor must be one of {', '.join(EXECUTORS)}, got {executor!r}")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)):
+        raise ExecutorError(f"workers must be a whole number >= 1, got {workers!r}")
+    if workers is not None and workers < 1:
+        raise ExecutorError(f"workers must be >= 1, got {workers}")
+    if scheduler is not None and executor != "dask":
+        raise ExecutorError("a scheduler address only makes sense with executor 'dask'")
+    return workers if workers is not None else available_cores()
+
+
+def run_tasks(
+    fn: TaskFn,
+    tasks: Sequence[Any],
+    *,
+    executor: str = "local",
+    workers: int | None = None,
+    scheduler: str | None = None,
+    processes: bool = True,
+    on_done: Callable[[Outcome], None] | None = None,
+) -> list[Outcome]:
+    """Run ``fn`` on every task; return the outcomes in completion order.
+
+    ``on_done`` is called for each outcome as it arrives (in this process). An interrupt
+    (Ctrl-C) cancels what has not started and re-raises; finished outcomes were already handed
+    to ``on_done``.
+    """
+    n_workers = _check(executor, workers, scheduler)
+    out: list[Outcome] = []
+
+    def deliver(o: Outcome) -> None:
+        out.append(o)
+        if on_done is not None:
+            on_done(o)
+
+    if not tasks:
+        return out
+    if executor == "dask":
+        for o in _run_dask(fn, tasks, n_workers, scheduler, processes):
+            deliver(o)
+    elif n_workers == 1:
+        for i, task in enumerate(tasks):
+            deliver(call_task(fn, i, task))
+    else:
+        for o in _run_pool(fn, tasks, n_workers):
+            deliver(o)
+    return out
+
+
+def _run_pool(fn: TaskFn, tasks: Sequence[Any], n_workers: int) -> Iterator[Outcome]:
+    pool = ProcessPoolExecutor(max_workers=n_workers, mp_context=get_context("spawn"))
+    pending: set[Future[Outcome]] = set()
+    next_i = 0
+    try:
+        while next_i < len(tasks) or pending:
+            while next_i < len(tasks) and len(pending) < 2 * n_workers:
+                pending.add(pool.submit(call_task, fn, next_i, tasks[next_i]))
+                next_i += 1
+            done, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for fut in done:
+                try:
+                    yield fut.result()
+                except BrokenProcessPool as exc:
+                    raise ExecutorError(
+                        "a worker process died abruptly (killed, out of memory, or started from "
+                        "a script without an `if __name__ == '__main__':` guard, which the "
+                        f"'spawn' start method needs): {exc}"
+                    ) from exc
+    finally:
+        pool.shutdown(wait=not pending, cancel_futures=True)
+
+
+def _run_dask(
+    fn: TaskFn,
+    tasks: Sequence[Any],
+    n_workers: int,
+    scheduler: str | None,
+    processes: bool,
+) -> Iterator[Outcome]:
+    try:
+        from dask.distributed import Client, LocalCluster, as_completed
+    except ImportError as exc:  # pragma: no cover - dask is a dependency
+        raise ExecutorError(
+            f"executor 'dask' needs dask[distributed] installed ({exc}); "
+            "pip install 'dask[distributed]' or use --executor local"
+        ) from exc
+    cluster = None
+    try:
+        if scheduler is None:
+            cluster = LocalCluster(
+                n_workers=n_workers,
+                threads_per_worker=1,
+                processes=processes,
+                dashboard_address=None,
+            )
+            client = Client(cluster)
+        else:
+            client = Client(scheduler, timeout="20s")
+    except (OSError, TimeoutError) as exc:
+        if cluster is not None:
+            cluster.close()
+        where = scheduler or "a local cluster"
+        raise ExecutorError(f"cannot start or reach the Dask scheduler at {where}: {exc}") from exc
+    futures = []
+    try:
+        futures = client.map(
+            call_task,
+            [fn] * len(tasks),
+            list(range(len(tasks))),
+            list(tasks),
+            pure=False,
+        )
+        for fut in as_completed(futures):
+            try:
+                outcome = fut.result()
+            except Exception as exc:  # task errors are caught in call_task: this is the cluster
+                raise ExecutorError(
+                    f"the Dask cluster lost a task ({type(exc).__name__}: {exc}); finished points "
+                    "are kept, rerun to continue"
+                ) from exc
+            yield outcome
+    finally:
+        if futures:
+            client.cancel(futures)
+        client.close()
+        if cluster is not None:
+            cluster.close()

@@ -1,0 +1,80 @@
+"""Executors: inline, a local process pool and a Dask cluster give the same results."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from fsarm_sim import sweep as sw
+from fsarm_sim.executors import ExecutorError, Outcome, run_tasks
+from fsarm_sim.store import ResultStore
+
+
+def _tiny_tasks() -> list[dict[str, Any]]:
+    spec = sw.build_spec(
+        grid=["diameter_mm=4,13", "payload_kg=0,5"],
+        fixed=["duration_s=0.5"],
+        outputs=["tracking", "relief"],
+    )
+    return [{"point": p, "catalogue_toml": None} for p in sw.points(spec)]
+
+
+def _by_point(outcomes: list[Outcome]) -> dict[tuple[float, float], dict[str, Any]]:
+    out = {}
+    for o in outcomes:
+        assert o.error is None, o.error
+        assert o.result is not None
+        out[(o.task["point"]["diameter_mm"], o.task["point"]["payload_kg"])] = o.result
+    return out
+
+
+@pytest.fixture(scope="module")
+def inline() -> dict[tuple[float, float], dict[str, Any]]:
+    return _by_point(run_tasks(sw.evaluate_point, _tiny_tasks(), workers=1))
+
+
+def test_local_pool_matches_inline(inline: dict[tuple[float, float], dict[str, Any]]) -> None:
+    seen: list[int] = []
+    outs = run_tasks(
+        sw.evaluate_point, _tiny_tasks(), workers=2, on_done=lambda o: seen.append(o.index)
+    )
+    assert sorted(seen) == [0, 1, 2, 3]
+    assert _by_point(outs) == inline  # bit-identical: each point is deterministic
+    # physics sanity: the payload loads the motor
+    assert inline[(13.0, 5.0)]["peak_motor_torque_nm"] > inline[(13.0, 0.0)]["peak_motor_torque_nm"]
+
+
+def test_dask_local_cluster_matches_inline(
+    inline: dict[tuple[float, float], dict[str, Any]], tmp_path: Path
+) -> None:
+    outs = run_tasks(sw.evaluate_point, _tiny_tasks(), executor="dask", workers=2, processes=False)
+    assert _by_point(outs) == inline
+    spec = sw.build_spec(fixed=["duration_s=0.5"], grid=["payload_kg=0,5"], outputs=["tracking"])
+    rep = sw.run_sweep(spec, tmp_path / "d.sqlite", executor="dask", workers=2, processes=False)
+    assert rep.computed == 2 and rep.failed == 0
+    with ResultStore(tmp_path / "d.sqlite") as st:
+        assert st.count("ok") == 2
+
+
+def test_task_errors_are_captured_not_raised() -> None:
+    (task,) = _tiny_tasks()[:1]
+    bad = {**task, "point": {**task["point"], "scenario": "moonwalk"}}
+    (o,) = run_tasks(sw.evaluate_point, [bad], workers=1)
+    assert o.result is None
+    assert o.error is not None and o.error.startswith("ScenarioNotFoundError")
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"executor": "spark"}, "executor must be"),
+        ({"workers": 0}, ">= 1"),
+        ({"workers": 1.5}, "whole number"),
+        ({"scheduler": "tcp://127.0.0.1:1"}, "only makes sense"),
+    ],
+)
+def test_bad_executor_settings(kwargs: dict[str, Any], match: str) -> None:
+    with pytest.raises(ExecutorError, match=match):
+        run_tasks(sw.evaluate_point, _tiny_tasks(), **kwargs)

@@ -1,0 +1,293 @@
+"""Sweep specs (parsing, validation before any work), points, per-point metrics, resume, analysis."""
+
+from __future__ import annotations
+
+import math
+import os
+import signal
+import sqlite3
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from fsarm_sim import arm_metrics, cli
+from fsarm_sim import sweep as sw
+from fsarm_sim.errors import InvalidParameterError
+from fsarm_sim.model import Gains, SimConfig
+from fsarm_sim.shaft import load_catalogue
+from fsarm_sim.store import ResultStore, point_key
+
+
+def _fsarm(monkeypatch: pytest.MonkeyPatch, *args: str) -> int:
+    monkeypatch.setattr(sys, "argv", ["fsarm", *args])
+    try:
+        cli.main()
+    except SystemExit as exc:
+        return int(exc.code or 0)
+    return 0
+
+
+# ---------------------------------------------------------------------------------------------
+# parsing
+
+
+def test_value_syntaxes() -> None:
+    info = sw.fields()["diameter_mm"]
+    assert sw.parse_values(info, "4:13:4") == (4.0, 7.0, 10.0, 13.0)
+    assert sw.parse_values(info, "235, 335,535") == (235.0, 335.0, 535.0)
+    assert sw.parse_values(info, "9") == (9.0,)
+    assert sw.parse_values(info, [4, 6.5]) == (4.0, 6.5)
+    assert sw.parse_values(info, {"start": 4, "stop": 13, "num": 4}) == (4.0, 7.0, 10.0, 13.0)
+    assert sw.parse_values(sw.fields()["scenario"], "fig14-sine,step-q3") == (
+        "fig14-sine",
+        "step-q3",
+    )
+    assert sw.parse_values(sw.fields()["gains.speed_ff"], "true,false") == (True, False)
+
+
+@pytest.mark.parametrize(
+    ("grid", "match"),
+    [
+        ("diameter_mm=", "no values"),
+        ("diameter_mm=4:13:0", "whole number >= 1"),
+        ("diameter_mm=13:4:3", "reversed range"),
+        ("diameter_mm=4:4:3", "empty range"),
+        ("diameter_mm=4:13:2.5", "whole number"),
+        ("diameter_mm=4:13", "start:stop:count"),
+        ("diameter_mm=nan", "not a finite number"),
+        ("diameter_mm=4:nan:3", "not a finite number"),
+        ("diameter_mm=4,,5", "empty item"),
+        ("diameter_mm=4,4", "repeated"),
+        ("diameter_mm=3,9", "outside the validity range"),
+        ("length_mm=100", "outside the validity range"),
+        ("stiffness=1,2", "unknown sweep field"),
+        ("bend_deg=0,130", "outside the validity range"),
+        ("payload_kg=0,20", "above its maximum"),
+        ("scenario=fig14-sine,moonwalk", "unknown scenario"),
+        ("gains.wn3=-1,5", "below its minimum"),
+        ("duration_s=0,1", "below its minimum|must be > 0"),
+        ("diameter_mm", "FIELD=VALUES"),
+    ],
+)
+def test_bad_specs_are_named_errors(grid: str, match: str) -> None:
+    with pytest.raises(sw.SweepSpecError, match=match):
+        sw.build_spec(grid=[grid])
+
+
+def test_cross_field_checks() -> None:
+    # bend_deg cannot be imposed on a scenario that moves joint 2 (when the arm is run) ...
+    with pytest.raises(sw.SweepSpecError, match="moves joint 2"):
+        sw.build_spec(grid=["bend_deg=0,45"], fixed=["scenario=p2p-payload"])
+    # ... but it can when only bench/relief outputs are wanted
+    sw.build_spec(grid=["bend_deg=0,45"], fixed=["scenario=p2p-payload"], outputs=["relief"])
+    with pytest.raises(sw.SweepSpecError, match="twice"):
+        sw.build_spec(grid=["diameter_mm=4,5"], fixed=["diameter_mm=6"])
+    with pytest.raises(sw.SweepSpecError, match="outputs"):
+        sw.build_spec(outputs=["tracking", "fun"])
+    with pytest.raises(sw.SweepSpecError, match="more than"):
+        sw.build_spec(grid=["diameter_mm=4:13:100", "length_mm=235:535:100", "bend_deg=0:90:11"])
+    with pytest.raises(sw.SweepSpecError, match=r"\[bench\]"):
+        sw.build_spec(bench={"chirp_s": -1.0})
+    with pytest.raises(sw.SweepSpecError, match=r"\[bandwidth\]"):
+        sw.build_spec(bandwidth={"speed": 3.0})
+
+
+def test_toml_spec(tmp_path: Path) -> None:
+    f = tmp_path / "s.toml"
+    f.write_text(
+        'name = "t"\noutputs = ["relief"]\n[grid]\ndiameter_mm = "4:13:4"\n'
+        "length_mm = [235, 535]\n[fixed]\npayload_kg = 5\n"
+    )
+    spec = sw.build_spec(sw.load_spec_file(f), grid=["length_mm=335"])  # CLI replaces the file's
+    assert spec.name == "t" and spec.n_points == 4
+    assert spec.grid["length_mm"] == (335.0,)
+    assert spec.fixed == {"payload_kg": 5.0}
+    bad = tmp_path / "bad.toml"
+    bad.write_text('name = "x"\ncolour = "red"\n')
+    with pytest.raises(sw.SweepSpecError, match="unknown keys"):
+        sw.load_spec_file(bad)
+    bad.write_text("[grid\n")
+    with pytest.raises(sw.SweepSpecError, match="TOML"):
+        sw.load_spec_file(bad)
+
+
+def test_every_example_spec_is_valid() -> None:
+    examples = Path(__file__).resolve().parent.parent / "examples" / "sweeps"
+    files = sorted(examples.glob("*.toml"))
+    assert files, "examples/sweeps/*.toml missing"
+    for f in files:
+        spec = sw.build_spec(sw.load_spec_file(f))
+        assert spec.n_points >= 1
+
+
+def test_points_are_complete_canonical_and_unique() -> None:
+    spec = sw.build_spec(grid=["diameter_mm=4,9", "gains.wn3=10,25"], outputs=["tracking"])
+    pts = sw.points(spec)
+    assert len(pts) == 4 == spec.n_points
+    assert len({point_key(p) for p in pts}) == 4
+    p = pts[0]
+    assert p["duration_s"] == 10.0  # the scenario's (fig14-sine)
+    assert (
+        p["scenario"] == "fig14-sine" and p["bend_deg"] == 45.0 and p["schema"] == sw.POINT_SCHEMA
+    )
+    assert len(p["catalogue_sha256"]) == 64
+    assert sw._gains({**p, "gains.wn3": 10.0}).wn_rad_s == (20.0, 20.0, 10.0)
+    assert sw._gains({"gains.torque_bandwidth_rad_s": 80.0}) == Gains(torque_bandwidth_rad_s=80.0)
+
+
+def test_cli_rejects_bad_spec_before_any_work(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    store = tmp_path / "r.sqlite"
+    code = _fsarm(monkeypatch, "sweep", "--store", str(store), "--grid", "diameter_mm=13:4:3")
+    assert code == 2
+    assert "reversed range" in capsys.readouterr().err
+    assert not store.exists()
+
+
+# ---------------------------------------------------------------------------------------------
+# per-point metrics
+
+
+def test_bandwidth_estimator_on_a_known_first_order_lowpass() -> None:
+    from scipy import signal as sig
+
+    fs, fc = 1000.0, 8.0
+    t = np.arange(0, 6.0, 1 / fs)
+    u = arm_metrics.log_chirp(t, 0.5, 80.0, 6.0)
+    b, a = sig.bilinear([2 * math.pi * fc], [1.0, 2 * math.pi * fc], fs)
+    y = sig.lfilter(b, a, u)
+    f, H = arm_metrics.frequency_response(u, y, fs, 0.75, 53.0)
+    assert arm_metrics.minus_3db(f, np.abs(H)) == pytest.approx(fc, rel=0.05)
+    assert math.isnan(arm_metrics.minus_3db(f, np.abs(H / H)))  # flat: no crossing
+
+
+def test_torque_bandwidth_follows_the_loop_gain() -> None:
+    shaft = load_catalogue().shaft()
+    bws = []
+    for wt in (60.0, 120.0):
+        cfg = SimConfig(shaft=shaft, gains=Gains(torque_bandwidth_rad_s=wt))
+        bw = arm_metrics.torque_bandwidth(cfg, chirp_s=2.0, f_stop_hz=80.0)
+        assert 0.7 * wt / (2 * math.pi) < bw.bandwidth_hz < 2.5 * wt / (2 * math.pi)
+        bws.append(bw.bandwidth_hz)
+    assert bws[1] > 1.5 * bws[0]
+
+
+def test_bend_cannot_be_imposed_on_a_moving_joint2() -> None:
+    with pytest.raises(InvalidParameterError, match="moves joint 2"):
+        arm_metrics.tracking(SimConfig(), "p2p-payload", duration_s=3.0, bend_rad=0.3)
+
+
+def test_evaluate_point_outputs_and_labels() -> None:
+    spec = sw.build_spec(
+        fixed=["duration_s=0.3", "diameter_mm=6", "length_mm=435", "bend_deg=30"],
+        bench={"chirp_s": 1.0, "bend_period_s": 1.0, "bend_cycles": 1},
+        bandwidth={"chirp_s": 1.0, "f_stop_hz": 60.0},
+    )
+    (p,) = sw.points(spec)
+    out = sw.evaluate_point({"point": p, "catalogue_toml": None})
+    assert out["stiffness_source"].startswith("simulated bench")
+    # no series hysteresis in the default catalogue: the bench fit is eq. 3 itself
+    assert out["k_sp"] == pytest.approx(out["k_sp_catalogue"], rel=1e-6)
+    assert out["k_sn"] == pytest.approx(out["k_sn_catalogue"], rel=1e-6)
+    assert out["k_sn"] < out["k_sp"]
+    assert out["kb"] > out["kb_catalogue"]  # linear fit absorbs stiffening and the conduit
+    for key in (
+        "q3_rmse_deg",
+        "peak_motor_torque_nm",
+        "peak_motor_speed_rad_s",
+        "static_relief_nm",
+    ):
+        assert math.isfinite(out[key]) and out[key] > 0.0
+    assert "torque_bandwidth_hz" in out
+    only = sw.build_spec(fixed=["diameter_mm=6", "length_mm=435"], outputs=["relief"])
+    (q,) = sw.points(only)
+    cat_out = sw.evaluate_point({"point": q, "catalogue_toml": None})
+    assert cat_out["stiffness_source"] == "catalogue eq. 3/4"
+    assert cat_out["kb"] == cat_out["kb_catalogue"]
+
+
+# ---------------------------------------------------------------------------------------------
+# resume after kill -9, and the analysis
+
+
+def _count(store: Path) -> int:
+    if not store.exists():
+        return 0
+    try:
+        db = sqlite3.connect(f"file:{store}?mode=ro", uri=True, timeout=1.0)
+        try:
+            return int(db.execute("SELECT COUNT(*) FROM points").fetchone()[0])
+        finally:
+            db.close()
+    except sqlite3.OperationalError:
+        return 0
+
+
+def test_killed_sweep_resumes_without_recomputing_or_duplicating(tmp_path: Path) -> None:
+    store = tmp_path / "r.sqlite"
+    n = 16
+    cmd = [
+        sys.executable,
+        "-c",
+        "from fsarm_sim.cli import main; main()",
+        "sweep",
+        "--store",
+        str(store),
+        "--grid",
+        f"payload_kg=0:15:{n}",
+        "--set",
+        "duration_s=0.5",
+        "--outputs",
+        "tracking",
+        "--workers",
+        "1",
+        "--no-progress",
+    ]
+    env = {**os.environ, "MUJOCO_GL": "disable"}
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 60.0
+    while _count(store) < 3 and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.02)
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    killed_at = _count(store)
+    assert 3 <= killed_at < n, "the sweep finished before it could be killed"
+    done = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert f"{killed_at} already stored, {n - killed_at} computed, 0 failed" in " ".join(
+        done.stdout.split()
+    )
+    with ResultStore(store) as st:
+        rows = list(st.rows())
+    assert len(rows) == n
+    assert len({r.key for r in rows}) == n
+    assert sorted(r.inputs["payload_kg"] for r in rows) == pytest.approx(
+        list(np.linspace(0, 15, n))
+    )
+
+
+def test_analysis_recovers_the_catalogue_surfaces(tmp_path: Path) -> None:
+    spec = sw.build_spec(
+        grid=["diameter_mm=4,6,9,13", "length_mm=235,535", "bend_deg=0,90"], outputs=["relief"]
+    )
+    store = tmp_path / "r.sqlite"
+    report = sw.run_sweep(spec, store, workers=1)
+    assert report.computed == 16 and report.failed == 0
+    again = sw.run_sweep(spec, store, workers=1)
+    assert again.already == 16 and again.computed == 0
+    res = sw.analyze(store, tmp_path / "out")
+    for eq in ("eq3 positive", "eq3 negative", "eq4"):
+        assert res.comparisons[eq].surface_max_rel_error < 1e-9
+    names = {p.name for p in res.files}
+    assert {
+        "points.csv",
+        "analysis.json",
+        "fig8_eq3_surfaces.png",
+        "fig10_eq4_surface.png",
+    } <= names
+    assert "map_static_relief_nm.png" in names
