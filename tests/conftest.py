@@ -6,6 +6,8 @@ import os
 
 os.environ.setdefault("MUJOCO_GL", "disable")
 
+import sys
+
 import numpy as np
 import pytest
 
@@ -16,6 +18,18 @@ from fsarm_sim.shaft import ShaftParams, load_catalogue
 def prototype() -> ShaftParams:
     """The 9 mm x 450 mm prototype shaft of seed 000 from the default catalogue."""
     return load_catalogue().shaft()
+
+
+def run_fsarm(monkeypatch: pytest.MonkeyPatch, *args: str) -> int:
+    """Run the ``fsarm`` command in-process as a user would; return its exit code."""
+    from fsarm_sim import cli
+
+    monkeypatch.setattr(sys, "argv", ["fsarm", *args])
+    try:
+        cli.main()
+    except SystemExit as exc:
+        return int(exc.code or 0)
+    return 0
 
 
 def hold_table(q1: float, q2: float, q3: float, n: int = 1) -> np.ndarray:

@@ -4,15 +4,15 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from fsarm_sim import campaign as cp
-from fsarm_sim import cli
 from fsarm_sim.shaft import load_catalogue
+
+from conftest import run_fsarm
 
 CAT = load_catalogue()
 FAST = cp.BenchSettings(chirp_s=1.5, bend_period_s=1.0, bend_cycles=2)
@@ -124,7 +124,7 @@ def test_campaign_refit_on_a_subset_recovers_eq3(
     # eq. 4 from linear K_b fits is biased up by stiffening and the conduit (a finding, not a bug)
     assert res.comparisons["eq4"].surface_rms_rel_error > 0.05
     # the same campaign from one command, with its files
-    code = _fsarm(
+    code = run_fsarm(
         monkeypatch,
         "campaign",
         "--out",
@@ -150,29 +150,20 @@ def test_campaign_refit_on_a_subset_recovers_eq3(
         "fig10_eq4_surface.png",
         "refit_error_maps.png",
     } <= names_out
-    assert _fsarm(monkeypatch, "campaign", "--out", str(tmp_path), "--shafts", "MF99-999") == 2
+    assert run_fsarm(monkeypatch, "campaign", "--out", str(tmp_path), "--shafts", "MF99-999") == 2
     assert "unknown shaft" in capsys.readouterr().err
-
-
-def _fsarm(monkeypatch: pytest.MonkeyPatch, *args: str) -> int:
-    monkeypatch.setattr(sys, "argv", ["fsarm", *args])
-    try:
-        cli.main()
-    except SystemExit as exc:
-        return int(exc.code or 0)
-    return 0
 
 
 def test_cli_bench_commands(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     args = ["--bends", "0,45", "--chirp-s", "1", "--workers", "1", "--out", str(tmp_path)]
-    assert _fsarm(monkeypatch, "bench", "series", *args) == 0
+    assert run_fsarm(monkeypatch, "bench", "series", *args) == 0
     out = capsys.readouterr().out
     assert "K_sp" in out and "RMSE_p" in out
     assert (tmp_path / "series_table_D9-L450.csv").is_file()
     assert (
-        _fsarm(
+        run_fsarm(
             monkeypatch,
             "bench",
             "parallel",
@@ -186,6 +177,6 @@ def test_cli_bench_commands(
         == 0
     )
     assert "K_b" in capsys.readouterr().out
-    assert _fsarm(monkeypatch, "bench", "series", "--diameter-mm", "20") == 2
+    assert run_fsarm(monkeypatch, "bench", "series", "--diameter-mm", "20") == 2
     assert "outside the validity range" in capsys.readouterr().err
-    assert _fsarm(monkeypatch, "bench", "series", "--bends", "0,150") == 2
+    assert run_fsarm(monkeypatch, "bench", "series", "--bends", "0,150") == 2

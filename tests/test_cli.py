@@ -3,35 +3,25 @@
 from __future__ import annotations
 
 import json
-import sys
 from pathlib import Path
 
 import pandas as pd
 import pytest
 
-from fsarm_sim import cli
-
-
-def _fsarm(monkeypatch: pytest.MonkeyPatch, *args: str) -> int:
-    monkeypatch.setattr(sys, "argv", ["fsarm", *args])
-    try:
-        cli.main()
-    except SystemExit as exc:
-        return int(exc.code or 0)
-    return 0
+from conftest import run_fsarm
 
 
 def test_scenarios_lists_registry(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    assert _fsarm(monkeypatch, "scenarios") == 0
+    assert run_fsarm(monkeypatch, "scenarios") == 0
     out = capsys.readouterr().out
     assert "fig14-sine" in out and "p2p-payload" in out
 
 
 def test_run_writes_timeseries_and_summary(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     summary = tmp_path / "s.json"
-    code = _fsarm(
+    code = run_fsarm(
         monkeypatch,
         "run",
         "fig14-sine",
@@ -57,7 +47,7 @@ def test_run_writes_timeseries_and_summary(monkeypatch: pytest.MonkeyPatch, tmp_
 
 def test_run_parquet(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     assert (
-        _fsarm(
+        run_fsarm(
             monkeypatch,
             "run",
             "step-q3",
@@ -93,7 +83,7 @@ def test_bad_input_is_a_named_error(
     args: list[str],
     message: str,
 ) -> None:
-    assert _fsarm(monkeypatch, *args, "--out", str(tmp_path)) == 2 if args[0] == "run" else True
+    assert run_fsarm(monkeypatch, *args, "--out", str(tmp_path)) == 2 if args[0] == "run" else True
     err = capsys.readouterr().err
     assert "error:" in err and message in err
     assert "Traceback" not in err
@@ -105,7 +95,9 @@ def test_malformed_coefficient_file(
     bad = tmp_path / "bad.toml"
     bad.write_text("[series]\n")
     assert (
-        _fsarm(monkeypatch, "run", "fig14-sine", "--shaft-file", str(bad), "--out", str(tmp_path))
+        run_fsarm(
+            monkeypatch, "run", "fig14-sine", "--shaft-file", str(bad), "--out", str(tmp_path)
+        )
         == 2
     )
     assert "missing key" in capsys.readouterr().err

@@ -14,10 +14,12 @@ import mujoco
 import numpy as np
 import pytest
 
-from fsarm_sim import cli, recording
+from fsarm_sim import recording
 from fsarm_sim.errors import FsarmError, InvalidParameterError
 from fsarm_sim.model import model_path
 from fsarm_sim.simulation import RunResult, run_scenario
+
+from conftest import run_fsarm
 
 RrdReader = pytest.importorskip("rerun.chunk").RrdReader
 
@@ -234,22 +236,13 @@ def test_spawn_without_display_reports_instead_of_raising(
     assert msg.startswith("no viewer opened") and "x.rrd" in msg
 
 
-def _fsarm(monkeypatch: pytest.MonkeyPatch, *args: str) -> int:
-    monkeypatch.setattr(sys, "argv", ["fsarm", *args])
-    try:
-        cli.main()
-    except SystemExit as exc:
-        return int(exc.code or 0)
-    return 0
-
-
 def test_cli_run_writes_recording_and_figures(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     monkeypatch.delenv("DISPLAY", raising=False)
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
     rrd = tmp_path / "r" / "step.rrd"
-    code = _fsarm(
+    code = run_fsarm(
         monkeypatch,
         "run",
         "step-q3",
@@ -279,7 +272,7 @@ def test_cli_run_writes_recording_and_figures(
 def test_cli_rejects_bad_rate_before_running(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    code = _fsarm(monkeypatch, "run", "step-q3", "--out", str(tmp_path), "--rrd-rate", "0")
+    code = run_fsarm(monkeypatch, "run", "step-q3", "--out", str(tmp_path), "--rrd-rate", "0")
     assert code == 2
     assert "--rrd-rate" in capsys.readouterr().err
     assert not any(tmp_path.iterdir())  # failed before the run wrote anything

@@ -3,12 +3,10 @@
 from __future__ import annotations
 
 import math
-import sys
 
 import numpy as np
 import pytest
 
-from fsarm_sim import cli
 from fsarm_sim.selection import (
     SelectionRequest,
     ShaftSelectionError,
@@ -18,6 +16,8 @@ from fsarm_sim.selection import (
     stiffness,
 )
 from fsarm_sim.shaft import load_catalogue
+
+from conftest import run_fsarm
 
 CAT = load_catalogue()
 DIAMETERS = sorted({s.diameter_mm for s in CAT.shafts})
@@ -157,31 +157,22 @@ def test_physics_of_the_choice() -> None:
         assert c.rating_nm >= 6.7
 
 
-def _fsarm(monkeypatch: pytest.MonkeyPatch, *args: str) -> int:
-    monkeypatch.setattr(sys, "argv", ["fsarm", *args])
-    try:
-        cli.main()
-    except SystemExit as exc:
-        return int(exc.code or 0)
-    return 0
-
-
 def test_cli_select_shaft(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
     assert (
-        _fsarm(
+        run_fsarm(
             monkeypatch, "select-shaft", "--k-des", "15", "--kind", "series", "--torque-nm", "6.7"
         )
         == 0
     )
     out = capsys.readouterr().out
     assert "Algorithm 1 lands" in out and "closed" in out
-    code = _fsarm(monkeypatch, "select-shaft", "--k-des", "10", "--kind", "series")
+    code = run_fsarm(monkeypatch, "select-shaft", "--k-des", "10", "--kind", "series")
     assert code == 2
     assert "not reachable" in capsys.readouterr().err
     assert (
-        _fsarm(
+        run_fsarm(
             monkeypatch, "select-shaft", "--k-des", "4", "--kind", "parallel", "--torque-nm", "6.7"
         )
         == 0
