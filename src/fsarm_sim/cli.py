@@ -204,6 +204,7 @@ def run_cmd(
 def _register_extensions() -> None:
     """Commands defined in their own modules (one line each)."""
     importlib.import_module("fsarm_sim.cli_review").register(app)
+    importlib.import_module("fsarm_sim.cli_speed").register(app)
     importlib.import_module("fsarm_sim.cli_dynamics").register(app)
     importlib.import_module("fsarm_sim.cli_sweep").register(app)
 

@@ -18,7 +18,9 @@ def eq4_stiffness_nm_per_rad(q: tuple[float, ...], diameter_mm: float, length_mm
 
 def elastic_moment_nm(bend_rad: float, kb: float, beta: float) -> float:
     """Bending moment M(phi) = K_b (phi + beta phi^3), positive for positive bend."""
-    return kb * (bend_rad + beta * bend_rad**3)
+    # float exponent: CPython computes x**3 as pow(x, 3.0) anyway; written so, Numba also calls
+    # pow() (x**3 would be x*x*x there), keeping the native path bit-identical to this one.
+    return kb * (bend_rad + beta * bend_rad**3.0)
 
 
 def potential_j(bend_rad: float, kb: float, beta: float) -> float:
