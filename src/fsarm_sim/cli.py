@@ -207,6 +207,7 @@ def _register_extensions() -> None:
     importlib.import_module("fsarm_sim.cli_speed").register(app)
     importlib.import_module("fsarm_sim.cli_dynamics").register(app)
     importlib.import_module("fsarm_sim.cli_sweep").register(app)
+    importlib.import_module("fsarm_sim.cli_discrepancy").register(app)
 
 
 _register_extensions()

@@ -1,0 +1,173 @@
+"""``fsarm diagnose`` and ``fsarm synth``: the discrepancy workflow on the command line.
+
+Thin wrappers: argument parsing here, the work in :mod:`fsarm_sim.discrepancy` and
+:mod:`fsarm_sim.synth`. The library is imported inside the commands so that ``fsarm`` stays quick
+to start.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("diagnose")
+    def diagnose_cmd(
+        data: Annotated[
+            Path, typer.Argument(help="dataset: NAME.csv / NAME.parquet (+ NAME.json)")
+        ],
+        json_file: Annotated[
+            Path | None, typer.Option("--json", help="write the machine-readable result here")
+        ] = None,
+        report: Annotated[
+            Path | None,
+            typer.Option("--report", help="folder for result.json, model.json and plots"),
+        ] = None,
+        model_file: Annotated[
+            Path | None, typer.Option("--model", help="write the final model (JSON) here")
+        ] = None,
+        max_effects: Annotated[int, typer.Option(help="most effects to add")] = 4,
+    ) -> None:
+        """Replay the nominal model on a bench record, name the missing effects, fit them."""
+        from rich.console import Console
+        from rich.table import Table
+
+        from fsarm_sim.discrepancy import diagnose
+        from fsarm_sim.discrepancy import report as rep
+        from fsarm_sim.measured import load_dataset
+
+        console = Console(width=120)
+        ds = load_dataset(data)
+        diag = diagnose(ds, max_effects=max_effects)
+        for st in diag.steps:
+            t = Table(title=f"step {st.index}: {st.reason}", title_justify="left")
+            for col in (
+                "candidate",
+                "k",
+                "held-out NRMSE %",
+                "ΔBIC teach",
+                "ΔBIC held-out",
+                "gain %",
+                "earns place",
+            ):
+                t.add_column(col, justify="right" if col != "candidate" else "left")
+            for sc in st.scores:
+                t.add_row(
+                    sc.label,
+                    str(sc.k),
+                    f"{100 * sc.nrmse_held:.3f}",
+                    f"{sc.d_bic_teach:+.1f}",
+                    f"{sc.d_bic_held:+.1f}",
+                    f"{100 * sc.gain_held:.1f}",
+                    "yes" if sc.earns_place else "no",
+                )
+            console.print(t)
+            if st.added is not None and st.bic_margin is not None:
+                console.print(
+                    f"  confidence: {st.added} over {st.runner_up} by a held-out BIC margin of "
+                    f"{st.bic_margin:.1f} (p = {st.probability:.3g})"
+                    + ("  [look-alikes]" if st.look_alike else ""),
+                    markup=False,
+                )
+        console.print(f"named effects: {diag.named or 'none'}", markup=False)
+        console.print(
+            f"held-out NRMSE of {ds.output_column}: nominal {100 * diag.gap_before:.3f} % -> "
+            f"final {100 * diag.gap_after:.3f} %",
+            markup=False,
+        )
+        console.print(diag.verdict, markup=False)
+        console.print(f"runtime {diag.runtime_s:.1f} s", markup=False)
+        written: Path | None = None
+        if model_file is not None:
+            written = rep.write_model(diag, model_file)
+            console.print(f"model: {written}")
+        if report is not None:
+            files = rep.write_report(diag, report)
+            written = written or files["model"]
+            console.print(f"report: {report} ({', '.join(p.name for p in files.values())})")
+        if json_file is not None:
+            rep.write_json(diag, json_file, written)
+            console.print(f"result: {json_file}")
+
+    @app.command("synth")
+    def synth_cmd(
+        out: Annotated[
+            Path, typer.Argument(help="output NAME(.csv|.parquet); NAME.json beside it")
+        ],
+        setup: Annotated[str, typer.Option(help="series_bench or parallel_bench")] = "series_bench",
+        effect: Annotated[
+            list[str] | None,
+            typer.Option(
+                "--effect",
+                help="hidden effect NAME[:VARIANT]=VALUES (repeatable), e.g. "
+                "coulomb_friction:shaft=0.2, backlash=0.03,0.0, delay=0.01, "
+                "hysteresis:maxwell_slip=12,0.008,6,0.025",
+            ),
+        ] = None,
+        model: Annotated[
+            Path | None, typer.Option("--model", help="truth model file (instead of --effect)")
+        ] = None,
+        load: Annotated[str, typer.Option(help="series bench: blocked or inertia")] = "blocked",
+        inertia: Annotated[float, typer.Option(help="stated load inertia, kg*m^2")] = 0.01,
+        true_inertia: Annotated[
+            float | None, typer.Option(help="acting load inertia (default: the stated one)")
+        ] = None,
+        stiffness_scale: Annotated[
+            float, typer.Option(help="true stiffness / catalogue stiffness")
+        ] = 1.0,
+        diameter_mm: Annotated[float, typer.Option("--diameter", help="shaft D, mm")] = 9.0,
+        length_mm: Annotated[float, typer.Option("--length", help="shaft L, mm")] = 450.0,
+        noise: Annotated[float, typer.Option(help="torque noise std / torque range")] = 0.003,
+        duration: Annotated[float, typer.Option(help="s")] = 30.0,
+        rate: Annotated[float, typer.Option(help="sample rate, Hz")] = 1000.0,
+        trajectory: Annotated[
+            str, typer.Option(help="chirp, multisine, triangle, random, steps, biased_sine")
+        ] = "chirp",
+        amplitude: Annotated[float | None, typer.Option(help="input amplitude, rad")] = None,
+        bend_deg: Annotated[float, typer.Option(help="series bench: held bend angle, deg")] = 0.0,
+        seed: Annotated[int, typer.Option(help="random seed")] = 0,
+    ) -> None:
+        """Write a SYNTHETIC measured-format dataset with chosen hidden effects and noise."""
+        from fsarm_sim import synth
+        from fsarm_sim.discrepancy.benchmodel import load_model
+        from fsarm_sim.errors import InvalidParameterError
+        from fsarm_sim.shaft import load_catalogue
+
+        if setup not in ("series_bench", "parallel_bench"):
+            raise InvalidParameterError(
+                f"--setup must be series_bench or parallel_bench, got {setup!r}"
+            )
+        if load not in ("blocked", "inertia"):
+            raise InvalidParameterError(f"--load must be blocked or inertia, got {load!r}")
+        shaft = load_catalogue().shaft(diameter_mm, length_mm)
+        rec = synth.Recording(
+            duration_s=duration,
+            rate_hz=rate,
+            noise=noise,
+            trajectory=trajectory,
+            amplitude=amplitude,
+            bend_rad=math.radians(bend_deg),
+            seed=seed,
+        )
+        if model is not None:
+            truth = load_model(model)
+        else:
+            stated = inertia if (setup == "series_bench" and load == "inertia") else None
+            truth = synth.truth_model(
+                setup,
+                shaft=shaft,
+                load_inertia_kgm2=stated,
+                stiffness_scale=stiffness_scale,
+                true_inertia_kgm2=true_inertia,
+            )
+            amp = amplitude if amplitude is not None else synth.default_amplitude(truth, shaft)
+            for text in effect or []:
+                truth.effects.append(synth.parse_effect(text, setup, amp))
+        table, side = synth.write_synthetic(out, truth, rec, shaft)
+        typer.echo(
+            f"wrote {table} and {side} (SYNTHETIC; hidden: {[e.label for e in truth.effects] or 'none'})"
+        )

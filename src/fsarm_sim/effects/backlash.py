@@ -1,0 +1,42 @@
+"""Backlash: free play of total width ``w`` in a coupling (dead band, no torque inside it).
+
+Where it is on a bench: the square-drive end fitting that couples a flexible shaft's core to the
+encoder shaft / gearhead (series bench), or the joint coupling between the torque sensor and the
+bending link (parallel bench). The coupling's driven half is light (its inertia is negligible
+against the elastic torque), so it always rests against one flank while torque is transmitted and
+jumps across the gap as soon as the torque changes sign. The deflection the elastic element sees
+is then the measured deflection minus the play:
+
+    x_eff = x - c - w/2   (x - c >  w/2)
+    x_eff = 0             (|x - c| <= w/2)      no torque across the gap
+    x_eff = x - c + w/2   (x - c < -w/2)
+
+``c`` is where the gap's middle sits on the measured deflection axis (the encoders are zeroed
+wherever the coupling happened to rest). Seed 004 eq. 14-19 describe the same direction-dependent
+dead band for a tendon-sheath transmission.
+"""
+
+from __future__ import annotations
+
+
+def transmitted_deflection_rad(x_rad: float, width_rad: float, center_rad: float) -> float:
+    """Deflection reaching the elastic element through the play (the dead-zone law above)."""
+    u = x_rad - center_rad
+    half = 0.5 * width_rad
+    if u > half:
+        return u - half
+    if u < -half:
+        return u + half
+    return 0.0
+
+
+def transmitted_rate(x_rad: float, rate: float, width_rad: float, center_rad: float) -> float:
+    """Rate of the transmitted deflection: the input rate in contact, 0 inside the gap."""
+    u = x_rad - center_rad
+    half = 0.5 * width_rad
+    return rate if (u > half or u < -half) else 0.0
+
+
+def in_contact(x_rad: float, width_rad: float, center_rad: float) -> bool:
+    """True while one flank of the coupling touches the other (torque can be transmitted)."""
+    return abs(x_rad - center_rad) > 0.5 * width_rad

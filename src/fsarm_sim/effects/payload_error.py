@@ -1,0 +1,34 @@
+"""Payload error (arm setup): the payload on the flange differs from the one the run states.
+
+A mass error ``dm`` at the payload's centre of mass changes the gravity torque on joints 2 and 3
+(both axes horizontal and parallel, seed 000 Sec. IV / physics.md). With q2 measured from upright
+and q3 relative to link 2 (models/fsarm/fsarm.xml: link 2 and link 3 point along +z, hinges about
++y), the payload centre sits at horizontal distance ``l2 sin q2 + l3 sin(q2 + q3)`` from joint 2
+and ``l3 sin(q2 + q3)`` from joint 3, so gravity adds the generalized forces below (positive: away
+from upright). Joint 3 passes its torque through the hypoid (i_G2) into the shaft, so the error
+also shows as extra shaft twist ``tau_3 / (i_G2 K)`` - how the discrepancy workflow would see it.
+
+Lengths and g are arguments: the caller reads them from the compiled MJCF (never repeated here).
+"""
+
+from __future__ import annotations
+
+import math
+
+
+def gravity_torques_nm(
+    dm_kg: float, q2_rad: float, q3_rad: float, l2_m: float, l3_m: float, g_m_s2: float
+) -> tuple[float, float]:
+    """Generalized gravity forces (joint 2, joint 3) of an extra payload mass ``dm_kg``.
+
+    ``l2_m``: joint 2 to joint 3; ``l3_m``: joint 3 to the payload's centre of mass.
+    """
+    s23 = math.sin(q2_rad + q3_rad)
+    tau3 = dm_kg * g_m_s2 * l3_m * s23
+    tau2 = dm_kg * g_m_s2 * (l2_m * math.sin(q2_rad) + l3_m * s23)
+    return tau2, tau3
+
+
+def shaft_twist_error_rad(tau3_nm: float, gear_ratio: float, k_shaft: float) -> float:
+    """Static extra shaft twist that carries an extra joint-3 torque through an i_G2 gearbox."""
+    return tau3_nm / (gear_ratio * k_shaft)

@@ -1,0 +1,183 @@
+"""Measured datasets: the format of specs/measured-data.md and its named errors."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from fsarm_sim import measured as M
+
+
+def _series_cols(n: int = 500) -> dict[str, np.ndarray]:
+    t = np.arange(n) * 1e-3
+    th = 0.2 * np.sin(2 * np.pi * t)
+    return {
+        "t": t,
+        "theta_m": th,
+        "theta_s": np.zeros(n),
+        "phi_b": np.full(n, 0.5),
+        "tau_s": 15.0 * th,
+    }
+
+
+SIDE = {
+    "setup": "series_bench",
+    "shaft": {"diameter_mm": 9.0, "length_mm": 450.0},
+    "load": {"type": "blocked"},
+    "notes": "test",
+}
+
+
+def _write_csv(tmp: Path, cols: dict[str, np.ndarray], side: dict, name: str = "d") -> Path:
+    import pandas as pd
+
+    p = tmp / f"{name}.csv"
+    pd.DataFrame(cols).to_csv(p, index=False)
+    (tmp / f"{name}.json").write_text(json.dumps(side))
+    return p
+
+
+def test_roundtrip_csv_and_parquet(tmp_path: Path) -> None:
+    cols = _series_cols()
+    for suffix in (".csv", ".parquet"):
+        table, side = M.write_dataset(tmp_path / f"x{suffix}", cols, SIDE)
+        assert side.name == "x.json"
+        for how in (table, tmp_path / "x.json", tmp_path / "x"):
+            if how == tmp_path / "x" and suffix == ".parquet":
+                continue  # the CSV of the first round is found first
+            ds = M.load_dataset(how)
+            assert ds.setup == "series_bench" and ds.n == 500
+            assert ds.dt == pytest.approx(1e-3)
+            assert np.allclose(ds.columns["tau_s"], cols["tau_s"])
+            assert ds.shaft.diameter_mm == 9.0 and ds.load_inertia_kgm2 is None
+            assert ds.input_column == "theta_m" and ds.output_column == "tau_s"
+
+
+def test_parallel_and_inertia_sidecars(tmp_path: Path) -> None:
+    n = 300
+    t = np.arange(n) * 1e-3
+    side = {"setup": "parallel_bench", "shaft": {"name": "MF09-450"}}
+    p = _write_csv(tmp_path, {"t": t, "phi_b": 0.1 * t, "m_b": 0.4 * t}, side)
+    ds = M.load_dataset(p)
+    assert ds.setup == "parallel_bench" and ds.shaft.length_mm == 450.0
+    side2 = dict(SIDE, load={"type": "inertia", "inertia_kgm2": 0.02})
+    ds2 = M.load_dataset(_write_csv(tmp_path, _series_cols(), side2, "i"))
+    assert ds2.load_inertia_kgm2 == 0.02
+
+
+@pytest.mark.parametrize(
+    "mutate,err,words",
+    [
+        (lambda c: c.pop("tau_s"), M.MissingColumnError, ["'tau_s'", "required"]),
+        (lambda c: c.update(extra=c["t"] * 0), M.ExtraColumnError, ["'extra'", "extra_columns"]),
+        (lambda c: c["tau_s"].__setitem__(123, np.nan), M.NonFiniteError, ["'tau_s'", "row 123"]),
+        (lambda c: c["theta_m"].__setitem__(7, np.inf), M.NonFiniteError, ["'theta_m'", "row 7"]),
+        (
+            lambda c: c["t"].__setitem__(50, c["t"][48]),
+            M.TimeAxisError,
+            ["strictly increasing", "row 50"],
+        ),
+        (
+            lambda c: c["t"].__setitem__(slice(100, None), c["t"][100:] + 5e-4),
+            M.TimeAxisError,
+            ["evenly sampled", "row 100"],
+        ),
+    ],
+)
+def test_named_errors_say_file_column_row(
+    tmp_path: Path, mutate: object, err: type[Exception], words: list[str]
+) -> None:
+    cols = _series_cols()
+    mutate(cols)  # type: ignore[operator]
+    p = _write_csv(tmp_path, cols, SIDE)
+    with pytest.raises(err) as info:
+        M.load_dataset(p)
+    msg = str(info.value)
+    assert "d.csv" in msg
+    for w in words:
+        assert w in msg
+    assert isinstance(info.value, M.MeasuredDataError)
+
+
+def test_extra_columns_allowed_when_declared(tmp_path: Path) -> None:
+    cols = _series_cols()
+    cols["temperature"] = np.zeros(500)
+    ds = M.load_dataset(_write_csv(tmp_path, cols, dict(SIDE, extra_columns=["temperature"])))
+    assert ds.extra_columns == ("temperature",)
+
+
+def test_wrong_and_unknown_setup(tmp_path: Path) -> None:
+    p = _write_csv(tmp_path, _series_cols(), dict(SIDE, setup="parallel_bench"))
+    with pytest.raises(M.SetupError, match="look like a 'series_bench'"):
+        M.load_dataset(p)
+    p = _write_csv(tmp_path, _series_cols(), dict(SIDE, setup="lathe"))
+    with pytest.raises(M.SetupError, match="one of series_bench"):
+        M.load_dataset(p)
+    p = _write_csv(tmp_path, _series_cols(), SIDE)
+    with pytest.raises(M.SetupError, match="expected a 'parallel_bench'"):
+        M.load_dataset(p, expect_setup="parallel_bench")
+
+
+def test_too_few_samples_and_non_numeric(tmp_path: Path) -> None:
+    with pytest.raises(M.TooFewSamplesError, match=f"at least {M.MIN_SAMPLES}"):
+        M.load_dataset(_write_csv(tmp_path, _series_cols(50), SIDE))
+    p = _write_csv(tmp_path, _series_cols(), SIDE)
+    lines = p.read_text().splitlines()
+    parts = lines[11].split(",")
+    parts[4] = "abc"
+    lines[11] = ",".join(parts)
+    p.write_text("\n".join(lines) + "\n")
+    with pytest.raises(M.NonNumericError, match=r"column 'tau_s', row 10 .*CSV line 12"):
+        M.load_dataset(p)
+
+
+@pytest.mark.parametrize(
+    "shaft,words",
+    [
+        ({"name": "MF99-999"}, "not in"),
+        ({"diameter_mm": 30.0, "length_mm": 450.0}, "outside the validity range"),
+        ({"diameter_mm": 9.0}, "needs 'diameter_mm' and 'length_mm'"),
+        ("nine", "must be an object"),
+    ],
+)
+def test_unknown_shaft(tmp_path: Path, shaft: object, words: str) -> None:
+    with pytest.raises(M.UnknownShaftError, match=words):
+        M.load_dataset(_write_csv(tmp_path, _series_cols(), dict(SIDE, shaft=shaft)))
+
+
+def test_shaft_extrapolate_and_coefficient_file(tmp_path: Path) -> None:
+    side = dict(SIDE, shaft={"diameter_mm": 13.5, "length_mm": 450.0, "extrapolate": True})
+    assert M.load_dataset(_write_csv(tmp_path, _series_cols(), side)).shaft.diameter_mm == 13.5
+    side = dict(
+        SIDE, shaft={"diameter_mm": 9.0, "length_mm": 450.0, "coefficient_file": "none.toml"}
+    )
+    with pytest.raises(M.UnknownShaftError, match="coefficient file"):
+        M.load_dataset(_write_csv(tmp_path, _series_cols(), side))
+
+
+def test_sidecar_problems(tmp_path: Path) -> None:
+    p = _write_csv(tmp_path, _series_cols(), SIDE)
+    (tmp_path / "d.json").unlink()
+    with pytest.raises(M.SidecarError, match="not found"):
+        M.load_dataset(p)
+    (tmp_path / "d.json").write_text("{not json")
+    with pytest.raises(M.SidecarError, match="not a readable JSON"):
+        M.load_dataset(p)
+    (tmp_path / "d.json").write_text(json.dumps(dict(SIDE, load={"type": "inertia"})))
+    with pytest.raises(M.SidecarError, match="inertia_kgm2"):
+        M.load_dataset(p)
+    with pytest.raises(M.MeasuredDataError, match="no table"):
+        M.load_dataset(tmp_path / "missing")
+
+
+def test_arm_columns_are_defined(tmp_path: Path) -> None:
+    n = 300
+    cols = {c: np.zeros(n) for c in M.REQUIRED["arm"]}
+    cols["t"] = np.arange(n) * 1e-3
+    cols["tau_m"] = np.zeros(n)
+    side = {"setup": "arm", "shaft": {"diameter_mm": 9.0, "length_mm": 450.0}, "payload_kg": 0.0}
+    ds = M.load_dataset(_write_csv(tmp_path, cols, side))
+    assert ds.setup == "arm" and "tau_m" in ds.columns
