@@ -209,9 +209,11 @@ def torque_bandwidth(
             f"f_stop {f_stop_hz:g} Hz is above a quarter of the control rate {1.0 / dt:g} Hz"
         )
     check_duration(settle_s + chirp_s)
-    rating = config.shaft.rating_nm
+    rating = config.rating_nm()
     if rating <= 0.0:
-        raise InvalidParameterError("the shaft has no torque rating; cannot size the chirp")
+        raise InvalidParameterError(
+            "joint 3's transmission has no torque rating; cannot size the chirp"
+        )
     gains = replace(config.gains, wn_rad_s=(0.0, 0.0, 0.0))
     cfg = config.with_(gains=gains, payload_kg=0.0)
     n = round((settle_s + chirp_s) / dt) + 1
@@ -241,7 +243,8 @@ def torque_bandwidth(
     u, y = cols["tau_d_shaft"][sel], cols["tau_shaft"][sel]
     if np.any(np.diff(np.sign(cols["twist"][sel])) != 0):
         raise InvalidParameterError(
-            "the twist changed sign during the bandwidth chirp (eq. 8 is not linear there); "
+            "the twist changed sign during the bandwidth chirp (the transmission's law changes "
+            "branch there); "
             "lower amplitude_fraction or raise bias_fraction"
         )
     f, H = frequency_response(u, y, 1.0 / dt, f_start_hz * 1.5, f_stop_hz / 1.5)

@@ -8,10 +8,10 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
+from fsarm_sim.console import make_console
 from fsarm_sim.errors import FsarmError
 
 app = typer.Typer(
@@ -20,8 +20,8 @@ app = typer.Typer(
     add_completion=False,
     pretty_exceptions_enable=False,
 )
-console = Console()
-err_console = Console(stderr=True)
+console = make_console()
+err_console = make_console(stderr=True)
 
 
 @app.command("scenarios")
@@ -127,6 +127,13 @@ def run_cmd(
     figures: Annotated[
         Path | None, typer.Option(help="write the run's static figures (PNG) into this folder")
     ] = None,
+    transmission: Annotated[
+        str, typer.Option(help="joint 3's transmission (see `fsarm transmissions`)")
+    ] = "flexible-shaft",
+    tr_param: Annotated[
+        list[str] | None,
+        typer.Option(help="override a transmission parameter, NAME=VALUE (repeatable)"),
+    ] = None,
 ) -> None:
     """Run a scenario headless, print tracking metrics, write its time series."""
     from fsarm_sim.model import Gains, SimConfig
@@ -142,8 +149,15 @@ def run_cmd(
     shaft = load_catalogue(shaft_file).shaft(
         diameter_mm, length_mm, extrapolate=extrapolate, series_hysteresis=series_hysteresis
     )
+    from fsarm_sim.cli_transmissions import parse_params
+
     cfg = SimConfig(
-        shaft=shaft, gains=Gains(ctrl_dt_s=ctrl_dt), timestep_s=timestep, integrator=integrator
+        shaft=shaft,
+        gains=Gains(ctrl_dt_s=ctrl_dt),
+        timestep_s=timestep,
+        integrator=integrator,
+        transmission=transmission,
+        transmission_params=parse_params(tr_param or []),
     )
     result = run_scenario(
         scenario,
@@ -159,9 +173,12 @@ def run_cmd(
             f"[bold yellow]interrupted[/] at t = {result.duration_s:.3f} s: metrics and time series "
             "cover the finished part only"
         )
-    table = Table(
-        title=f"{scenario}: D={diameter_mm:g} mm, L={length_mm:g} mm, payload={result.config.payload_kg:g} kg"
+    what = (
+        f"D={diameter_mm:g} mm, L={length_mm:g} mm"
+        if transmission == "flexible-shaft"
+        else f"transmission {transmission}"
     )
+    table = Table(title=f"{scenario}: {what}, payload={result.config.payload_kg:g} kg")
     table.add_column("metric")
     for j in ("q1", "q2", "q3"):
         table.add_column(j, justify="right")
@@ -176,14 +193,20 @@ def run_cmd(
         ("peak_shaft_torque_nm", "peak shaft torque [N·m]"),
         ("peak_motor_torque_nm", "peak joint-3 motor torque [N·m]"),
         ("peak_motor_speed_rad_s", "peak joint-3 motor speed [rad/s]"),
+        ("motor_energy_j", "joint-3 motor work [J]"),
         ("realtime_factor", "real-time factor"),
     ):
         console.print(f"{label:<45} {m[key]:.4g}", markup=False)
     over = m["peak_shaft_torque_over_rating"]
     if isinstance(over, float) and over > 1.0:
+        advice = (
+            f"for D = {diameter_mm:g} mm): choose a thicker shaft"
+            if transmission == "flexible-shaft"
+            else f"of {transmission})"
+        )
         err_console.print(
-            f"[bold yellow]warning:[/] peak shaft torque is {over:.1f}x the shaft's nominal rating "
-            f"({shaft.rating_nm:.2f} N·m for D = {diameter_mm:g} mm): choose a thicker shaft"
+            f"[bold yellow]warning:[/] peak transmission torque is {over:.1f}x the nominal "
+            f"rating ({result.config.rating_nm():.2f} N·m {advice}"
         )
     path = write_timeseries(result, out, fmt)
     console.print(f"time series: {path}  (sidecar {path.with_suffix('.json')})")
@@ -208,6 +231,8 @@ def _register_extensions() -> None:
     importlib.import_module("fsarm_sim.cli_dynamics").register(app)
     importlib.import_module("fsarm_sim.cli_sweep").register(app)
     importlib.import_module("fsarm_sim.cli_discrepancy").register(app)
+    importlib.import_module("fsarm_sim.cli_transmissions").register(app)
+    importlib.import_module("fsarm_sim.cli_collision").register(app)
 
 
 _register_extensions()

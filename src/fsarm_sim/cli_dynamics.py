@@ -13,14 +13,15 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
-from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
+
+from fsarm_sim.console import make_console
 
 if TYPE_CHECKING:  # the simulator is imported inside the command: `fsarm` starts quickly
     from fsarm_sim.dynamics_check import DynamicsReport
 
-console = Console()
+console = make_console()
 
 
 def _json_safe(x: Any) -> Any:

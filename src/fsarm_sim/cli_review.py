@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 from rich.console import Console
 
+from fsarm_sim.console import make_console
 from fsarm_sim.errors import InvalidParameterError
 
 if TYPE_CHECKING:
@@ -89,7 +90,7 @@ def register(app: typer.Typer) -> None:
         for n in names:
             scenarios.get(n)  # unknown names fail before any run
         cfg = SimConfig(shaft=load_catalogue().shaft(diameter_mm, length_mm))
-        console = Console()
+        console = make_console()
         written = all_scenario_figures(
             out,
             cfg,

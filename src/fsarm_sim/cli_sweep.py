@@ -9,13 +9,13 @@ from pathlib import Path
 from typing import Annotated, Any
 
 import typer
-from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
+from fsarm_sim.console import make_console
 from fsarm_sim.errors import FsarmError
 
-console = Console()
+console = make_console()
 
 
 def _floats(text: str | None, what: str) -> tuple[float, ...] | None:
@@ -499,7 +499,7 @@ def register(app: typer.Typer) -> None:
                 MofNCompleteColumn(),
                 TextColumn("ETA"),
                 TimeRemainingColumn(),
-                console=Console(stderr=True),
+                console=make_console(stderr=True),
             )
             task_id = bar.add_task("runs", total=n_tasks)
             bar.start()

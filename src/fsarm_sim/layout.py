@@ -36,7 +36,7 @@ P_COEF_M = 9  # theta_m = COEF_M * rotor angle   (1 / i_G1)
 P_COEF_S = 10  # theta_s = COEF_S * q3           (i_G2)
 P_ACT_BR1 = 11
 P_ACT_BR2 = 12
-P_ACT_SLIP1 = 13  # three consecutive slip elements
+P_ACT_SLIP1 = 13  # three consecutive slip elements (other transmissions: their state slots)
 P_CTRL_J1 = 14
 P_CTRL_J2 = 15
 P_CTRL_J3 = 16
@@ -93,7 +93,30 @@ P_SPEED_FF = 65  # 1: torque PID adds the measured shaft-output speed as feedfor
 P_BEND_FIXED = 66  # bend angle used when there is no bend joint (P_QADR_Q2 < 0), rad
 P_SETUP = 67  # 0: arm, 1: series bench, 2: parallel bench
 P_RK4 = 68  # 1 when the model integrates with RK4 (see physics.control)
-N_PARAMS = 69
+# --- joint-3 transmission (fsarm_sim.transmissions): which one, the plant's parameter block and
+# the controller's copy (virtual torque sensor, gain scheduling). The flexible shaft (kind 0)
+# keeps its own slots above; its block is filled too, for the generic Python-side interface.
+P_TRANS = 69
+P_TR = 70  # N_TR consecutive parameters (transmissions.base.N_TR)
+P_TRC = 94  # N_TR consecutive parameters: the controller's model of the transmission
+P_TR_K0 = 118  # controller's stiffness at zero twist, straight (floor of the gain scheduler)
+# --- arm effects the discrepancy workflow can switch on (0: off) ---
+P_PAY_DM = 119  # payload mass error, kg: the plant carries it, the controllers do not know it
+P_PAY_L2 = 120  # joint 2 -> joint 3 distance, m (from the compiled MJCF)
+P_PAY_L3 = 121  # joint 3 -> payload centre of mass, m (from the compiled MJCF)
+P_GRAVITY = 122  # |g|, m/s^2 (from the compiled MJCF)
+P_BL_WIDTH = 123  # backlash (dead band) on the transmission twist, total width, rad
+P_BL_CENTER = 124  # middle of the dead band, rad
+P_GAIN_SCHED = 125  # 1: torque-PID gains scheduled on the model stiffness; 0: fixed at P_TR_K0
+N_PARAMS = 126
+N_TR = 24
+
+TR_FLEXIBLE_SHAFT = 0.0
+TR_RTCA = 1.0
+TR_QA_JOINT = 2.0
+TR_MAGNETIC_SPRING = 3.0
+TR_TENDON_SHEATH = 4.0
+STIFFNESS_FLOOR = 0.1  # gain scheduler: stiffness floored at this fraction of P_TR_K0
 
 SETUP_ARM = 0.0
 SETUP_SERIES_BENCH = 1.0

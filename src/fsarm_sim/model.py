@@ -17,10 +17,11 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim import callbacks
+from fsarm_sim import callbacks, transmissions
 from fsarm_sim import layout as L
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
 from fsarm_sim.shaft import ShaftParams, load_catalogue
+from fsarm_sim.transmissions.base import Transmission, TransmissionError
 
 PAYLOAD_MAX_KG = 15.0  # seed 000 Table III
 # A payload is a 15-kg-class block bolted to the flange: a cylinder r = 60 mm, h = 100 mm with its
@@ -56,6 +57,9 @@ class Gains:
         True  # add measured shaft-output speed to omega_d (see controllers/joint3_torque.py)
     )
     bend_compensation: bool = True  # joint-2 loop adds the modeled elastic bending moment
+    # True: torque-PID gains follow the transmission's stiffness at the current twist and bend;
+    # False: fixed gains for its stiffness at zero twist, straight (as seed 001's RTCA PID)
+    gain_schedule: bool = True
 
     def validate(self) -> None:
         values = {
@@ -85,6 +89,29 @@ class Effects:
     slip: bool = True
     coupling: bool = True  # energy-consistency term of eq. 8 on joint 2 (physics.py)
     control: bool = True
+    # effects the discrepancy workflow names on the arm (0: off); each acts on the plant only,
+    # the controllers do not know it
+    payload_error_kg: float = 0.0  # unstated payload mass (effects.payload_error)
+    backlash_width_rad: float = (
+        0.0  # play in joint 3's transmission, on the twist (effects.backlash)
+    )
+    backlash_center_rad: float = 0.0
+    q3_friction_nm: float = 0.0  # Coulomb friction at joint 3 (MuJoCo dof frictionloss), N*m
+    q3_damping_nms: float = 0.0  # extra viscous damping at joint 3 (added to dof damping)
+
+    def validate(self) -> None:
+        if not math.isfinite(self.payload_error_kg) or abs(self.payload_error_kg) > PAYLOAD_MAX_KG:
+            raise InvalidParameterError(
+                f"payload_error_kg must be within +-{PAYLOAD_MAX_KG:g} kg, got {self.payload_error_kg!r}"
+            )
+        for name in ("backlash_width_rad", "q3_friction_nm", "q3_damping_nms"):
+            v = getattr(self, name)
+            if not math.isfinite(v) or v < 0.0:
+                raise InvalidParameterError(f"{name} must be a finite number >= 0, got {v!r}")
+        if not math.isfinite(self.backlash_center_rad) or abs(self.backlash_center_rad) > 0.5:
+            raise InvalidParameterError(
+                f"backlash_center_rad must be within +-0.5 rad, got {self.backlash_center_rad!r}"
+            )
 
 
 @dataclass(frozen=True)
@@ -99,6 +126,12 @@ class SimConfig:
     timestep_s: float | None = None  # None: the MJCF's (1 ms)
     integrator: str | None = None  # "Euler", "RK4", "implicit", "implicitfast"; None: the MJCF's
     joint_damping: bool = True  # harmonic-drive/hypoid/motor viscous damping of the MJCF
+    # joint 3's transmission (fsarm_sim.transmissions): name, parameter overrides of its plant
+    # law, and of the controller's copy (None: the controller knows the plant's law exactly).
+    # The flexible shaft takes its numbers from ``shaft`` / ``controller_shaft`` instead.
+    transmission: str = transmissions.DEFAULT
+    transmission_params: tuple[tuple[str, float], ...] = ()
+    controller_transmission_params: tuple[tuple[str, float], ...] | None = None
 
     def with_(self, **changes: object) -> SimConfig:
         return replace(self, **changes)  # type: ignore[arg-type]
@@ -109,6 +142,16 @@ class SimConfig:
                 f"payload must be between 0 and {PAYLOAD_MAX_KG:g} kg (seed 000 Table III), got {self.payload_kg!r}"
             )
         self.gains.validate()
+        self.effects.validate()
+        tr = self.transmission_model()
+        if tr.name != transmissions.DEFAULT:
+            tr.block(dict(self.transmission_params))
+            tr.block(dict(self.controller_transmission_params or self.transmission_params))
+        elif self.transmission_params or self.controller_transmission_params:
+            raise InvalidParameterError(
+                "the flexible shaft takes its parameters from SimConfig.shaft, not "
+                "transmission_params"
+            )
         if self.timestep_s is not None and (
             not math.isfinite(self.timestep_s) or self.timestep_s <= 0.0
         ):
@@ -117,6 +160,33 @@ class SimConfig:
             raise InvalidParameterError(
                 f"integrator must be one of {sorted(INTEGRATORS)}, got {self.integrator!r}"
             )
+
+    def transmission_model(self) -> Transmission:
+        """Joint 3's transmission (TransmissionError names the known ones)."""
+        return transmissions.get(self.transmission)
+
+    def rating_nm(self) -> float:
+        """Torque rating of joint 3's transmission (shaft side), N*m."""
+        tr = self.transmission_model()
+        if tr.name == transmissions.DEFAULT:
+            return self.shaft.rating_nm
+        return tr.rating_nm(self.transmission_blocks()[0])
+
+    def transmission_blocks(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """(plant, controller) parameter blocks of joint 3's transmission."""
+        tr = self.transmission_model()
+        if tr.name == transmissions.DEFAULT:
+            return _shaft_block(self.shaft), _shaft_block(self.controller_shaft or self.shaft)
+        plant = tr.block(dict(self.transmission_params))
+        ctrl = tr.block(dict(self.controller_transmission_params or self.transmission_params))
+        return plant, ctrl
+
+
+def _shaft_block(sh: ShaftParams) -> npt.NDArray[np.float64]:
+    """The flexible shaft's generic block (transmissions.flexible_shaft order)."""
+    out = np.zeros(L.N_TR)
+    out[:6] = (sh.k_pos, sh.s_pos, sh.k_neg, sh.s_neg, sh.damping_pos, sh.damping_neg)
+    return out
 
 
 INTEGRATORS = {
@@ -253,11 +323,21 @@ def build_spec(
             st = read_structure(mujoco.MjSpec.from_file(str(path or model_path())).compile())
         spec.joint("j3_rotor").armature += 0.5 * sh.inertia_kgm2 * st.coef_m**2
         spec.joint("q3").armature += 0.5 * sh.inertia_kgm2 * st.coef_s**2
-    for i in range(3):
-        act = spec.actuator(f"shaft_slip{i + 1}")
-        limit = sh.slip_f[i] / sh.slip_k[i] if sh.slip_k[i] > 0.0 else 1e-12
-        act.actlimited = mujoco.mjtLimited.mjLIMITED_TRUE
-        act.actrange = [-limit, limit]
+    tr = config.transmission_model()
+    if tr.name == transmissions.DEFAULT:
+        for i in range(3):
+            act = spec.actuator(f"shaft_slip{i + 1}")
+            limit = sh.slip_f[i] / sh.slip_k[i] if sh.slip_k[i] > 0.0 else 1e-12
+            act.actlimited = mujoco.mjtLimited.mjLIMITED_TRUE
+            act.actrange = [-limit, limit]
+    else:  # the slip slots carry the transmission's own states
+        for i, lim in enumerate(tr.state_limits(config.transmission_blocks()[0])):
+            act = spec.actuator(f"shaft_slip{i + 1}")
+            if lim is None:
+                act.actlimited = mujoco.mjtLimited.mjLIMITED_FALSE
+            else:
+                act.actlimited = mujoco.mjtLimited.mjLIMITED_TRUE
+                act.actrange = [lim[0], lim[1]]
     spec.add_numeric(name=L.PARAMS_NAME, size=L.N_PARAMS, data=np.zeros(L.N_PARAMS))
     spec.add_numeric(name=L.REF_NAME, size=ref_table.size, data=ref_table.ravel())
     spec.nuserdata = L.N_USERDATA
@@ -294,8 +374,10 @@ def build_model(
     if not config.joint_damping:
         model.dof_damping[:] = 0.0
     st = read_structure(model)
+    model.dof_frictionloss[st.dof[2]] += config.effects.q3_friction_nm
+    model.dof_damping[st.dof[2]] += config.effects.q3_damping_nms
     write_params(model, st, config, ref.shape[0])
-    omega = shaft_mode_rad_s(model, st, config.shaft, ref[0, :3])
+    omega = shaft_mode_rad_s(model, st, max_stiffness(config), ref[0, :3])
     if config.effects.series and omega * model.opt.timestep > MAX_OMEGA_DT:
         raise InvalidParameterError(
             f"timestep {model.opt.timestep:g} s is too large for the shaft: its stiffest mode is "
@@ -310,10 +392,22 @@ MAX_OMEGA_DT = (
 )
 
 
+def max_stiffness(config: SimConfig) -> float:
+    """Largest stiffness joint 3's transmission can show (N*m/rad, shaft side).
+
+    Flexible shaft: the stiffer eq. 3 side straight plus the slip elements; any other: the
+    largest stiffness of its law over its valid twist range and the bends joint 2 can reach.
+    """
+    tr = config.transmission_model()
+    if tr.name == transmissions.DEFAULT:
+        return max(config.shaft.k_pos, config.shaft.k_neg) + sum(config.shaft.slip_k)
+    return tr.max_stiffness(config.transmission_blocks()[0])
+
+
 def shaft_mode_rad_s(
-    model: mujoco.MjModel, st: ArmStructure, shaft: ShaftParams, q: npt.NDArray[np.float64]
+    model: mujoco.MjModel, st: ArmStructure, k: float, q: npt.NDArray[np.float64]
 ) -> float:
-    """Frequency of the rotor-against-load shaft mode at pose ``q`` with the stiffest eq. 3 side.
+    """Frequency of the rotor-against-load transmission mode at pose ``q`` with stiffness ``k``.
 
     Two inertias on one spring: w^2 = K (c_m^2 / I_rotor + c_s^2 / M_33), with the twist
     coefficients c_m = 1/i_G1 and c_s = i_G2 of the tendon.
@@ -325,7 +419,6 @@ def shaft_mode_rad_s(
     mujoco.mj_crb(model, data)
     full = np.zeros((model.nv, model.nv))
     mujoco.mj_fullM(model, data, full)
-    k = max(shaft.k_pos, shaft.k_neg) + sum(shaft.slip_k)
     inv = st.coef_m**2 / full[st.dof[3], st.dof[3]] + st.coef_s**2 / full[st.dof[2], st.dof[2]]
     return float(np.sqrt(k * inv))
 
@@ -375,8 +468,78 @@ def write_params(model: mujoco.MjModel, st: ArmStructure, config: SimConfig, n_t
     p[L.P_CM_KB], p[L.P_CM_BETA] = cm_sh.kb, cm_sh.beta
     p[L.P_CM_BEND_COMP] = on[g.bend_compensation]
     p[L.P_SPEED_FF] = on[g.speed_ff]
+    p[L.P_GAIN_SCHED] = on[g.gain_schedule]
     p[L.P_SETUP] = L.SETUP_ARM
     p[L.P_RK4] = on[model.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4]
+    write_transmission(p, config)
+    write_arm_effects(model, p, config.effects)
+
+
+def write_transmission(p: npt.NDArray[np.float64], config: SimConfig) -> None:
+    """Joint 3's transmission: id, plant and controller blocks; shaft-only effects off if absent."""
+    tr = config.transmission_model()
+    plant, ctrl = config.transmission_blocks()
+    p[L.P_TRANS] = tr.kind
+    p[L.P_TR : L.P_TR + L.N_TR] = plant
+    p[L.P_TRC : L.P_TRC + L.N_TR] = ctrl
+    p[L.P_TR_K0] = reference_stiffness(config)
+    if tr.name != transmissions.DEFAULT:
+        p[L.P_EN_SLIP] = 0.0  # the slip slots hold the transmission's states
+        if not tr.routed_over_joint2:  # no shaft over joint 2: no bending moment to feel or cancel
+            p[L.P_EN_BEND] = p[L.P_EN_CONDUIT] = 0.0
+            p[L.P_CM_KB] = p[L.P_CM_BETA] = 0.0
+
+
+REFERENCE_TORQUE_FRACTION = 0.3  # of the rating: the operating point fixed gains are tuned for
+
+
+def reference_stiffness(config: SimConfig) -> float:
+    """The controller's stiffness at its nominal operating point, straight (N*m/rad).
+
+    The twist that holds 30 % of the rating on the positive side (the bias of the bandwidth
+    test, arm_metrics), unbent: fixed torque-PID gains are tuned for it (``gain_schedule=False``)
+    and the scheduler never goes below :data:`layout.STIFFNESS_FLOOR` of it. For the linear eq. 8
+    shaft this is simply K_sp(0); for stiffening laws (RTCA, QA-Joint) it avoids tuning on the
+    near-zero stiffness at zero twist.
+    """
+    tr = config.transmission_model()
+    _, ctrl = config.transmission_blocks()
+    rating = tr.rating_nm(ctrl) if tr.name != transmissions.DEFAULT else config.shaft.rating_nm
+    try:
+        x = tr.twist_for_torque(ctrl, REFERENCE_TORQUE_FRACTION * rating, 0.0)
+    except TransmissionError:
+        x = 0.0
+    return max(tr.stiffness(ctrl, x, 0.0), 0.0)
+
+
+def write_arm_effects(model: mujoco.MjModel, p: npt.NDArray[np.float64], fx: Effects) -> None:
+    """Plant-only arm effects (payload error, backlash); geometry read from the compiled MJCF."""
+    p[L.P_PAY_DM] = fx.payload_error_kg
+    p[L.P_BL_WIDTH] = fx.backlash_width_rad
+    p[L.P_BL_CENTER] = fx.backlash_center_rad
+    l2, l3 = payload_lever_arms_m(model)
+    p[L.P_PAY_L2], p[L.P_PAY_L3] = l2, l3
+    p[L.P_GRAVITY] = float(np.linalg.norm(model.opt.gravity))
+
+
+def payload_lever_arms_m(model: mujoco.MjModel) -> tuple[float, float]:
+    """(joint 2 -> joint 3, joint 3 -> payload centre of mass) distances at the zero pose, m.
+
+    (0, 0) for a model without the arm's joint 2 / payload (the benches).
+    """
+    J = mujoco.mjtObj.mjOBJ_JOINT
+    if (
+        mujoco.mj_name2id(model, J, "q2") < 0
+        or mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "payload") < 0
+    ):
+        return 0.0, 0.0
+    data = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, data)
+    a2 = data.xanchor[_id(model, J, "q2")]
+    a3 = data.xanchor[_id(model, J, "q3")]
+    b = _id(model, mujoco.mjtObj.mjOBJ_BODY, "payload")
+    com = data.xpos[b] + data.xmat[b].reshape(3, 3) @ np.array([0.0, 0.0, PAYLOAD_COM_OFFSET_M])
+    return float(np.linalg.norm(a3 - a2)), float(np.linalg.norm(com - a3))
 
 
 def params(model: mujoco.MjModel) -> npt.NDArray[np.float64] | None:

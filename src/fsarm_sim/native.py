@@ -343,9 +343,9 @@ REF_NAME = tuple(L.REF_NAME.encode() + b"\0")
 
 
 def _kernel_modules() -> list[ModuleType]:
-    """physics, every effects module, every controllers module (the sources the callbacks run)."""
+    """physics, every effects, controllers and transmissions module (what the callbacks run)."""
     mods: list[ModuleType] = [physics, L]
-    for pkg_name in ("fsarm_sim.effects", "fsarm_sim.controllers"):
+    for pkg_name in ("fsarm_sim.effects", "fsarm_sim.controllers", "fsarm_sim.transmissions"):
         pkg = importlib.import_module(pkg_name)
         mods.append(pkg)
         for info in pkgutil.iter_modules(pkg.__path__):

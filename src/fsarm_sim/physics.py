@@ -22,7 +22,14 @@ import numpy.typing as npt
 
 from fsarm_sim.controllers.joint3_torque import scheduled_gains, speed_loop, torque_pid
 from fsarm_sim.controllers.joint_position import clamp, computed_torque
-from fsarm_sim.effects import bending, conduit_viscoelastic, maxwell_slip, series_stiffness
+from fsarm_sim.effects import (
+    backlash,
+    bending,
+    conduit_viscoelastic,
+    maxwell_slip,
+    payload_error,
+    series_stiffness,
+)
 from fsarm_sim.layout import (
     L_OMEGA_D,
     L_PID_D,
@@ -35,6 +42,7 @@ from fsarm_sim.layout import (
     L_TAU_MODEL,
     L_TAU_SHAFT,
     N_MEM,
+    N_TR,
     P_ACT_BR1,
     P_ACT_BR2,
     P_ACT_SLIP1,
@@ -42,6 +50,8 @@ from fsarm_sim.layout import (
     P_B_POS,
     P_BEND_FIXED,
     P_BETA,
+    P_BL_CENTER,
+    P_BL_WIDTH,
     P_BR_K1,
     P_BR_K2,
     P_BR_TAU1,
@@ -69,6 +79,8 @@ from fsarm_sim.layout import (
     P_EN_COUPLING,
     P_EN_SERIES,
     P_EN_SLIP,
+    P_GAIN_SCHED,
+    P_GRAVITY,
     P_K_NEG,
     P_K_POS,
     P_KB,
@@ -77,6 +89,9 @@ from fsarm_sim.layout import (
     P_MADR_Q3,
     P_N_TICKS,
     P_OMEGA_MAX,
+    P_PAY_DM,
+    P_PAY_L2,
+    P_PAY_L3,
     P_QADR_Q1,
     P_QADR_Q2,
     P_QADR_Q3,
@@ -94,6 +109,10 @@ from fsarm_sim.layout import (
     P_TAU_KDN,
     P_TAU_MOT_MAX,
     P_TAU_WI,
+    P_TR,
+    P_TR_K0,
+    P_TRANS,
+    P_TRC,
     P_WN1,
     P_WN2,
     P_WN3,
@@ -101,11 +120,19 @@ from fsarm_sim.layout import (
     P_ZETA2,
     P_ZETA3,
     REF_COLS,
+    STIFFNESS_FLOOR,
     U_LOG,
     U_MEM,
     U_OUT,
     U_PRE,
     U_TICK,
+)
+from fsarm_sim.transmissions import (
+    flexible_shaft,
+    magnetic_spring,
+    qa_joint,
+    rtca,
+    tendon_sheath,
 )
 
 FloatArray = npt.NDArray[np.float64]
@@ -144,10 +171,109 @@ def twist_and_rate(prm: FloatArray, qpos: FloatArray, qvel: FloatArray) -> tuple
     return twist_angle(prm, qpos), rate
 
 
+def transmitted_twist(prm: FloatArray, x: float, rate: float) -> tuple[float, float]:
+    """Twist and rate reaching the transmission's law through a backlash, if one is switched on."""
+    w = prm[P_BL_WIDTH]
+    if w > 0.0:
+        c = prm[P_BL_CENTER]
+        return backlash.transmitted_deflection_rad(x, w, c), backlash.transmitted_rate(
+            x, rate, w, c
+        )
+    return x, rate
+
+
+# Dispatch on the transmission id (layout.TR_*): one branch per registered transmission.
+def tr_torque(
+    kind: float, tr: FloatArray, x: float, rate: float, bend: float, act: FloatArray, a0: int
+) -> float:
+    """True torque of transmission ``kind``."""
+    if kind < 0.5:
+        return flexible_shaft.torque_nm(tr, x, rate, bend, act, a0)
+    if kind < 1.5:
+        return rtca.torque_nm(tr, x, rate, bend, act, a0)
+    if kind < 2.5:
+        return qa_joint.torque_nm(tr, x, rate, bend, act, a0)
+    if kind < 3.5:
+        return magnetic_spring.torque_nm(tr, x, rate, bend, act, a0)
+    return tendon_sheath.torque_nm(tr, x, rate, bend, act, a0)
+
+
+def tr_sensor_torque(kind: float, tr: FloatArray, x: float, bend: float) -> float:
+    """Virtual torque sensor of transmission ``kind``: its elastic law on the encoder twist."""
+    if kind < 0.5:
+        return flexible_shaft.sensor_torque_nm(tr, x, bend)
+    if kind < 1.5:
+        return rtca.sensor_torque_nm(tr, x, bend)
+    if kind < 2.5:
+        return qa_joint.sensor_torque_nm(tr, x, bend)
+    if kind < 3.5:
+        return magnetic_spring.sensor_torque_nm(tr, x, bend)
+    return tendon_sheath.sensor_torque_nm(tr, x, bend)
+
+
+def tr_stiffness(kind: float, tr: FloatArray, x: float, bend: float) -> float:
+    """d(sensor torque)/d(twist) of transmission ``kind``."""
+    if kind < 0.5:
+        return flexible_shaft.stiffness_nm_per_rad(tr, x, bend)
+    if kind < 1.5:
+        return rtca.stiffness_nm_per_rad(tr, x, bend)
+    if kind < 2.5:
+        return qa_joint.stiffness_nm_per_rad(tr, x, bend)
+    if kind < 3.5:
+        return magnetic_spring.stiffness_nm_per_rad(tr, x, bend)
+    return tendon_sheath.stiffness_nm_per_rad(tr, x, bend)
+
+
+def tr_state_rate(
+    kind: float,
+    tr: FloatArray,
+    x: float,
+    rate: float,
+    bend: float,
+    act: FloatArray,
+    a0: int,
+    i: int,
+) -> float:
+    """d(act[a0 + i])/dt of transmission ``kind``."""
+    if kind < 0.5:
+        return flexible_shaft.state_rate(tr, x, rate, bend, act, a0, i)
+    if kind < 1.5:
+        return rtca.state_rate(tr, x, rate, bend, act, a0, i)
+    if kind < 2.5:
+        return qa_joint.state_rate(tr, x, rate, bend, act, a0, i)
+    if kind < 3.5:
+        return magnetic_spring.state_rate(tr, x, rate, bend, act, a0, i)
+    return tendon_sheath.state_rate(tr, x, rate, bend, act, a0, i)
+
+
+def tr_potential(
+    kind: float, tr: FloatArray, x: float, bend: float, act: FloatArray, a0: int
+) -> float:
+    """Stored energy of transmission ``kind``."""
+    if kind < 0.5:
+        return flexible_shaft.potential_j(tr, x, bend, act, a0)
+    if kind < 1.5:
+        return rtca.potential_j(tr, x, bend, act, a0)
+    if kind < 2.5:
+        return qa_joint.potential_j(tr, x, bend, act, a0)
+    if kind < 3.5:
+        return magnetic_spring.potential_j(tr, x, bend, act, a0)
+    return tendon_sheath.potential_j(tr, x, bend, act, a0)
+
+
 def shaft_torque(prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray) -> float:
-    """True torque carried by the shaft (N*m): eq. 8 + eq. 1 damping + Maxwell-slip elements."""
+    """True torque carried by joint 3's transmission (N*m).
+
+    Flexible shaft (default): eq. 8 + eq. 1 damping + Maxwell-slip elements. Any other
+    transmission: its own law (:mod:`fsarm_sim.transmissions`).
+    """
     twist, rate = twist_and_rate(prm, qpos, qvel)
+    twist, rate = transmitted_twist(prm, twist, rate)
     bend = bend_angle(prm, qpos)
+    if prm[P_TRANS] > 0.5:
+        return tr_torque(
+            prm[P_TRANS], prm[P_TR : P_TR + N_TR], twist, rate, bend, act, int(prm[P_ACT_SLIP1])
+        )
     tau = 0.0
     if prm[P_EN_SERIES] > 0.5:
         tau += series_stiffness.elastic_torque_nm(
@@ -178,7 +304,7 @@ def bending_torques(
             bend, act[int(prm[P_ACT_BR2])], prm[P_BR_K2]
         )
         total += conduit
-    if prm[P_EN_SERIES] > 0.5 and prm[P_EN_COUPLING] > 0.5:
+    if prm[P_EN_SERIES] > 0.5 and prm[P_EN_COUPLING] > 0.5 and prm[P_TRANS] < 0.5:
         twist = twist_angle(prm, qpos)
         total += series_stiffness.bend_coupling_torque_nm(twist, bend, prm[P_S_POS], prm[P_S_NEG])
     return total, conduit
@@ -198,6 +324,18 @@ def passive_forces(
     add_force(qfrc, prm[P_DOF_Q3], prm[P_COEF_S] * tau)
     total, conduit = bending_torques(prm, qpos, qvel, act)
     add_force(qfrc, prm[P_DOF_Q2], total)
+    if prm[P_PAY_DM] != 0.0 and prm[P_QADR_Q2] >= 0.0:
+        # an unstated payload mass: the plant feels its gravity, the controllers do not know it
+        tau2, tau3 = payload_error.gravity_torques_nm(
+            prm[P_PAY_DM],
+            qpos[int(prm[P_QADR_Q2])],
+            qpos[int(prm[P_QADR_Q3])],
+            prm[P_PAY_L2],
+            prm[P_PAY_L3],
+            prm[P_GRAVITY],
+        )
+        add_force(qfrc, prm[P_DOF_Q2], tau2)
+        add_force(qfrc, prm[P_DOF_Q3], tau3)
     log[L_TAU_SHAFT] = tau
     log[L_TAU_BEND] = total
     log[L_TAU_CONDUIT] = conduit
@@ -212,16 +350,28 @@ def state_rate(
         return conduit_viscoelastic.branch_rate(bend, act[act_adr], prm[P_BR_TAU1])
     if act_adr == int(prm[P_ACT_BR2]):
         return conduit_viscoelastic.branch_rate(bend, act[act_adr], prm[P_BR_TAU2])
-    _, rate = twist_and_rate(prm, qpos, qvel)
+    twist, rate = twist_and_rate(prm, qpos, qvel)
+    twist, rate = transmitted_twist(prm, twist, rate)
+    if prm[P_TRANS] > 0.5:
+        a0 = int(prm[P_ACT_SLIP1])
+        return tr_state_rate(
+            prm[P_TRANS], prm[P_TR : P_TR + N_TR], twist, rate, bend, act, a0, act_adr - a0
+        )
     return maxwell_slip.element_rate(rate)
 
 
 def shaft_potential(prm: FloatArray, qpos: FloatArray, act: FloatArray) -> float:
     """Energy stored in the enabled shaft elements (J), for energy bookkeeping."""
     twist = twist_angle(prm, qpos)
+    if prm[P_BL_WIDTH] > 0.0:
+        twist = backlash.transmitted_deflection_rad(twist, prm[P_BL_WIDTH], prm[P_BL_CENTER])
     bend = bend_angle(prm, qpos)
     v = 0.0
-    if prm[P_EN_SERIES] > 0.5:
+    if prm[P_TRANS] > 0.5:
+        v += tr_potential(
+            prm[P_TRANS], prm[P_TR : P_TR + N_TR], twist, bend, act, int(prm[P_ACT_SLIP1])
+        )
+    elif prm[P_EN_SERIES] > 0.5:
         v += series_stiffness.potential_j(
             twist, bend, prm[P_K_POS], prm[P_S_POS], prm[P_K_NEG], prm[P_S_NEG]
         )
@@ -308,14 +458,33 @@ def control_tick(
     # virtual torque sensor: eq. 8 on the two encoders and the joint-2 encoder
     theta_m = cm * qpos[int(prm[P_QADR_ROT])]
     theta_s = cs * q3
-    tau_m = series_stiffness.elastic_torque_nm(
-        theta_m - theta_s, q2, prm[P_CM_K_POS], prm[P_CM_S_POS], prm[P_CM_K_NEG], prm[P_CM_S_NEG]
-    )
+    if prm[P_TRANS] > 0.5:
+        trc = prm[P_TRC : P_TRC + N_TR]
+        tau_m = tr_sensor_torque(prm[P_TRANS], trc, theta_m - theta_s, q2)
+        k_model = max(
+            tr_stiffness(prm[P_TRANS], trc, theta_m - theta_s, q2), STIFFNESS_FLOOR * prm[P_TR_K0]
+        )
+    else:
+        tau_m = series_stiffness.elastic_torque_nm(
+            theta_m - theta_s,
+            q2,
+            prm[P_CM_K_POS],
+            prm[P_CM_S_POS],
+            prm[P_CM_K_NEG],
+            prm[P_CM_S_NEG],
+        )
+        k_model = series_stiffness.stiffness_nm_per_rad(
+            theta_m - theta_s,
+            q2,
+            prm[P_CM_K_POS],
+            prm[P_CM_S_POS],
+            prm[P_CM_K_NEG],
+            prm[P_CM_S_NEG],
+        )
     omega_ff = cs * qvel[dof3] if prm[P_SPEED_FF] > 0.5 else 0.0
     omega_max_shaft = prm[P_OMEGA_MAX] * cm
-    k_model = series_stiffness.stiffness_nm_per_rad(
-        theta_m - theta_s, q2, prm[P_CM_K_POS], prm[P_CM_S_POS], prm[P_CM_K_NEG], prm[P_CM_S_NEG]
-    )
+    if prm[P_GAIN_SCHED] < 0.5:  # fixed gains, tuned at zero twist, straight (seed 001's PID)
+        k_model = prm[P_TR_K0]
     kp, ki, kd = scheduled_gains(prm[P_TAU_BW], prm[P_TAU_WI], prm[P_TAU_KDN], k_model)
     omega_d, integ, err, p_term, i_term, d_term = torque_pid(
         tau_d,

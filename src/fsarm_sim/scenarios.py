@@ -1,6 +1,14 @@
 """Scenario registry: name -> reference trajectory, duration, payload.
 
 Add a scenario with ``@register``; every registered scenario is run by the generic tests.
+
+A scenario may also script the outside world and an outer control loop (both used only by
+:func:`fsarm_sim.simulation.run_scenario`, once per control tick, and only when set):
+
+* ``disturbance`` - an external force on the arm (a hit, a hand on the flange), see
+  :class:`Disturbance`;
+* ``outer_loop`` - a factory ``Simulation -> (tick k -> None)`` that may rewrite the reference
+  rows from tick ``k`` on before the controller reads them (hand guiding, collision reaction).
 """
 
 from __future__ import annotations
@@ -8,6 +16,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import numpy.typing as npt
@@ -15,8 +24,27 @@ import numpy.typing as npt
 from fsarm_sim import references as R
 from fsarm_sim.errors import ScenarioNotFoundError
 
+if TYPE_CHECKING:
+    from fsarm_sim.simulation import Simulation
+
 Array = npt.NDArray[np.float64]
 DEG = math.pi / 180.0
+TickHook = Callable[[int], None]  # called before control tick k, may write data / reference rows
+OuterLoop = Callable[["Simulation"], TickHook]
+
+
+@dataclass(frozen=True)
+class Disturbance:
+    """A scripted external force on the arm, applied at a site (e.g. ``flange``).
+
+    ``force_n(t)`` is the force (N) at time ``t`` expressed in the site's frame, applied at the
+    site's origin through ``data.qfrc_applied`` (``mj_applyFT``) and held over each control
+    period. ``window_s`` is the (start, end) of the contact, for detection statistics.
+    """
+
+    site: str
+    force_n: Callable[[float], tuple[float, float, float]]
+    window_s: tuple[float, float]
 
 
 @dataclass(frozen=True)
@@ -26,16 +54,26 @@ class Scenario:
     duration_s: float
     payload_kg: float
     reference: Callable[[Array], Array]  # tick times -> table (n, 9)
+    disturbance: Disturbance | None = None
+    outer_loop: OuterLoop | None = None
 
 
 REGISTRY: dict[str, Scenario] = {}
 
 
 def register(
-    name: str, description: str, duration_s: float, payload_kg: float = 0.0
+    name: str,
+    description: str,
+    duration_s: float,
+    payload_kg: float = 0.0,
+    *,
+    disturbance: Disturbance | None = None,
+    outer_loop: OuterLoop | None = None,
 ) -> Callable[[Callable[[Array], Array]], Callable[[Array], Array]]:
     def wrap(fn: Callable[[Array], Array]) -> Callable[[Array], Array]:
-        REGISTRY[name] = Scenario(name, description, duration_s, payload_kg, fn)
+        REGISTRY[name] = Scenario(
+            name, description, duration_s, payload_kg, fn, disturbance, outer_loop
+        )
         return fn
 
     return wrap
@@ -103,3 +141,79 @@ def _step_q3(t: Array) -> Array:
 )
 def _step_q2(t: Array) -> Array:
     return R.stack((R.hold(t, 0.0), R.step(t, 30.0 * DEG, 40.0 * DEG, 0.5), R.hold(t, 30.0 * DEG)))
+
+
+# --- contact scenarios: scripted external forces on the flange (seed 004 Sec. V, Fig. 12) ---
+
+
+def _raised_cosine_pulse(t: float, start: float, end: float, ramp: float, peak: float) -> float:
+    """``peak`` between start and end, with raised-cosine ramps of ``ramp`` s at both ends."""
+    if t <= start or t >= end:
+        return 0.0
+    edge = min(t - start, end - t)
+    return peak if edge >= ramp else peak * 0.5 * (1.0 - math.cos(math.pi * edge / ramp))
+
+
+# A hit: a raised-cosine (Hann) force pulse on the flange, against the motion (seed 004 Fig. 12a: a wooden
+# stick hits the load plate). Estimate (the seed gives no force): 100 N peak over 50 ms, i.e.
+# 40 N*m on joint 3 at the 0.4 m flange lever, well above a light touch and inside the joint's
+# 160 N*m drive limit.
+HIT_START_S = 1.2
+HIT_DURATION_S = 0.05
+HIT_PEAK_N = 100.0
+
+
+def _hit_force(t: float) -> tuple[float, float, float]:
+    """Flange frame: -x pushes joint 3 negative, against the upward sweep at t = 1.2 s."""
+    f = _raised_cosine_pulse(
+        t, HIT_START_S, HIT_START_S + HIT_DURATION_S, 0.5 * HIT_DURATION_S, 1.0
+    )
+    return (-HIT_PEAK_N * f, 0.0, 0.0)
+
+
+def _collision_reaction(sim: Simulation) -> TickHook:
+    from fsarm_sim.collision import reaction_loop
+
+    return reaction_loop(sim)
+
+
+@register(
+    "collision-hit",
+    "Joint 3 sweeps 0-90 deg as in fig14-sine and is hit on the flange at t = 1.2 s (100 N, "
+    "50 ms); sensorless detection from the two encoders stops it (seed 004 Algorithm 1)",
+    duration_s=3.0,
+    disturbance=Disturbance("flange", _hit_force, (HIT_START_S, HIT_START_S + HIT_DURATION_S)),
+    outer_loop=_collision_reaction,
+)
+def _collision_hit(t: Array) -> Array:
+    return _fig14(t)
+
+
+# Hand guiding: a hand pushes the flange perpendicular to link 3, lets go, pushes back, lets go.
+# Estimate (the seed gives no force): 25 N, a light one-hand push (10 N*m on joint 3), with
+# 0.1 s raised-cosine onsets.
+HAND_PUSHES = ((0.5, 1.5, 25.0), (2.5, 3.5, -25.0))  # (start s, end s, force N along flange x)
+HAND_RAMP_S = 0.1
+
+
+def _hand_force(t: float) -> tuple[float, float, float]:
+    f = sum(_raised_cosine_pulse(t, a, b, HAND_RAMP_S, p) for a, b, p in HAND_PUSHES)
+    return (f, 0.0, 0.0)
+
+
+def _hand_guiding(sim: Simulation) -> TickHook:
+    from fsarm_sim.collision import hand_guiding_loop
+
+    return hand_guiding_loop(sim)
+
+
+@register(
+    "hand-guide",
+    "Hand guiding of joint 3 (seed 004 Algorithm 2): the arm holds a pose, a hand pushes the "
+    "flange with 25 N for 1 s, lets go, pushes back, lets go; joint 3 yields and then holds",
+    duration_s=4.5,
+    disturbance=Disturbance("flange", _hand_force, (HAND_PUSHES[0][0], HAND_PUSHES[-1][1])),
+    outer_loop=_hand_guiding,
+)
+def _hand_guide(t: Array) -> Array:
+    return R.stack((R.hold(t, 0.0), R.hold(t, FIG14_POSE_Q2), R.hold(t, 30.0 * DEG)))

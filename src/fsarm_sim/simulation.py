@@ -11,7 +11,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim import callbacks, physics, scenarios
+from fsarm_sim import callbacks, physics, scenarios, transmissions
 from fsarm_sim import layout as L
 from fsarm_sim.errors import InvalidParameterError, SimulationWarningError
 from fsarm_sim.model import ArmStructure, SimConfig, build_model, read_structure
@@ -76,21 +76,43 @@ def initial_state(model: mujoco.MjModel, data: mujoco.MjData, st: ArmStructure) 
     mujoco.mj_comPos(model, data)
     mujoco.mj_rne(model, data, 0, data.qfrc_bias)  # gravity only (qvel = 0)
     tau_shaft = float(data.qfrc_bias[st.dof[2]]) / st.coef_s
-    side = 1.0 if tau_shaft >= 0.0 else -1.0
     bend = data.qpos[st.qadr[1]]
-    k = (
-        (prm[L.P_K_POS] + prm[L.P_S_POS] * abs(bend))
-        if side > 0
-        else (prm[L.P_K_NEG] + prm[L.P_S_NEG] * abs(bend))
-    )
-    if prm[L.P_EN_SERIES] > 0.5 and k > 0.0:
-        data.qpos[st.qadr[3]] = (st.coef_s * data.qpos[st.qadr[2]] + tau_shaft / k) / st.coef_m
+    twist = static_twist(prm, tau_shaft, bend)
+    data.qpos[st.qadr[3]] = (st.coef_s * data.qpos[st.qadr[2]] + twist) / st.coef_m
+    if prm[L.P_TRANS] > 0.5:
+        tr = transmissions.by_kind(prm[L.P_TRANS])
+        block = prm[L.P_TR : L.P_TR + L.N_TR]
+        for i, v in enumerate(tr.initial_states(block, twist, bend)):
+            data.act[st.act_slip + i] = v
     data.act[st.act_branch[0]] = bend
     data.act[st.act_branch[1]] = bend
     if prm[L.P_SPD_KI] > 0.0:
         data.userdata[L.U_MEM + 2] = st.coef_m * tau_shaft / prm[L.P_SPD_KI]
     data.userdata[L.U_TICK] = 0.0
     data.time = 0.0
+
+
+def static_twist(prm: Array, tau_shaft: float, bend: float) -> float:
+    """Twist at which joint 3's transmission holds ``tau_shaft`` statically (0: no spring)."""
+    if prm[L.P_EN_SERIES] < 0.5:
+        return 0.0
+    if prm[L.P_TRANS] > 0.5:
+        tr = transmissions.by_kind(prm[L.P_TRANS])
+        twist = tr.twist_for_torque(prm[L.P_TR : L.P_TR + L.N_TR], tau_shaft, bend)
+    else:
+        side = 1.0 if tau_shaft >= 0.0 else -1.0
+        k = (
+            (prm[L.P_K_POS] + prm[L.P_S_POS] * abs(bend))
+            if side > 0
+            else (prm[L.P_K_NEG] + prm[L.P_S_NEG] * abs(bend))
+        )
+        if k <= 0.0:
+            return 0.0
+        twist = tau_shaft / k
+    if prm[L.P_BL_WIDTH] > 0.0:  # the play must be taken up first, on the loaded flank
+        c, w = prm[L.P_BL_CENTER], prm[L.P_BL_WIDTH]
+        twist += c + (0.5 * w if twist > 0.0 else -0.5 * w if twist < 0.0 else 0.0)
+    return twist
 
 
 class Simulation:
@@ -106,6 +128,9 @@ class Simulation:
         self.backend: Backend = backend
         self.interrupted = False
         self._rows = 0
+        # per-control-tick Python hooks (scripted disturbances, outer loops); none: the loop is
+        # exactly the hook-free one
+        self.hooks: list[scenarios.TickHook] = []
         initial_state(self.model, self.data, self.structure)
 
     @property
@@ -169,7 +194,12 @@ class Simulation:
         m, d = self.model, self.data
         r = 0
         step = 0
+        per_tick = round(self.config.gains.ctrl_dt_s / m.opt.timestep)
+        hooks = self.hooks
         while step < n_steps:
+            if hooks and step % per_tick == 0:
+                for hook in hooks:
+                    hook(step // per_tick)
             if r < n_rec and step % stride == 0:
                 t_rec[r] = d.time
                 qpos_rec[r] = d.qpos
@@ -184,6 +214,8 @@ class Simulation:
             chunk = min(WARNING_CHECK_EVERY, n_steps - step)
             if n_rec:
                 chunk = min(chunk, stride - step % stride)
+            if hooks:
+                chunk = min(chunk, per_tick - step % per_tick)
             mujoco.mj_step(m, d, nstep=chunk)
             step += chunk
             if step % WARNING_CHECK_EVERY < chunk:
@@ -236,6 +268,17 @@ class Simulation:
         return cols
 
 
+def motor_energy_j(cols: dict[str, Array], st: ArmStructure | None) -> float:
+    """Positive mechanical work of joint 3's motor, J (trapezoid of max(tau * omega_rotor, 0)).
+
+    Regenerated energy is not credited (a typical servo amplifier burns it in a shunt).
+    """
+    if st is None or len(cols["t"]) < 2:
+        return float("nan")
+    power = np.maximum(cols["tau_motor"] * cols["omega_m"] / st.coef_m, 0.0)
+    return float(np.sum(0.5 * (power[1:] + power[:-1]) * np.diff(cols["t"])))
+
+
 def compute_metrics(
     cols: dict[str, Array],
     duration_s: float,
@@ -267,6 +310,7 @@ def compute_metrics(
             float(np.max(np.abs(cols["tau_shaft"]))) / rating_nm if rating_nm else float("nan")
         ),
         "peak_tau2_nm": float(np.max(np.abs(cols["tau2"]))),
+        "motor_energy_j": motor_energy_j(cols, st),
         "sim_time_s": duration_s,
         "wall_time_s": wall_s,
         "realtime_factor": duration_s / wall_s if wall_s > 0 else float("inf"),
@@ -274,8 +318,37 @@ def compute_metrics(
     return out
 
 
+def disturbance_hook(sim: Simulation, dist: scenarios.Disturbance) -> scenarios.TickHook:
+    """Tick hook applying ``dist`` at its site through ``qfrc_applied`` (held over the tick).
+
+    The site's pose comes from a scratch copy of the state (``mj_kinematics``/``mj_comPos``), so
+    the run's own data is only written in ``qfrc_applied``.
+    """
+    m = sim.model
+    site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, dist.site)
+    if site < 0:
+        raise InvalidParameterError(f"the arm has no site named {dist.site!r} to apply a force at")
+    body = int(m.site_bodyid[site])
+    scratch = mujoco.MjData(m)
+    zero = np.zeros(3)
+
+    def apply(k: int) -> None:
+        scratch.qpos[:] = sim.data.qpos
+        mujoco.mj_kinematics(m, scratch)
+        mujoco.mj_comPos(m, scratch)
+        force = scratch.site_xmat[site].reshape(3, 3) @ np.asarray(
+            dist.force_n(k * sim.config.gains.ctrl_dt_s), dtype=np.float64
+        )
+        sim.data.qfrc_applied[:] = 0.0
+        mujoco.mj_applyFT(
+            m, scratch, force, zero, scratch.site_xpos[site], body, sim.data.qfrc_applied
+        )
+
+    return apply
+
+
 def run_scenario(
-    name: str,
+    name: str | scenarios.Scenario,
     config: SimConfig | None = None,
     *,
     duration_s: float | None = None,
@@ -283,22 +356,27 @@ def run_scenario(
     backend: Backend = "python",
     log_every_ticks: int = 1,
 ) -> RunResult:
-    """Run a registered scenario headless and compute its metrics."""
-    sc = scenarios.get(name)
+    """Run a registered scenario (or a :class:`~fsarm_sim.scenarios.Scenario`) headless and
+    compute its metrics. Its disturbance and outer loop, if any, run once per control tick."""
+    sc = name if isinstance(name, scenarios.Scenario) else scenarios.get(name)
     duration = check_duration(sc.duration_s if duration_s is None else duration_s)
     cfg = config or SimConfig()
     cfg = cfg.with_(payload_kg=sc.payload_kg if payload_kg is None else payload_kg)
     n_ticks = round(duration / cfg.gains.ctrl_dt_s) + 1
     table = sc.reference(np.arange(n_ticks, dtype=np.float64) * cfg.gains.ctrl_dt_s)
     sim = Simulation(cfg, table, backend)
+    if sc.disturbance is not None:
+        sim.hooks.append(disturbance_hook(sim, sc.disturbance))
+    if sc.outer_loop is not None:
+        sim.hooks.append(sc.outer_loop(sim))
     cols, wall = sim.run(duration, log_every_ticks=max(log_every_ticks, 1))
     if sim.interrupted:
         if len(cols["t"]) < 2:
             raise KeyboardInterrupt  # nothing worth keeping yet
         duration = float(sim.data.time)
-    metrics = compute_metrics(cols, duration, wall, sim.structure, cfg.shaft.rating_nm)
+    metrics = compute_metrics(cols, duration, wall, sim.structure, cfg.rating_nm())
     return RunResult(
-        scenario=name,
+        scenario=sc.name,
         config=cfg,
         duration_s=duration,
         columns=cols,

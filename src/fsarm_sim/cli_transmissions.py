@@ -1,0 +1,154 @@
+"""``fsarm transmissions``, ``fsarm compare-transmissions``, ``fsarm transparency``."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.markup import escape
+from rich.table import Table
+
+from fsarm_sim.console import make_console
+from fsarm_sim.errors import InvalidParameterError
+
+console = make_console()
+
+
+def parse_params(items: list[str]) -> tuple[tuple[str, float], ...]:
+    """``NAME=VALUE`` strings -> ((name, value), ...); InvalidParameterError on a malformed one."""
+    out = []
+    for item in items:
+        name, sep, value = item.partition("=")
+        try:
+            v = float(value)
+        except ValueError:
+            v = math.nan
+        if not sep or not name.strip() or not math.isfinite(v):
+            raise InvalidParameterError(
+                f"--tr-param must be NAME=VALUE with a finite number, got {item!r}"
+            )
+        out.append((name.strip(), v))
+    return tuple(out)
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("transmissions")
+    def transmissions_cmd(
+        name: Annotated[
+            str | None, typer.Argument(help="show one transmission's parameters")
+        ] = None,
+    ) -> None:
+        """List joint 3's transmissions (or one with its parameters and their sources)."""
+        from fsarm_sim import transmissions
+
+        if name is None:
+            table = Table(title="joint-3 transmissions (fsarm run --transmission NAME)")
+            for col in ("name", "title", "source", "states", "over joint 2"):
+                table.add_column(col)
+            for n in transmissions.names():
+                tr = transmissions.get(n)
+                table.add_row(
+                    n,
+                    tr.title,
+                    tr.source,
+                    ", ".join(tr.states) or "-",
+                    "yes" if tr.routed_over_joint2 else "no",
+                )
+            console.print(table)
+            return
+        tr = transmissions.get(name)
+        table = Table(title=f"{name}: {tr.title}")
+        for col in ("parameter", "value", "unit", "source"):
+            table.add_column(col)
+        for p in tr.params:
+            table.add_row(p.name, f"{p.value:.6g}", escape(p.unit), escape(p.source))
+        console.print(table)
+
+    @app.command("compare-transmissions")
+    def compare_cmd(
+        scenario: Annotated[str, typer.Option(help="scenario to run")] = "fig14-sine",
+        only: Annotated[
+            list[str] | None, typer.Option(help="compare only these (repeatable)")
+        ] = None,
+        payload_kg: Annotated[float | None, typer.Option(help="payload, kg")] = None,
+        duration: Annotated[float | None, typer.Option(help="simulated time, s")] = None,
+        quick: Annotated[
+            bool, typer.Option(help="tracking only: skip bandwidth/impedance")
+        ] = False,
+        json_file: Annotated[Path | None, typer.Option("--json", help="write rows here")] = None,
+    ) -> None:
+        """Tracking RMSE, peak torque, motor work, bandwidth and impedance across transmissions."""
+        from fsarm_sim.comparison import COLUMNS, compare, fmt
+
+        rows = compare(
+            only or None,
+            scenario,
+            payload_kg=payload_kg,
+            duration_s=duration,
+            analyses=not quick,
+        )
+        table = Table(title=f"transmissions on {scenario}")
+        table.add_column("transmission")
+        for _, label, _ in COLUMNS:
+            table.add_column(escape(label), justify="right")
+        for r in rows:
+            if r.error:
+                table.add_row(
+                    r.transmission, f"[red]{escape(r.error)}[/]", *[""] * (len(COLUMNS) - 1)
+                )
+            else:
+                table.add_row(r.transmission, *(fmt(r.metrics.get(k), p) for k, _, p in COLUMNS))
+        console.print(table)
+        if json_file is not None:
+            json_file.write_text(json.dumps([r.as_dict() for r in rows], indent=2))
+            console.print(f"rows: {json_file}")
+
+    @app.command("transparency")
+    def transparency_cmd(
+        transmission: Annotated[
+            str, typer.Option(help="joint 3's transmission")
+        ] = "flexible-shaft",
+        bend: Annotated[
+            list[float] | None, typer.Option(help="bend angles, deg (repeatable)")
+        ] = None,
+        fixed_gains: Annotated[
+            bool, typer.Option(help="torque PID gains fixed at the straight stiffness (seed 001)")
+        ] = False,
+        json_file: Annotated[Path | None, typer.Option("--json", help="write results here")] = None,
+    ) -> None:
+        """Torque-loop bandwidth and output impedance vs bend (seed 001 Sec. 4.1.2, 4.2)."""
+        from fsarm_sim.model import Gains, SimConfig
+        from fsarm_sim.transparency import DEFAULT_BENDS_DEG, versus_bend
+
+        cfg = SimConfig(transmission=transmission, gains=Gains(gain_schedule=not fixed_gains))
+        points = versus_bend(cfg, tuple(bend) if bend else DEFAULT_BENDS_DEG)
+        mode = "fixed" if fixed_gains else "scheduled"
+        table = Table(title=f"{transmission}: torque loop vs bend ({mode} gains)")
+        for col in ("bend [deg]", "bandwidth [Hz]", "|Z| low f [N·m/rad]", "passive K [N·m/rad]"):
+            table.add_column(escape(col), justify="right")
+        for p in points:
+            table.add_row(
+                f"{p.bend_deg:g}",
+                f"{p.bandwidth.bandwidth_hz:.2f}",
+                f"{p.impedance.low_freq_nm_per_rad:.2f}",
+                f"{p.impedance.passive_nm_per_rad:.1f}",
+            )
+        console.print(table)
+        if json_file is not None:
+            json_file.write_text(
+                json.dumps(
+                    [
+                        {
+                            "bend_deg": p.bend_deg,
+                            "bandwidth_hz": p.bandwidth.bandwidth_hz,
+                            "impedance_low_nm_per_rad": p.impedance.low_freq_nm_per_rad,
+                            "passive_stiffness_nm_per_rad": p.impedance.passive_nm_per_rad,
+                        }
+                        for p in points
+                    ],
+                    indent=2,
+                )
+            )

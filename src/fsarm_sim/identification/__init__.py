@@ -1,0 +1,1 @@
+"""Parameter identification from measured data (least squares on published model structures)."""

@@ -1,0 +1,214 @@
+"""The transmission interface: what an elastic/remote transmission at joint 3 must provide.
+
+Joint 3's motor turns its gearbox output ``theta_m = rotor / i_G1``; the joint side of the
+transmission is ``theta_s = i_G2 q3`` (ahead of the 10:1 hypoid). Every transmission sits between
+the two, on the twist ``x = theta_m - theta_s`` (rad) and its rate, and may read the bend angle
+``phi_B = q2`` when it is routed over joint 2. It gives back one torque ``tau`` (N*m, positive for
+positive twist), applied as ``-tau / i_G1`` on the rotor and ``+i_G2 tau`` on q3 - exactly the
+place of the flexible shaft (seed 000 Fig. 1), so every transmission runs on the same arm, the
+same controller cascade and the same scenarios.
+
+A transmission module (``fsarm_sim.transmissions.<name>``) holds
+
+* **kernels** - plain ``math`` functions the callbacks run (compiled by :mod:`fsarm_sim.native`
+  exactly like the effect kernels: no numpy allocation, no Python objects). ``tr`` is the
+  module's parameter block (a float64 array of :data:`N_TR`, order = ``PARAMS``), ``act`` MuJoCo's
+  ``data.act`` and ``a0`` the index of the transmission's first of :data:`N_STATES` state slots:
+
+  - ``torque_nm(tr, x, xdot, bend, act, a0) -> float``      the true transmitted torque;
+  - ``sensor_torque_nm(tr, x, bend) -> float``              the virtual torque sensor: what the
+    controller computes from the two encoders with the transmission's elastic law;
+  - ``stiffness_nm_per_rad(tr, x, bend) -> float``          d(sensor_torque)/dx (may be <= 0
+    where the law has negative stiffness; the gain scheduler floors it);
+  - ``state_rate(tr, x, xdot, bend, act, a0, i) -> float``  d(act[a0 + i])/dt, i < N_STATES
+    (0.0 for slots the transmission does not use);
+  - ``potential_j(tr, x, bend, act, a0) -> float``          stored elastic energy.
+
+* **Python data** - ``NAME``, ``TITLE``, ``SOURCE`` (seed, equations, tables), ``PARAMS`` (a
+  tuple of :class:`Param`, each with its published value and where it comes from), ``STATES``
+  (names of the state slots used, at most :data:`N_STATES`), ``ROUTED_OVER_JOINT2`` (True when
+  the transmission is a shaft/sheath bent by joint 2: the flexible shaft's bending moment on
+  joint 2 then also acts), ``TWIST_RANGE_RAD`` (the range of twist its law is valid for, used for
+  stiffness bounds and checks; ``valid_twist_rad(tr)`` when it depends on the parameters), and
+  optionally ``state_limits(tr) -> list[tuple[float, float] |
+  None]``, ``initial_states(tr, x, bend) -> list[float]`` and ``rating_nm(tr) -> float``.
+
+"What the encoders see" is the same for all: the motor encoder (``theta_m``) and the joint
+encoder (``q3``, hence ``theta_s``); a transmission with play or a position law between them
+says so in ``sensor_torque_nm``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from fsarm_sim.errors import FsarmError
+from fsarm_sim.layout import N_TR
+
+FloatArray = npt.NDArray[np.float64]
+
+N_STATES = 3  # continuous state slots (data.act) a transmission may use: the shaft_slip slots
+
+
+@dataclass(frozen=True)
+class Param:
+    """One parameter of a transmission law, with its published/default value and its source."""
+
+    name: str
+    value: float
+    unit: str
+    source: str
+
+
+class TransmissionError(FsarmError, ValueError):
+    """A transmission name, parameter or value that is not allowed."""
+
+
+@dataclass(frozen=True)
+class Transmission:
+    """A registered transmission: its kernel module and Python-side data."""
+
+    name: str
+    kind: int  # the id the kernels dispatch on (layout.P_TRANS)
+    module: ModuleType
+
+    @property
+    def title(self) -> str:
+        return str(self.module.TITLE)
+
+    @property
+    def source(self) -> str:
+        return str(self.module.SOURCE)
+
+    @property
+    def params(self) -> tuple[Param, ...]:
+        return tuple(self.module.PARAMS)
+
+    @property
+    def states(self) -> tuple[str, ...]:
+        return tuple(self.module.STATES)
+
+    @property
+    def routed_over_joint2(self) -> bool:
+        return bool(self.module.ROUTED_OVER_JOINT2)
+
+    @property
+    def twist_range_rad(self) -> float:
+        return float(self.module.TWIST_RANGE_RAD)
+
+    def valid_twist_rad(self, tr: FloatArray) -> float:
+        """Twist range of the law for these parameters: the module's ``valid_twist_rad(tr)``
+        when it depends on them (e.g. the QA-Joint's end stops at +-sigma), else
+        ``TWIST_RANGE_RAD``."""
+        fn = getattr(self.module, "valid_twist_rad", None)
+        return float(fn(tr)) if fn is not None else self.twist_range_rad
+
+    def param_names(self) -> list[str]:
+        return [p.name for p in self.params]
+
+    def block(self, overrides: dict[str, float] | None = None) -> FloatArray:
+        """The parameter block (length N_TR): published values, with ``overrides`` applied."""
+        out = np.zeros(N_TR)
+        names = self.param_names()
+        if len(names) > N_TR:
+            raise TransmissionError(f"{self.name}: {len(names)} parameters, at most {N_TR}")
+        for i, p in enumerate(self.params):
+            out[i] = p.value
+        for key, value in (overrides or {}).items():
+            if key not in names:
+                raise TransmissionError(
+                    f"transmission {self.name!r} has no parameter {key!r}; "
+                    f"allowed: {', '.join(names)}"
+                )
+            v = float(value)
+            if not math.isfinite(v):
+                raise TransmissionError(f"{self.name}.{key} must be finite, got {value!r}")
+            out[names.index(key)] = v
+        return out
+
+    def state_limits(self, tr: FloatArray) -> list[tuple[float, float] | None]:
+        fn = getattr(self.module, "state_limits", None)
+        limits: list[tuple[float, float] | None] = list(fn(tr)) if fn else []
+        return (limits + [None] * N_STATES)[:N_STATES]
+
+    def initial_states(self, tr: FloatArray, x: float, bend: float) -> list[float]:
+        fn = getattr(self.module, "initial_states", None)
+        values: list[float] = list(fn(tr, x, bend)) if fn else []
+        return (values + [0.0] * N_STATES)[:N_STATES]
+
+    # --- evaluated from the kernels (Python side) ---
+    def sensor_torque(self, tr: FloatArray, x: float, bend: float) -> float:
+        return float(self.module.sensor_torque_nm(tr, x, bend))
+
+    def stiffness(self, tr: FloatArray, x: float, bend: float) -> float:
+        return float(self.module.stiffness_nm_per_rad(tr, x, bend))
+
+    def rating_nm(self, tr: FloatArray) -> float:
+        """Torque the transmission is rated for (sizes test signals, flags overloads).
+
+        The module's ``rating_nm(tr)`` if it states one; otherwise the smaller torque of the two
+        sides at half the valid twist range, straight (an estimate of a usable range).
+        """
+        fn = getattr(self.module, "rating_nm", None)
+        if fn is not None:
+            return float(fn(tr))
+        half = 0.5 * self.valid_twist_rad(tr)
+        return min(abs(self.sensor_torque(tr, half, 0.0)), abs(self.sensor_torque(tr, -half, 0.0)))
+
+    def max_stiffness(self, tr: FloatArray, bend_max_rad: float = 2.1) -> float:
+        """Largest stiffness over the valid twist range and bends up to ``bend_max_rad``."""
+        r = self.valid_twist_rad(tr)
+        xs = np.linspace(-r, r, 401)
+        bends = np.linspace(-bend_max_rad, bend_max_rad, 9) if self.routed_over_joint2 else [0.0]
+        return max(self.stiffness(tr, float(x), float(b)) for x in xs for b in bends)
+
+    def twist_for_torque(self, tr: FloatArray, tau: float, bend: float) -> float:
+        """The twist whose sensor torque equals ``tau`` on the stable branch through zero.
+
+        Walks out from zero twist while the law rises (stops at a stiffness peak: a torque the
+        transmission cannot hold statically raises TransmissionError), then bisects.
+        """
+        if tau == 0.0:
+            return 0.0
+        sign = 1.0 if tau > 0.0 else -1.0
+        r = self.valid_twist_rad(tr)
+        n = 2000
+        prev_x, prev_t = 0.0, self.sensor_torque(tr, 0.0, bend)
+        for i in range(1, n + 1):
+            x = sign * r * i / n
+            t = self.sensor_torque(tr, x, bend)
+            if sign * t < sign * prev_t:  # past the peak: unstable beyond
+                break
+            if sign * t >= abs(tau):
+                lo, hi = prev_x, x
+                for _ in range(80):
+                    mid = 0.5 * (lo + hi)
+                    if sign * self.sensor_torque(tr, mid, bend) >= abs(tau):
+                        hi = mid
+                    else:
+                        lo = mid
+                return 0.5 * (lo + hi)
+            prev_x, prev_t = x, t
+        raise TransmissionError(
+            f"transmission {self.name!r} cannot hold {tau:.3g} N*m statically at bend "
+            f"{bend:.3g} rad (its largest stable torque on that side is {prev_t:.3g} N*m)"
+        )
+
+    def describe(self) -> dict[str, Any]:
+        return {
+            "name": self.name,
+            "title": self.title,
+            "source": self.source,
+            "states": list(self.states),
+            "routed_over_joint2": self.routed_over_joint2,
+            "params": [
+                {"name": p.name, "value": p.value, "unit": p.unit, "source": p.source}
+                for p in self.params
+            ],
+        }

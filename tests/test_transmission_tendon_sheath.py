@@ -1,0 +1,296 @@
+"""Tendon-sheath transmission (seed 004): seed equations and tables, kernel physics, interface."""
+
+from __future__ import annotations
+
+import inspect
+import math
+
+import numpy as np
+import pytest
+
+from fsarm_sim.transmissions import tendon_sheath as ts
+from fsarm_sim.transmissions.base import N_STATES, N_TR, Transmission, TransmissionError
+
+TR = Transmission("tendon-sheath", 4, ts)
+DT = 1e-3
+
+
+def act_at(z: float) -> np.ndarray:
+    return np.array([z, 0.0, 0.0])
+
+
+# ------------------------------------------------------------------ seed equations and tables
+
+
+@pytest.mark.parametrize("bend", [0.0, 1.0, -1.0, 2.1])
+def test_branch_stiffness_ratio_is_the_capstan_ratio(bend: float) -> None:
+    # eq. 8: Phi_p = exp(+mu Theta), Phi_r = exp(-mu Theta); the wrap over joint 2 adds |phi_B|
+    tr = TR.block()
+    wrap = math.pi / 2.0 + abs(bend)
+    assert ts.total_wrap_rad(tr, bend) == pytest.approx(wrap)
+    ratio = ts.branch_stiffness_pull(tr, bend) / ts.branch_stiffness_release(tr, bend)
+    assert ratio == pytest.approx(math.exp(0.15 * wrap), rel=1e-12)
+    assert ratio == pytest.approx(ts.capstan_ratio(0.15, wrap), rel=1e-12)
+
+
+def test_capstan_ratio_at_the_seed_bends() -> None:
+    # seed 004 Table 2 bends pi/2, pi, 3pi/2 (mu = 0.15 estimate): Phi_p = 1.266, 1.603, 2.028
+    got = [ts.capstan_ratio(0.15, w) for w in sorted(ts.TABLE_2_BEND)]
+    assert got == pytest.approx([1.2657, 1.6019, 2.0276], abs=1e-4)
+    assert ts.capstan_ratio(0.15, math.pi) * ts.capstan_ratio(-0.15, math.pi) == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize("bend", [0.0, 1.5])
+def test_eq11_closed_form_matches_quadrature_of_eq9(bend: float) -> None:
+    # eq. 9: Delta L = int F(x)/(EA) dx along the tendon; uniform curvature over the sheath, free
+    # tendon split equally between the ends; F referred to the actuator end (eq. 10)
+    tr = TR.block()
+    mu, theta = 0.15, ts.total_wrap_rad(tr, bend)
+    ea = 193e9 * math.pi * 0.6e-3**2
+    ls, lf = 0.8, 0.4
+    s = np.linspace(0.0, ls, 20001)  # distance from the actuator end of the sheath
+    kappa = theta / ls
+    for sign, compliance in ((1.0, ts.compliance_pull), (-1.0, ts.compliance_release)):
+        f_sheath = np.exp(-sign * mu * kappa * s)  # pulling: tension falls toward the joint
+        f_joint_end = f_sheath[-1]
+        integral = float(np.sum(0.5 * (f_sheath[1:] + f_sheath[:-1]) * np.diff(s)))
+        stretch = (0.5 * lf * 1.0 + integral + 0.5 * lf * f_joint_end) / ea
+        assert compliance(tr, bend) == pytest.approx(stretch, rel=1e-8)
+    # mu -> 0: both branches are the plain tendon, L_t / (E A)
+    tr0 = TR.block({"mu": 0.0})
+    assert ts.compliance_pull(tr0, bend) == pytest.approx(1.2 / ea, rel=1e-12)
+    assert ts.compliance_release(tr0, bend) == pytest.approx(1.2 / ea, rel=1e-12)
+    assert TR.stiffness(tr0, 0.0, bend) == pytest.approx(0.025**2 * ea / 1.2, rel=1e-12)
+
+
+def _separations(row: dict[str, tuple[float, float, float, float]]) -> tuple[float, float, float]:
+    (pc, qc, mc, _), (pa, qa_, ma, _) = row["RC"], row["RA"]
+    return pc - pa, qc - qa_, mc - ma
+
+
+@pytest.mark.parametrize(
+    "row",
+    [*ts.TABLE_2_BEND.values(), ts.TABLE_1_VELOCITY[0.04], ts.TABLE_1_VELOCITY[0.06]],
+)
+def test_tables_follow_eq_20_22_with_a_calibrated_joint_encoder(row: dict) -> None:
+    # eq. 20-22 (c2 = 0, b2 = 1): the branches differ only through Theta_p - Theta_r, so
+    # dQ ~ 0 and dM = -2 dP (the load Mgl cos(theta2) and its Taylor term, eq. 17-18)
+    dp, dq, dm = _separations(row)
+    assert dp < 0.0 < dm  # every row: the same hysteresis orientation
+    assert abs(dq) < 0.04
+    assert dm == pytest.approx(-2.0 * dp, rel=0.15)
+
+
+@pytest.mark.parametrize("bend", sorted(ts.TABLE_2_BEND))
+def test_table_2_branches_meet_at_zero_load(bend: float) -> None:
+    # at zero load (theta2 = pi/2, cos = 0) the two branches of eq. 19 meet within 0.071 rad
+    # (full load: 0.36-0.59 rad apart): no dead band separate from the capstan hysteresis
+    dp, dq, dm = _separations(ts.TABLE_2_BEND[bend])
+    sep0 = dp * (math.pi / 2) ** 2 + dq * (math.pi / 2) + dm
+    assert abs(sep0) < 0.071 < 0.2 * dm
+
+
+def test_table_1_slowest_row_is_the_outlier() -> None:
+    # the 0.02 rad/s row of Table 1 does not follow dM = -2 dP (0.206 vs 0.092): reported
+    dp, _, dm = _separations(ts.TABLE_1_VELOCITY[0.02])
+    assert dm == pytest.approx(0.206, abs=1e-9) and -2.0 * dp == pytest.approx(0.092, abs=1e-9)
+
+
+def test_hysteresis_grows_with_bend_like_table_2() -> None:
+    # Table 2: full-load branch separation dM = 0.364, 0.484, 0.585 rad at pi/2, pi, 3pi/2;
+    # the model's hysteresis K_d/K_m = tanh(mu Theta / 2) grows in the same order
+    seps = [_separations(ts.TABLE_2_BEND[w])[2] for w in sorted(ts.TABLE_2_BEND)]
+    assert seps == pytest.approx([0.364, 0.484, 0.585], abs=1e-9)
+    tr = TR.block({"wrap_rad": 0.0})
+    widths = []
+    for w in sorted(ts.TABLE_2_BEND):
+        kp, kr = ts.branch_stiffness_pull(tr, w), ts.branch_stiffness_release(tr, w)
+        widths.append((kp - kr) / (kp + kr))
+        assert widths[-1] == pytest.approx(math.tanh(0.15 * w / 2.0), rel=1e-9)
+    assert widths == sorted(widths) and seps == sorted(seps)
+
+
+def test_position_transmission_eq19() -> None:
+    p, q, m, _ = ts.TABLE_2_BEND[math.pi]["RC"]
+    assert ts.position_transmission_rad(0.5, p, q, m) == pytest.approx(
+        -0.266 * 0.25 + 0.911 * 0.5 + 0.361
+    )
+
+
+# ------------------------------------------------------------------ kernel physics
+
+
+@pytest.mark.parametrize("backlash", [0.0, 0.02])
+@pytest.mark.parametrize("bend", [0.0, 1.2])
+def test_stiffness_is_derivative_of_sensor_torque(backlash: float, bend: float) -> None:
+    tr = TR.block({"backlash_rad": backlash})
+    h = 1e-7
+    for x in (-0.12, -0.03, 0.005, 0.02, 0.14):
+        num = (TR.sensor_torque(tr, x + h, bend) - TR.sensor_torque(tr, x - h, bend)) / (2 * h)
+        assert TR.stiffness(tr, x, bend) == pytest.approx(num, rel=1e-6, abs=1e-9)
+    if backlash > 0.0:  # inside the play: no torque, no stiffness
+        assert TR.sensor_torque(tr, 0.009, bend) == 0.0
+        assert TR.stiffness(tr, -0.009, bend) == 0.0
+
+
+@pytest.mark.parametrize("backlash", [0.0, 0.03])
+def test_potential_derivative_is_elastic_torque(backlash: float) -> None:
+    tr = TR.block({"backlash_rad": backlash, "scale": 1.3})
+    act = act_at(0.0)
+    h = 1e-7
+    for x in (-0.1, -0.02, 0.0, 0.04, 0.12):
+        for bend in (0.0, -1.8):
+            dv = (
+                ts.potential_j(tr, x + h, bend, act, 0) - ts.potential_j(tr, x - h, bend, act, 0)
+            ) / (2 * h)
+            tau = ts.torque_nm(tr, x, 0.0, bend, act, 0)
+            assert dv == pytest.approx(tau, rel=1e-6, abs=1e-7)
+            assert tau == pytest.approx(TR.sensor_torque(tr, x, bend), abs=1e-12)
+
+
+def test_saturated_friction_state_gives_the_two_branches() -> None:
+    tr = TR.block()
+    for x in (0.05, -0.05):
+        up = ts.torque_nm(tr, x, 0.0, 0.7, act_at(1.0 if x > 0 else -1.0), 0)
+        down = ts.torque_nm(tr, x, 0.0, 0.7, act_at(-1.0 if x > 0 else 1.0), 0)
+        assert abs(up) == pytest.approx(ts.branch_stiffness_pull(tr, 0.7) * 0.05, rel=1e-12)
+        assert abs(down) == pytest.approx(ts.branch_stiffness_release(tr, 0.7) * 0.05, rel=1e-12)
+        # the virtual sensor (centre line) lies between the branches
+        assert abs(down) < abs(TR.sensor_torque(tr, x, 0.7)) < abs(up)
+
+
+def _cycle(tr: np.ndarray, amp: float, offset: float, bend: float) -> tuple[float, float]:
+    """x = offset + amp sin(2 pi t), 3 cycles; explicit Euler on z with the state limit.
+
+    Returns (work done on the element over the last cycle, largest |z|).
+    """
+    act = act_at(0.0)
+    n = round(1.0 / DT)
+    work, zmax = 0.0, 0.0
+    for k in range(3 * n):
+        t = k * DT
+        x = offset + amp * math.sin(2 * math.pi * t)
+        xdot = 2 * math.pi * amp * math.cos(2 * math.pi * t)
+        if k >= 2 * n:
+            work += ts.torque_nm(tr, x, xdot, bend, act, 0) * xdot * DT
+        act[0] = min(1.0, max(-1.0, act[0] + DT * ts.state_rate(tr, x, xdot, bend, act, 0, 0)))
+        zmax = max(zmax, abs(act[0]))
+    return work, zmax
+
+
+@pytest.mark.parametrize(("amp", "offset"), [(0.05, 0.0), (0.04, 0.06), (0.03, -0.05)])
+def test_friction_dissipates_and_grows_with_bend(amp: float, offset: float) -> None:
+    tr = TR.block({"backlash_rad": 0.01})
+    w_straight, z1 = _cycle(tr, amp, offset, 0.0)
+    w_bent, z2 = _cycle(tr, amp, offset, 2.0)
+    w_frictionless, _ = _cycle(TR.block({"backlash_rad": 0.01, "mu": 0.0}), amp, offset, 2.0)
+    assert 0.0 < w_straight < w_bent  # more wrap, more capstan friction
+    assert abs(w_frictionless) < 1e-3 * w_straight
+    assert max(z1, z2) <= 1.0
+
+
+def _stick_slip_loop_area(tr: np.ndarray, bend: float, x1: float, x2: float) -> float:
+    """Area of the ideal quasi-static capstan loop between twists x1 < x2 (both loaded, > 0).
+
+    Loading along K_p x, unloading along K_r x; at each reversal the joint-side tension holds
+    while the actuator end changes by exp(+-2 mu Theta): straight lines of slope K_p + K_r
+    from (x2, K_p x2) to (x2/e, K_r x2/e) and from (x1, K_r x1) to (x1 e, K_p x1 e).
+    """
+    kp, kr = ts.branch_stiffness_pull(tr, bend), ts.branch_stiffness_release(tr, bend)
+    e = kp / kr
+    poly = [(x1, kr * x1), (x1 * e, kp * x1 * e), (x2, kp * x2), (x2 / e, kr * x2 / e)]
+    return 0.5 * abs(
+        sum(poly[i][0] * poly[i - 1][1] - poly[i - 1][0] * poly[i][1] for i in range(4))
+    )
+
+
+@pytest.mark.parametrize("bend", [0.0, 1.0, 2.0])
+@pytest.mark.parametrize(("x1", "x2"), [(0.02, 0.1), (0.05, 0.12)])
+def test_dahl_loop_matches_the_stick_slip_capstan_loop(bend: float, x1: float, x2: float) -> None:
+    tr = TR.block()
+    work, _ = _cycle(tr, 0.5 * (x2 - x1), 0.5 * (x1 + x2), bend)
+    ideal = _stick_slip_loop_area(tr, bend, x1, x2)
+    assert work == pytest.approx(ideal, rel=0.17)
+
+
+def test_friction_state_stays_bounded() -> None:
+    tr = TR.block()
+    # explicit steps with |x'| dt / delta <= 1 never leave [-1, 1] even without the state limit
+    for x in (0.0, 0.05):
+        delta = ts.presliding_rad(tr, x, 0.0)
+        for xdot in (-delta / DT, 0.3 * delta / DT, delta / DT):
+            for z0 in np.linspace(-1.0, 1.0, 9):
+                z1 = z0 + DT * ts.state_rate(tr, x, xdot, 0.0, act_at(float(z0)), 0, 0)
+                assert -1.0 - 1e-12 <= z1 <= 1.0 + 1e-12
+    # presliding deflection grows with load: ~ mu Theta |x| (seed 004 phases C/F)
+    assert ts.presliding_rad(tr, 0.0, 0.0) == pytest.approx(1e-3)
+    assert ts.presliding_rad(tr, 0.1, 0.0) == pytest.approx(
+        1e-3 + math.tanh(0.15 * math.pi / 4) * 0.1, rel=1e-9
+    )
+    assert ts.state_rate(tr, 0.0, 1.0, 0.0, act_at(0.0), 0, 1) == 0.0  # unused slot
+    assert TR.state_limits(tr) == [(-1.0, 1.0), None, None]
+    assert TR.initial_states(tr, 0.02, 1.0) == [0.0, 0.0, 0.0]
+    assert len(ts.STATES) <= N_STATES
+
+
+# ------------------------------------------------------------------ interface
+
+
+def test_block_and_errors() -> None:
+    tr = TR.block()
+    assert tr.shape == (N_TR,)
+    assert tr[ts.I_MU] == 0.15 and tr[ts.I_RADIUS] == 0.025
+    with pytest.raises(TransmissionError, match="no parameter"):
+        TR.block({"friction": 0.1})
+    with pytest.raises(TransmissionError, match="finite"):
+        TR.block({"mu": float("nan")})
+    assert TR.routed_over_joint2
+    assert all(p.source for p in ts.PARAMS)
+
+
+def test_twist_for_torque_and_max_stiffness_for_the_arm() -> None:
+    tr = TR.block()
+    k0 = TR.stiffness(tr, 0.0, 0.0)
+    assert k0 == pytest.approx(114.04, abs=0.01)  # r^2 K_m; straight K(mu=0) = 113.7 N*m/rad
+    x = TR.twist_for_torque(tr, 7.1, 0.0)
+    assert x == pytest.approx(7.1 / k0, rel=1e-9)
+    tr_play = TR.block({"backlash_rad": 0.05})
+    assert TR.twist_for_torque(tr_play, -7.1, 1.0) == pytest.approx(
+        -7.1 / TR.stiffness(tr, 0.0, 1.0) - 0.025, rel=1e-9
+    )
+    # the stiffest bend (|phi_B| = 2.1 rad) - still far below the 1 ms limit (~1000 N*m/rad)
+    assert TR.max_stiffness(tr) == pytest.approx(115.58, abs=0.01)
+    assert TR.max_stiffness(tr) == pytest.approx(TR.stiffness(tr, 0.0, 2.1), rel=1e-12)
+
+
+def test_kernels_compile_with_numba() -> None:
+    numba = pytest.importorskip("numba")
+    from numba.extending import register_jitable
+
+    for _, fn in inspect.getmembers(ts, inspect.isfunction):
+        if fn.__module__ == ts.__name__ and not getattr(fn, "_fsarm_jitable", False):
+            register_jitable(error_model="numpy", _nrt=False)(fn)
+            fn._fsarm_jitable = True  # type: ignore[attr-defined]
+
+    @numba.njit(error_model="numpy")
+    def run(tr: np.ndarray, act: np.ndarray, x: float, bend: float) -> np.ndarray:
+        out = np.empty(5)
+        out[0] = ts.torque_nm(tr, x, 0.2, bend, act, 0)
+        out[1] = ts.sensor_torque_nm(tr, x, bend)
+        out[2] = ts.stiffness_nm_per_rad(tr, x, bend)
+        out[3] = ts.state_rate(tr, x, 0.2, bend, act, 0, 0)
+        out[4] = ts.potential_j(tr, x, bend, act, 0)
+        return out
+
+    tr = TR.block({"backlash_rad": 0.01})
+    act = act_at(0.3)
+    for x in (0.004, -0.04):
+        got = run(tr, act, x, -1.1)
+        want = [
+            ts.torque_nm(tr, x, 0.2, -1.1, act, 0),
+            ts.sensor_torque_nm(tr, x, -1.1),
+            ts.stiffness_nm_per_rad(tr, x, -1.1),
+            ts.state_rate(tr, x, 0.2, -1.1, act, 0, 0),
+            ts.potential_j(tr, x, -1.1, act, 0),
+        ]
+        np.testing.assert_allclose(got, want, rtol=1e-12)
