@@ -94,14 +94,16 @@ def register(app: typer.Typer) -> None:
         table.add_column("transmission")
         for _, label, _ in COLUMNS:
             table.add_column(escape(label), justify="right")
+        notes = []
         for r in rows:
             if r.error:
-                table.add_row(
-                    r.transmission, f"[red]{escape(r.error)}[/]", *[""] * (len(COLUMNS) - 1)
-                )
+                notes.append(f"{r.transmission}: {r.error}")
+                table.add_row(r.transmission, "[red]failed[/]", *[""] * (len(COLUMNS) - 1))
             else:
                 table.add_row(r.transmission, *(fmt(r.metrics.get(k), p) for k, _, p in COLUMNS))
         console.print(table)
+        for note in notes:
+            console.print(f"[red]failed[/] {escape(note)}")
         if json_file is not None:
             json_file.write_text(json.dumps([r.as_dict() for r in rows], indent=2))
             console.print(f"rows: {json_file}")

@@ -370,3 +370,8 @@ def scale_for_torque(torque_nm: float, d: float = 0.0, within: str = "linear") -
     else:
         raise MagneticSpringParamError(f"within must be 'linear' or 'stable', got {within!r}")
     return float(torque_nm / sensor_torque_nm(t, x, 0.0))
+
+
+def rating_nm(tr: FloatArray) -> float:
+    """The spring's maximal static torque at its ring distance (the stable-range limit)."""
+    return max_torque_nm(float(tr[I_D]), tr)

@@ -240,3 +240,9 @@ def table_iv_overrides(sigma_deg: float) -> dict[str, float]:
 def design_overrides() -> dict[str, float]:
     """The design law eq. 13 (a_S = b_S = 40 N*m), friction kept."""
     return {"a_s": DESIGN_A_NM, "b_s": DESIGN_A_NM}
+
+
+def rating_nm(tr: Any) -> float:
+    """Torque the springs hold at the end stop of the commanded preset (x = sigma), scaled."""
+    sigma = _sigma_cmd(tr)
+    return float(tr[I_SCALE] * elastic_torque_nm(tr, sigma, sigma))

@@ -417,3 +417,8 @@ def fitted_range_rad(tr: FloatArray | None = None) -> tuple[float, float]:
     """(most negative, most positive) twist covered by Table 1's data."""
     tr = default_block() if tr is None else tr
     return float(-tr[I_XFIT_NEG]), float(tr[I_XFIT_POS])
+
+
+def rating_nm(tr: FloatArray) -> float:
+    """Nominal torque of the published shaft (Sec. 2.2, 6 N*m) times ``scale``."""
+    return NOMINAL_TORQUE_NM * float(tr[I_SCALE])
