@@ -56,11 +56,16 @@ def main() -> None:
                         "named": o.named,
                         "gap_before": o.gap_before,
                         "gap_after": o.gap_after,
+                        "noise_floor": o.noise_floor,
+                        "noise_floor_inputs": o.noise_floor_inputs,
+                        "gap_excess_before": o.gap_excess_before,
+                        "gap_excess_after": o.gap_excess_after,
                         "size": o.achieved_size,
                         "margin": o.first_margin,
                         "runner_up": o.first_runner_up,
                         "recovery": o.recovery,
                         "runtime_s": o.runtime_s,
+                        "steps": o.steps,
                         "truth_model": o.truth.as_dict(),
                     }
                     for o in outcomes

@@ -15,12 +15,20 @@ from fsarm_sim.discrepancy import UnsupportedSetupError, diagnose, report
 from fsarm_sim.discrepancy import battery as B
 from fsarm_sim.discrepancy import candidates as C
 from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import selection as S
 from fsarm_sim.discrepancy.benchmodel import (
     EffectInstance,
     ModelFileError,
     load_model,
     model_from_dict,
     nominal_from_shaft,
+)
+from fsarm_sim.discrepancy.residuals import (
+    gap_excess,
+    noise_floor,
+    nrmse,
+    nrmse_floor,
+    split_masks,
 )
 from fsarm_sim.measured import Dataset, load_dataset
 from fsarm_sim.shaft import load_catalogue
@@ -238,6 +246,10 @@ def test_null_record_names_nothing_and_a_hidden_effect_is_found(tmp_path: Path) 
         "steps",
         "fitted_parameters",
         "noise_floor",
+        "noise_floor_nrmse",
+        "noise_floor_inputs_nrmse",
+        "gap_excess_before",
+        "gap_excess_after",
         "nrmse",
         "bic",
         "signatures",
@@ -245,12 +257,104 @@ def test_null_record_names_nothing_and_a_hidden_effect_is_found(tmp_path: Path) 
     ):
         assert key in res
     assert res["named_effects"] == ["backlash"]
+    floor = res["noise_floor_nrmse"]
+    assert 0 < floor < res["gap_after"] * 1.2  # the final model sits at the noise floor
+    assert res["gap_excess_after"] == pytest.approx(
+        np.sqrt(max(res["gap_after"] ** 2 - floor**2, 0.0))
+    )
+    assert res["gap_excess_before"] > 10 * res["gap_excess_after"]
     assert res["confidence"][0]["runner_up"]
     assert all(files[k].is_file() for k in ("timeseries", "loops", "nrmse", "bic"))
     # the model file replays to the final fit
     m = load_model(files["model"])
     y = R.replay(m, diag.ctx.inp)["y"]
     assert np.max(np.abs(y - diag.final.yhat)) < 1e-9
+
+
+def test_noise_floor_in_nrmse_units_and_gap_above_it() -> None:
+    rng = np.random.default_rng(3)
+    t = np.linspace(0.0, 10.0, 10001)
+    clean = np.sin(2 * np.pi * 0.5 * t) + 0.3 * np.sin(2 * np.pi * 3.1 * t)
+    y = clean + 0.02 * rng.standard_normal(t.size)
+    _, held = split_masks(t.size)
+    floor = nrmse_floor(y, noise_floor(y), held)
+    # a perfect model's gap is the noise floor; the gap above it vanishes
+    assert nrmse(y, clean, held) == pytest.approx(floor, rel=0.05)
+    assert gap_excess(nrmse(y, clean, held), floor) < 0.35 * floor
+    # a model error adds in variance: the excess recovers it
+    err = 0.05 * np.sin(2 * np.pi * 1.7 * t)
+    span = float(np.ptp(y[held]))
+    expect = float(np.sqrt(np.mean(err[held] ** 2))) / span
+    assert gap_excess(nrmse(y, clean + err, held), floor) == pytest.approx(expect, rel=0.05)
+    assert gap_excess(0.05, 0.03) == pytest.approx(0.04)
+    assert gap_excess(0.02, 0.03) == 0.0
+
+
+def test_input_error_floor_follows_the_encoder_step() -> None:
+    """The output error propagated from encoder quantisation grows with the step (a linear
+    spring: proportional, at most k q / sqrt(12)) and vanishes for unquantised angles."""
+    truth = synth.truth_model("series_bench")
+    floors = {}
+    for counts in (2**14, 2**17, 0):
+        rec = synth.Recording(
+            duration_s=6.0, noise=0.003, trajectory="multisine", seed=5, encoder_counts=counts
+        )
+        ds = _dataset(truth, rec)
+        if counts:
+            assert S.quantisation_step(ds.columns["theta_m"]) == pytest.approx(2 * np.pi / counts)
+        else:
+            assert S.quantisation_step(ds.columns["theta_m"]) == 0.0
+        ctx = C.make_context(R.prepare_inputs(ds), S.stated_model(ds))
+        floors[counts] = S.input_error_floor(ds, ctx, truth)
+    k = max(truth.nominal["k_pos"], truth.nominal["k_neg"])
+    assert 0.0 < floors[2**17] < k * (2 * np.pi / 2**17) / np.sqrt(12.0)
+    assert 3.0 < floors[2**14] / floors[2**17] < 12.0
+    assert floors[0] < 0.05 * floors[2**17]
+
+
+def test_an_extra_effect_must_earn_its_place_clearly(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A measured curve outside the library (seed 001's MasterFlex08) fitted by the polynomial
+    leaves a structured misfit that a narrow backlash soaks up with a large BIC gain; it must
+    not be named as a second effect (it would be without the extra-effect limits)."""
+    truth = synth.truth_model("series_bench", stiffness_scale=1.1).with_effect(
+        EffectInstance("nonlinear_stiffness", "masterflex08", {"twist_scale": 865.0 / 450.0})
+    )
+    rec = synth.Recording(duration_s=10.0, noise=0.003, trajectory="random", seed=13)
+    ds = _dataset(truth, rec)
+    diag = diagnose(ds)
+    assert diag.named == ["nonlinear_stiffness"]
+    last = diag.steps[-1]
+    assert last.added is None and "extra effect" in last.reason
+    top = last.scores[0]
+    assert top.extra and top.share_of_explained < S.MIN_SHARE_EXTRA
+    assert "remains that no further effect claims" in diag.verdict
+    monkeypatch.setattr(S, "MIN_EXPLAINED_EXTRA", 0.0)
+    monkeypatch.setattr(S, "MIN_SHARE_EXTRA", 0.0)
+    assert len(diagnose(ds).named) > 1
+
+
+def test_hysteresis_elements_leave_the_grid() -> None:
+    """Maxwell-slip elements between the grid points: the grid fit leaves a structured misfit;
+    moving the elements off the grid reaches the noise floor and the true slip deflections."""
+    deltas = [0.007, 0.021, 0.072]  # between the grid points (geometric, 4 mrad .. 0.33 rad)
+    truth = synth.truth_model("series_bench").with_effect(
+        EffectInstance(
+            "hysteresis", "maxwell_slip", {"k_nm_per_rad": [40.0, 20.0, 10.0], "delta_rad": deltas}
+        )
+    )
+    rec = synth.Recording(duration_s=10.0, noise=0.003, trajectory="multisine", seed=7)
+    ds = _dataset(truth, rec)
+    ctx = C.make_context(R.prepare_inputs(ds), S.stated_model(ds))
+    grid = C.candidate(ctx, C.nominal(ctx), "hysteresis", "maxwell_slip")
+    assert grid is not None and grid.structure.slip is not None
+    assert not np.any(np.isclose(grid.structure.slip[:, None], deltas, rtol=0.05))
+    fit = C.refine_elements(ctx, grid)
+    assert np.sqrt(grid.mse_held) > 1.3 * ctx.sigma_y
+    assert np.sqrt(fit.mse_held) < 1.05 * ctx.sigma_y
+    eff = fit.model.effect("hysteresis", "maxwell_slip")
+    assert eff is not None
+    big = sorted(zip(eff.params["k_nm_per_rad"], eff.params["delta_rad"], strict=True))[-3:]
+    assert sorted(d for _, d in big) == pytest.approx(deltas, rel=0.03)
 
 
 def test_inertia_load_effect_is_found() -> None:
@@ -268,9 +372,9 @@ def test_inertia_load_effect_is_found() -> None:
     assert diag.gap_after < 0.5 * diag.gap_before
 
 
-def test_arm_setup_is_not_supported_yet() -> None:
+def test_bench_diagnose_points_arm_records_to_the_arm_workflow() -> None:
     ds = Dataset(Path("arm"), "arm", {"t": np.arange(300) * 1e-3}, {}, load_catalogue().shaft())
-    with pytest.raises(UnsupportedSetupError, match="not implemented"):
+    with pytest.raises(UnsupportedSetupError, match="diagnose_arm"):
         diagnose(ds)
 
 
@@ -311,3 +415,7 @@ def test_reduced_battery() -> None:
     assert ok_null == nulls, table
     halved, hidden = s["gap_halved"]
     assert halved == hidden, table
+    excess_halved, hidden = s["excess_gap_halved"]
+    assert excess_halved == hidden, table
+    extra, _ = s["single_extra_effect_named"]
+    assert extra == 0, table

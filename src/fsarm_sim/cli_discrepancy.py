@@ -13,6 +13,8 @@ from typing import Annotated
 
 import typer
 
+from fsarm_sim.console import make_console
+
 
 def register(app: typer.Typer) -> None:
     @app.command("diagnose")
@@ -33,15 +35,26 @@ def register(app: typer.Typer) -> None:
         max_effects: Annotated[int, typer.Option(help="most effects to add")] = 4,
     ) -> None:
         """Replay the nominal model on a bench record, name the missing effects, fit them."""
-        from rich.console import Console
         from rich.table import Table
 
         from fsarm_sim.discrepancy import diagnose
         from fsarm_sim.discrepancy import report as rep
         from fsarm_sim.measured import load_dataset
 
-        console = Console(width=120)
+        console = make_console()
         ds = load_dataset(data)
+        if ds.setup == "arm":  # closed-loop replay of the run (fsarm_sim.discrepancy.arm)
+            from fsarm_sim.discrepancy import arm_report
+
+            arm_report.run_cli(
+                ds,
+                console,
+                json_file=json_file,
+                report=report,
+                model_file=model_file,
+                max_effects=min(max_effects, 3),
+            )
+            return
         diag = diagnose(ds, max_effects=max_effects)
         for st in diag.steps:
             t = Table(title=f"step {st.index}: {st.reason}", title_justify="left")
@@ -66,13 +79,9 @@ def register(app: typer.Typer) -> None:
                     "yes" if sc.earns_place else "no",
                 )
             console.print(t)
-            if st.added is not None and st.bic_margin is not None:
-                console.print(
-                    f"  confidence: {st.added} over {st.runner_up} by a held-out BIC margin of "
-                    f"{st.bic_margin:.1f} (p = {st.probability:.3g})"
-                    + ("  [look-alikes]" if st.look_alike else ""),
-                    markup=False,
-                )
+            line = rep.confidence_line(st)
+            if line:
+                console.print(line, markup=False)
         console.print(f"named effects: {diag.named or 'none'}", markup=False)
         console.print(
             f"held-out NRMSE of {ds.output_column}: nominal {100 * diag.gap_before:.3f} % -> "
@@ -98,7 +107,15 @@ def register(app: typer.Typer) -> None:
         out: Annotated[
             Path, typer.Argument(help="output NAME(.csv|.parquet); NAME.json beside it")
         ],
-        setup: Annotated[str, typer.Option(help="series_bench or parallel_bench")] = "series_bench",
+        setup: Annotated[
+            str, typer.Option(help="series_bench, parallel_bench or arm")
+        ] = "series_bench",
+        scenario: Annotated[
+            str, typer.Option(help="arm: the scenario run (see `fsarm scenarios`)")
+        ] = "fig14-sine",
+        noise_rad: Annotated[
+            float, typer.Option(help="arm: angle noise std, rad (plus 17-bit quantisation)")
+        ] = 2e-5,
         effect: Annotated[
             list[str] | None,
             typer.Option(
@@ -122,7 +139,9 @@ def register(app: typer.Typer) -> None:
         diameter_mm: Annotated[float, typer.Option("--diameter", help="shaft D, mm")] = 9.0,
         length_mm: Annotated[float, typer.Option("--length", help="shaft L, mm")] = 450.0,
         noise: Annotated[float, typer.Option(help="torque noise std / torque range")] = 0.003,
-        duration: Annotated[float, typer.Option(help="s")] = 30.0,
+        duration: Annotated[
+            float | None, typer.Option(help="s (default: 30; arm: the scenario's)")
+        ] = None,
         rate: Annotated[float, typer.Option(help="sample rate, Hz")] = 1000.0,
         trajectory: Annotated[
             str, typer.Option(help="chirp, multisine, triangle, random, steps, biased_sine")
@@ -137,6 +156,25 @@ def register(app: typer.Typer) -> None:
         from fsarm_sim.errors import InvalidParameterError
         from fsarm_sim.shaft import load_catalogue
 
+        if setup == "arm":  # the arm run by the simulator (fsarm_sim.discrepancy.arm)
+            from fsarm_sim.discrepancy import arm
+
+            if model is not None:
+                arm_truth, _ = arm.load_arm_model(model)
+            else:
+                arm_truth = arm.truth_model(effect or [], stiffness_scale=stiffness_scale)
+            table, side = arm.write_arm_synthetic(
+                out,
+                arm_truth,
+                arm.ArmRecording(
+                    scenario=scenario, duration_s=duration, noise_rad=noise_rad, seed=seed
+                ),
+                load_catalogue().shaft(diameter_mm, length_mm),
+            )
+            typer.echo(
+                f"wrote {table} and {side} (SYNTHETIC; hidden: {arm_truth.labels or 'none'})"
+            )
+            return
         if setup not in ("series_bench", "parallel_bench"):
             raise InvalidParameterError(
                 f"--setup must be series_bench or parallel_bench, got {setup!r}"
@@ -145,7 +183,7 @@ def register(app: typer.Typer) -> None:
             raise InvalidParameterError(f"--load must be blocked or inertia, got {load!r}")
         shaft = load_catalogue().shaft(diameter_mm, length_mm)
         rec = synth.Recording(
-            duration_s=duration,
+            duration_s=30.0 if duration is None else duration,
             rate_hz=rate,
             noise=noise,
             trajectory=trajectory,

@@ -9,16 +9,10 @@ selection with held-out BIC), :mod:`.report` (JSON, model file, plots), :mod:`.b
 (the model file format shared with ``fsarm synth``), :mod:`.battery` (the synthetic battery).
 
 Setups: ``series_bench`` (blocked output: a replay of the input's history; inertia load: the
-load simulated in segments from its measured state) and ``parallel_bench``. ``arm`` datasets are
-validated (:mod:`fsarm_sim.measured`) but not replayed yet; the plan: rebuild the run from the
-sidecar (shaft, payload, gains, control period) with :func:`fsarm_sim.model.build_spec`, drive
-it closed loop with the recorded references (q*_ref, qd*_ref, qdd*_ref columns -> the reference
-table), compare q3 and the shaft twist theta_m - i_G2 q3 on held-out blocks; refit the nominal
-parameters (stiffness per twist sign, K_b, the stated payload) by least squares over batched
-MuJoCo rollouts (:mod:`fsarm_sim.batch`); candidates: ``payload_error``
-(:mod:`fsarm_sim.effects.payload_error`, checked against MuJoCo's gravity) and the shaft/bending
-effects through the simulator's own switches (Maxwell-slip, conduit). Coulomb friction, backlash,
-delay and offsets on the arm need hooks in :func:`fsarm_sim.physics.shaft_torque` first.
+load simulated in segments from its measured state) and ``parallel_bench``. ``arm`` records are
+replayed closed loop by :mod:`.arm` (the simulator with the recorded references and the run's
+controller; :func:`.arm.diagnose_arm`, which ``fsarm diagnose`` calls for ``setup == "arm"``;
+output in :mod:`.arm_report`). :func:`diagnose` itself covers the benches only.
 """
 
 from __future__ import annotations

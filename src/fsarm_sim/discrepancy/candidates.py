@@ -794,6 +794,50 @@ def stated(ctx: Context) -> Fit:
     return Fit(Structure(), ctx.stated, yhat, None, 0, mt, mh, label="nominal (catalogue)")
 
 
+ELEMENT_NFEV = 25  # element refinement: Nelder-Mead evaluations per element
+
+
+def refine_elements(ctx: Context, fit: Fit) -> Fit:
+    """Move the kept hysteresis elements off the fixed grid: a bounded Nelder-Mead search of the
+    log slip deflections / log time constants (the amplitudes stay an inner linear solve), on the
+    teaching MSE. A grid of fixed elements approximates an element between two grid points by a
+    pair, and the rest of the misfit would otherwise be left for another effect to absorb. Each
+    element already counts two parameters (k), so the BIC charge does not change. Blocked series
+    and parallel bench (an inner solve is one linear least squares); an inertia load keeps its
+    grid (each evaluation would be an output-error fit)."""
+    st = fit.structure
+    if ctx.inp.inertia_load or (st.slip is None and st.ve is None):
+        return fit
+    n_s = 0 if st.slip is None else st.slip.size
+    x0 = np.log(np.r_[st.slip if st.slip is not None else [], st.ve if st.ve is not None else []])
+    lo = np.r_[np.full(n_s, ctx.slip_grid[0]), np.full(x0.size - n_s, ctx.ve_grid[0])]
+    hi = np.r_[np.full(n_s, ctx.slip_grid[-1]), np.full(x0.size - n_s, ctx.ve_grid[-1])]
+    best = [fit]
+
+    def f(v: FloatArray) -> float:
+        s2 = st.copy()
+        vals = np.exp(np.clip(v, np.log(lo), np.log(hi)))
+        if n_s:
+            s2.slip = np.sort(vals[:n_s])
+        if vals.size > n_s:
+            s2.ve = np.sort(vals[n_s:])
+        fi = solve_static(ctx, s2, prune=False)
+        if fi.mse_teach < best[0].mse_teach:
+            best[0] = fi
+        return fi.mse_teach
+
+    minimize(
+        f,
+        x0,
+        method="Nelder-Mead",
+        bounds=list(zip(np.log(lo), np.log(hi), strict=True)),
+        options={"maxfev": ELEMENT_NFEV * x0.size, "xatol": 1e-3, "fatol": 0.0},
+    )
+    out = best[0]
+    out.label, out.effect, out.variant, out.note = fit.label, fit.effect, fit.variant, fit.note
+    return out
+
+
 def refine(ctx: Context, fit: Fit) -> Fit:
     """Joint refinement of the nonlinear parameters (delay, input offset, backlash) of the final
     structure, each around its value (Nelder-Mead on the teaching MSE)."""

@@ -1,8 +1,14 @@
 """Diagnosis output: the JSON result, the final model file and the plots.
 
 JSON keys (``specs/measured-data.md`` names first): ``named_effects``, ``gap_before``,
-``gap_after`` (held-out NRMSE of the main output channel, fractions), ``gap_catalogue`` (nominal
-model with the catalogue's parameters, no refit), ``nothing_missing``, ``verdict``,
+``gap_after`` (held-out NRMSE of the main output channel, fractions), ``noise_floor_nrmse`` (the
+estimated noise floor in the same units: a perfect model's gap), ``gap_excess_before``,
+``gap_excess_after`` (the gaps above the noise floor, ``sqrt(max(gap^2 - floor^2, 0))``),
+``noise_floor_inputs_nrmse`` (the output error that the recorded inputs' own errors - encoder
+quantisation, noise - cause through the final model, estimated by re-measuring them; reported,
+not used for naming) and ``noise_floor_total_nrmse`` (both floors together),
+``residual_over_noise`` (held-out residual RMS / noise floor, nominal and final), ``gap_catalogue``
+(nominal model with the catalogue's parameters, no refit), ``nothing_missing``, ``verdict``,
 ``confidence`` (per added effect: runner-up, BIC margin, probability, look-alike flag),
 ``steps`` (every candidate's scores per step), ``fitted_parameters`` (nominal + effects),
 ``nominal_refit`` (catalogue vs refit nominal parameters), ``noise_floor``, ``nrmse`` (per
@@ -25,8 +31,11 @@ from fsarm_sim.discrepancy.residuals import bic, effective_n, noise_floor, nrmse
 from fsarm_sim.discrepancy.selection import (
     BIC_THRESHOLD,
     MIN_EXPLAINED,
+    MIN_EXPLAINED_EXTRA,
     MIN_GAIN,
+    MIN_SHARE_EXTRA,
     Diagnosis,
+    Step,
     residual_signature,
 )
 
@@ -56,6 +65,10 @@ def _params(model: BenchModel) -> dict[str, Any]:
     }
 
 
+def _over_noise(mse: float, sigma: float) -> float:
+    return math.sqrt(mse) / sigma if sigma > 0 else math.inf
+
+
 def channel_nrmse(diag: Diagnosis) -> dict[str, dict[str, float]]:
     """Held-out NRMSE per measured channel for the catalogue, refit nominal and final models."""
     ctx = diag.ctx
@@ -80,11 +93,9 @@ def channel_nrmse(diag: Diagnosis) -> dict[str, dict[str, float]]:
     return out
 
 
-def result_dict(diag: Diagnosis, model_file: Path | None = None) -> dict[str, Any]:
-    ctx = diag.ctx
-    inp = ctx.inp
-    ds = diag.dataset
-    conf = [
+def confidence(steps: list[Step]) -> list[dict[str, Any]]:
+    """How sure each added effect is against its runner-up (held-out BIC margin)."""
+    return [
         {
             "step": s.index,
             "added": s.added,
@@ -93,9 +104,27 @@ def result_dict(diag: Diagnosis, model_file: Path | None = None) -> dict[str, An
             "probability": s.probability,
             "look_alike": s.look_alike,
         }
-        for s in diag.steps
+        for s in steps
         if s.added is not None
     ]
+
+
+def confidence_line(st: Step) -> str | None:
+    """One printable line on an added effect's confidence, or None."""
+    if st.added is None or st.bic_margin is None:
+        return None
+    return (
+        f"  confidence: {st.added} over {st.runner_up} by a held-out BIC margin of "
+        f"{st.bic_margin:.1f} (p = {st.probability:.3g})"
+        + ("  [look-alikes]" if st.look_alike else "")
+    )
+
+
+def result_dict(diag: Diagnosis, model_file: Path | None = None) -> dict[str, Any]:
+    ctx = diag.ctx
+    inp = ctx.inp
+    ds = diag.dataset
+    conf = confidence(diag.steps)
     n_h = effective_n(inp.y - diag.final.yhat, ctx.held)
     res: dict[str, Any] = {
         "dataset": str(ds.path),
@@ -110,6 +139,15 @@ def result_dict(diag: Diagnosis, model_file: Path | None = None) -> dict[str, An
         "named_effects": list(diag.named),
         "gap_before": diag.gap_before,
         "gap_after": diag.gap_after,
+        "noise_floor_nrmse": diag.noise_floor_nrmse,
+        "noise_floor_inputs_nrmse": diag.noise_floor_inputs_nrmse,
+        "noise_floor_total_nrmse": diag.noise_floor_total_nrmse,
+        "gap_excess_before": diag.gap_excess_before,
+        "gap_excess_after": diag.gap_excess_after,
+        "residual_over_noise": {
+            "nominal": _over_noise(diag.nominal.mse_held, ctx.sigma_y),
+            "final": _over_noise(diag.final.mse_held, ctx.sigma_y),
+        },
         "gap_catalogue": nrmse(inp.y, diag.catalogue.yhat, ctx.held),
         "nothing_missing": not diag.named,
         "verdict": diag.verdict,
@@ -123,6 +161,7 @@ def result_dict(diag: Diagnosis, model_file: Path | None = None) -> dict[str, An
         "noise_floor": {
             ds.output_column: ctx.sigma_y,
             f"{ds.input_column} (smoothed)": ctx.sigma_u,
+            f"{ds.output_column} from the recorded inputs' errors (propagated)": diag.sigma_inputs,
             **(
                 {"theta_s": noise_floor(inp.theta_s)}
                 if inp.inertia_load and inp.theta_s is not None
@@ -149,6 +188,13 @@ def result_dict(diag: Diagnosis, model_file: Path | None = None) -> dict[str, An
             "bic_threshold": BIC_THRESHOLD,
             "min_heldout_gain": MIN_GAIN,
             "min_explained_fraction_of_noise_variance": MIN_EXPLAINED,
+            "extra_effect_min_explained_fraction_of_noise_variance": MIN_EXPLAINED_EXTRA,
+            "extra_effect_min_share_of_named_effects_explained": MIN_SHARE_EXTRA,
+            "noise_floor": "4th-difference MAD estimate of the main channel's white noise; "
+            "noise_floor_nrmse = that / (max - min) of the channel on the held-out samples",
+            "noise_floor_inputs": "the recorded angles re-measured (their encoder grid at a "
+            "random phase, or their white noise) and the final model replayed on both: RMS "
+            "output difference on the held-out samples",
             "nrmse": "RMSE / (max - min) of the measured channel on the held-out samples",
             "inertia_load_replay": f"segments of {R.SEGMENT_S:g} s started from the measured load state",
         },
@@ -248,6 +294,13 @@ def write_plots(diag: Diagnosis, folder: str | Path) -> list[Path]:
     w = 0.25
     for j, key in enumerate(("catalogue", "nominal", "final")):
         ax.bar(np.arange(len(names)) + (j - 1) * w, [100 * ch[c][key] for c in names], w, label=key)
+    ax.axhline(
+        100 * diag.noise_floor_nrmse,
+        color="k",
+        ls=":",
+        lw=1,
+        label=f"noise floor ({ds.output_column})",
+    )
     ax.set_xticks(np.arange(len(names)), names)
     ax.set_ylabel("held-out NRMSE [%]")
     ax.legend(fontsize=8)

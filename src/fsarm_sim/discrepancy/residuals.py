@@ -6,6 +6,9 @@ signatures that point at a missing effect.
   signal content cancels, white noise stays with variance 70 sigma^2; the median absolute
   deviation ignores kinks and impacts). It needs no model, so it is the same before and after.
 * NRMSE: RMSE over (max - min) of the measured channel on the same samples (seed 001 Sec. 3.3).
+  The noise floor in the same units is ``sigma / (max - min)``: a perfect model's NRMSE. The gap
+  *above* the noise floor is ``sqrt(max(gap^2 - floor^2, 0))`` (independent noise adds in
+  variance), so a gap at the floor is 0 however noisy the record.
 * Effective sample size: n / tau_int with tau_int the integrated autocorrelation time of the
   residual (Sokal's automatic window), so that coloured residuals do not fake evidence in BIC.
 * Signatures: how much of the residual variance is explained by grouping it by velocity sign,
@@ -66,6 +69,21 @@ def nrmse(y: FloatArray, yhat: FloatArray, mask: BoolArray) -> float:
     if span <= 0.0:
         span = 1.0
     return float(np.sqrt(np.mean((ym - yhat[mask]) ** 2)) / span)
+
+
+def nrmse_floor(y: FloatArray, sigma: float, mask: BoolArray) -> float:
+    """The noise floor in NRMSE units: ``sigma / (max - min)`` of ``y`` over ``mask`` - the
+    held-out NRMSE of a model that reproduces everything but the white measurement noise."""
+    ym = y[mask]
+    span = float(ym.max() - ym.min()) if ym.size else 0.0
+    return sigma / span if span > 0.0 else sigma
+
+
+def gap_excess(gap: float, floor: float) -> float:
+    """The part of an NRMSE gap above the noise floor: ``sqrt(max(gap^2 - floor^2, 0))``."""
+    if not (math.isfinite(gap) and math.isfinite(floor)):
+        return gap
+    return math.sqrt(max(gap * gap - floor * floor, 0.0))
 
 
 def tau_int(r: FloatArray, max_lag: int = 2000) -> float:

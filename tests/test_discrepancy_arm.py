@@ -1,0 +1,281 @@
+"""The discrepancy workflow on the arm: closed-loop replay of a recorded run, nominal refit,
+effects hidden in SYNTHETIC runs (fsarm_sim.discrepancy.arm.synthesize_arm) named and their
+parameters recovered, named errors for bad arm data, model file and CLI."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from fsarm_sim.discrepancy import arm as A
+from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.effects import delay
+from fsarm_sim.measured import (
+    MissingColumnError,
+    TimeAxisError,
+    load_dataset,
+    write_dataset,
+)
+from fsarm_sim.model import SimConfig
+
+from conftest import run_fsarm
+
+DUR = 4.0  # s of fig14-sine: one full 0-90-0 deg sweep of joint 3
+
+
+def _record(
+    tmp: Path,
+    name: str,
+    effects: list[str],
+    *,
+    noise: float = 2e-5,
+    counts: int = A.ARM_ENCODER_COUNTS,
+    stiffness: float = 1.0,
+    seed: int = 0,
+    scenario: str = "fig14-sine",
+    duration: float = DUR,
+    derivatives: bool = True,
+) -> Path:
+    truth = A.truth_model(effects, stiffness_scale=stiffness)
+    rec = A.ArmRecording(
+        scenario=scenario,
+        duration_s=duration,
+        noise_rad=noise,
+        encoder_counts=counts,
+        seed=seed,
+        derivatives=derivatives,
+    )
+    table, _ = A.write_arm_synthetic(tmp / f"{name}.csv", truth, rec)
+    return table
+
+
+def _effect(diag: A.ArmDiagnosis, name: str) -> dict[str, float]:
+    for e in diag.final.model.effects():
+        if e.name == name:
+            return e.params
+    raise AssertionError(f"{name} not in the final model")
+
+
+# ------------------------------------------------------------------ replay
+
+
+def test_replay_reproduces_a_clean_record_exactly(tmp_path: Path) -> None:
+    """Nothing hidden, no noise, no quantisation: the replay from the CSV (10 digits) and the
+    sidecar is the recorded run to the CSV's precision - controller, references and all."""
+    ds = load_dataset(_record(tmp_path, "clean", [], noise=0.0, counts=0))
+    run = A.arm_run(ds)
+    sim, coef_s = A.simulate_config(run, A.to_config(run, A.ArmModel()))
+    assert coef_s == pytest.approx(10.0)  # i_G2 of the MJCF
+    for ch in ("q1", "q2", "q3", "theta_m"):
+        assert np.max(np.abs(sim[ch] - ds.columns[ch])) < 1e-8, ch
+    assert np.ptp(ds.columns["q3"]) > 1.5  # the run does move (0-90 deg)
+
+
+def test_reference_table_differentiates_missing_rates(tmp_path: Path) -> None:
+    """Without qd/qdd columns the rates are central differences of the recorded references
+    (second-order accurate on the smooth sweep) and zero across a step."""
+    ds = load_dataset(_record(tmp_path, "sweep", [], derivatives=False, duration=2.0))
+    table, note = A.reference_table(ds, 1e-3)
+    t = np.arange(table.shape[0]) * 1e-3
+    w = 2 * np.pi / 4.0
+    a = 0.25 * np.pi  # fig14-sine: q3 = a (1 - cos w t)
+    inner = slice(2, ds.n - 2)
+    assert np.allclose(table[inner, 5], a * w * np.sin(w * t[inner]), atol=1e-5)
+    # accelerations: differences of differences of 10-digit CSV values (~1e-4 rad/s^2 noise)
+    assert np.allclose(table[inner, 8], a * w * w * np.cos(w * t[inner]), atol=2e-3)
+    assert "central differences" in note
+    ds = load_dataset(_record(tmp_path, "step", [], derivatives=False, scenario="step-q3"))
+    table, _ = A.reference_table(ds, 1e-3)
+    assert np.all(table[:, 5] == 0.0) and np.all(table[:, 8] == 0.0)  # the step has no rate
+
+
+def test_measurement_model_uses_the_effect_kernels() -> None:
+    h = 1e-3
+    y = np.sin(np.arange(500) * h * 7.0)
+    m = A.ArmModel()
+    m.values.update({"delay.q3": 0.0037, "sensor_offset.theta_m": 0.01})
+    out = A.apply_measurement({"q3": y, "theta_m": y, "q2": y}, m, h)
+    assert np.allclose(out["q3"], delay.delayed_signal(y, 3.7))
+    assert np.allclose(out["theta_m"], y + 0.01) and np.array_equal(out["q2"], y)
+    assert np.allclose(R.shifted(y, 3.7), delay.delayed_signal(y, 3.7))
+
+
+# ------------------------------------------------------------------ diagnosis
+
+
+def test_null_record_names_nothing_and_refits_the_stiffness(tmp_path: Path) -> None:
+    """True shaft 10 % stiffer than the catalogue, nothing else: the nominal refit finds the
+    stiffness of the twist side the run visits and nothing is named; the gap is at the noise
+    floor."""
+    diag = A.diagnose_arm(load_dataset(_record(tmp_path, "null", [], stiffness=1.1, seed=3)))
+    assert diag.named == []
+    assert diag.final.model.nominal()["k_scale_neg"] == pytest.approx(1.1, rel=0.01)
+    assert diag.gap_over_noise(diag.final) < 1.1
+    assert diag.gap_over_noise(diag.catalogue) > 5.0  # the catalogue model alone is off
+    assert "nothing is missing" in diag.verdict
+
+
+def test_payload_error_is_named_and_its_mass_recovered(tmp_path: Path) -> None:
+    diag = A.diagnose_arm(load_dataset(_record(tmp_path, "pay", ["payload_error=0.4"], seed=1)))
+    assert diag.named == ["payload_error"]
+    assert _effect(diag, "payload_error")["dm_kg"] == pytest.approx(0.4, abs=0.01)
+    assert diag.gap_after < 0.5 * diag.gap_before
+    assert diag.gap_over_noise(diag.final) < 1.2
+    assert diag.steps[0].bic_margin is not None and diag.steps[0].bic_margin > 10.0
+
+
+def test_coulomb_friction_at_joint_3_is_named(tmp_path: Path) -> None:
+    ds = load_dataset(_record(tmp_path, "fric", ["coulomb_friction=0.15"], noise=5e-5, seed=2))
+    diag = A.diagnose_arm(ds)
+    assert diag.named == ["coulomb_friction"]
+    assert _effect(diag, "coulomb_friction")["f_c_nm"] == pytest.approx(0.15, rel=0.05)
+    assert diag.gap_after < 0.5 * diag.gap_before
+
+
+def test_delay_and_offset_of_recorded_channels_are_named(tmp_path: Path) -> None:
+    """q3 recorded 4 ms late and theta_m with a 3 mrad bias: two measurement effects, one at a
+    time; the delay is not taken for viscous damping (its look-alike)."""
+    ds = load_dataset(
+        _record(tmp_path, "meas", ["delay:q3=0.004", "sensor_offset:theta_m=0.003"], seed=4)
+    )
+    diag = A.diagnose_arm(ds)
+    assert sorted(diag.named) == ["delay", "sensor_offset"]
+    assert _effect(diag, "delay")["delay_s"] == pytest.approx(0.004, abs=1e-4)
+    assert _effect(diag, "sensor_offset")["offset_rad"] == pytest.approx(0.003, rel=0.02)
+    assert {e.variant for e in diag.final.model.effects()} == {"q3", "theta_m"}
+    assert diag.gap_over_noise(diag.final) < 1.2
+
+
+# ------------------------------------------------------------------ bad data
+
+
+def _minimal_arm(tmp: Path, **side_changes: object) -> Path:
+    n = 300
+    t = np.arange(n) * 1e-3
+    cols = {c: np.zeros(n) for c in ("q1", "q2", "q3", "theta_m", "q1_ref", "q2_ref", "q3_ref")}
+    cols["t"] = t
+    side: dict[str, object] = {
+        "setup": "arm",
+        "shaft": {"diameter_mm": 9.0, "length_mm": 450.0},
+        "payload_kg": 0.0,
+        "ctrl_dt_s": 1e-3,
+    }
+    side.update(side_changes)
+    side = {k: v for k, v in side.items() if v is not None}
+    table, _ = write_dataset(tmp / "arm.csv", cols, side)
+    return table
+
+
+@pytest.mark.parametrize(
+    ("change", "match"),
+    [
+        ({"payload_kg": None}, "needs 'payload_kg'"),
+        ({"payload_kg": 20.0}, "payload_kg"),
+        ({"ctrl_dt_s": None}, "needs 'ctrl_dt_s'"),
+        ({"ctrl_dt_s": -1.0}, "ctrl_dt_s"),
+        ({"gains": {"wn": 3}}, "unknown gain"),
+        ({"gains": {"zeta": [1.0, 1.0]}}, "list of 3 numbers"),
+        ({"transmission": "harmonic-drive"}, "flexible shaft only"),
+        ({"payload_tolerance_kg": -1.0}, "payload_tolerance_kg"),
+    ],
+)
+def test_bad_arm_sidecar_is_a_named_error(
+    tmp_path: Path, change: dict[str, object], match: str
+) -> None:
+    ds = load_dataset(_minimal_arm(tmp_path, **change))
+    with pytest.raises(A.ArmSidecarError, match=match):
+        A.arm_run(ds)
+
+
+def test_bad_arm_table_is_a_named_error(tmp_path: Path) -> None:
+    table = _minimal_arm(tmp_path)
+    text = table.read_text().splitlines()
+    head = text[0].split(",")
+    i = head.index("q3_ref")
+    table.write_text(
+        "\n".join(",".join(c for j, c in enumerate(r.split(",")) if j != i) for r in text) + "\n"
+    )
+    with pytest.raises(MissingColumnError, match="q3_ref"):
+        load_dataset(table)
+    table = _minimal_arm(tmp_path)
+    rows = table.read_text().splitlines()
+    rows[10], rows[11] = rows[11], rows[10]
+    table.write_text("\n".join(rows) + "\n")
+    with pytest.raises(TimeAxisError, match="row"):
+        load_dataset(table)
+
+
+def test_ctrl_period_not_a_multiple_of_the_timestep_is_a_named_error(tmp_path: Path) -> None:
+    ds = load_dataset(_minimal_arm(tmp_path, ctrl_dt_s=1.5e-3))
+    with pytest.raises(A.ArmReplayError, match="whole multiple"):
+        A.make_context(ds, A.arm_run(ds))
+
+
+# ------------------------------------------------------------------ model file, CLI
+
+
+def test_model_file_loads_as_a_sim_config(tmp_path: Path, prototype) -> None:  # type: ignore[no-untyped-def]
+    m = A.truth_model(
+        ["payload_error=0.3", "coulomb_friction=0.1", "hysteresis=4,0.003", "delay:q3=0.002"],
+        stiffness_scale=1.2,
+    )
+    run = A.ArmRun(
+        prototype, 2.0, 0.0, SimConfig().gains, None, np.zeros((1, 9)), np.zeros(1), 1e-3, ""
+    )
+    path = A.save_arm_model(run, m, tmp_path / "model.json")
+    cfg = A.load_arm_config(path)
+    assert cfg.payload_kg == 2.0 and cfg.effects.payload_error_kg == pytest.approx(0.3)
+    assert cfg.effects.q3_friction_nm == pytest.approx(0.1)
+    assert cfg.shaft.k_neg == pytest.approx(1.2 * prototype.k_neg)
+    assert cfg.shaft.slip_k[0] == 4.0 and cfg.shaft.slip_f[0] == pytest.approx(0.012)
+    assert cfg.controller_shaft == prototype  # the controller keeps the stated shaft
+    back, _ = A.load_arm_model(path)
+    assert back.v("delay.q3") == 0.002 and back.labels == m.labels
+    d = json.loads(path.read_text())
+    d["effects"].append({"name": "warp_drive", "variant": "q3", "params": {}})
+    path.write_text(json.dumps(d))
+    with pytest.raises(A.ArmModelFileError, match="unknown arm effect"):
+        A.load_arm_model(path)
+    with pytest.raises(ValueError, match="not understood"):
+        A.parse_arm_effect("payload_error=1,2")
+
+
+def test_cli_synth_and_diagnose_arm(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    data = tmp_path / "cli_arm"
+    code = run_fsarm(
+        monkeypatch,
+        "synth",
+        str(data),
+        "--setup",
+        "arm",
+        "--duration",
+        "3",
+        "--effect",
+        "viscous_damping=0.2",
+        "--seed",
+        "5",
+    )
+    assert code == 0
+    side = json.loads(data.with_suffix(".json").read_text())
+    assert side["notes"].startswith("SYNTHETIC") and side["setup"] == "arm"
+    out = tmp_path / "res.json"
+    code = run_fsarm(
+        monkeypatch,
+        "diagnose",
+        str(data) + ".csv",
+        "--json",
+        str(out),
+        "--model",
+        str(tmp_path / "m.json"),
+    )
+    assert code == 0
+    res = json.loads(out.read_text())
+    assert res["named_effects"] == ["viscous_damping"]
+    assert res["gap_after"] < 0.5 * res["gap_before"]
+    assert set(res["nrmse"]) == {"q3", "theta_m", "q2", "twist"}
+    assert res["confidence"][0]["runner_up"] and res["bic"]["final"] < res["bic"]["nominal"]
+    cfg = A.load_arm_config(tmp_path / "m.json")
+    assert cfg.effects.q3_damping_nms == pytest.approx(0.2, rel=0.05)
