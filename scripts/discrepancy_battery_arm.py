@@ -1,7 +1,7 @@
 #!/usr/bin/env python
 """Discrepancy battery on the arm (issue 5): every arm effect hidden one at a time at two
 magnitudes and two noise levels, plus null records, in SYNTHETIC runs of ``fig14-sine`` made by
-``fsarm_sim.discrepancy.arm.synthesize_arm`` (the simulator with the effect on the plant or in
+``fsarm_sim.discrepancy.arm_synth.synthesize_arm`` (the simulator with the effect on the plant or in
 the recording, 17-bit encoders, Gaussian angle noise). Prints the confusion table (truth vs the
 first effect named), parameter recovery, the held-out gap before/after and runtimes.
 
@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from fsarm_sim.discrepancy import arm as A
+from fsarm_sim.discrepancy import arm_synth as S
 from fsarm_sim.measured import load_dataset
 
 NOISES = (1e-5, 5e-5)  # rad
@@ -80,13 +81,13 @@ def _main_value(name: str, params: dict[str, Any]) -> float:
 
 
 def run_case(c: Case) -> dict[str, Any]:
-    truth = A.truth_model(
+    truth = S.truth_model(
         [c.spec] if c.spec else [], stiffness_scale=c.stiffness_scale, kb_scale=c.kb_scale
     )
-    rec = A.ArmRecording(duration_s=c.duration_s, noise_rad=c.noise_rad, seed=c.seed)
+    rec = S.ArmRecording(duration_s=c.duration_s, noise_rad=c.noise_rad, seed=c.seed)
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / f"{c.name}.csv"
-        A.write_arm_synthetic(path, truth, rec)
+        S.write_arm_synthetic(path, truth, rec)
         ds = load_dataset(path)
         t0 = time.perf_counter()
         d = A.diagnose_arm(ds)

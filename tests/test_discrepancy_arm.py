@@ -1,5 +1,5 @@
 """The discrepancy workflow on the arm: closed-loop replay of a recorded run, nominal refit,
-effects hidden in SYNTHETIC runs (fsarm_sim.discrepancy.arm.synthesize_arm) named and their
+effects hidden in SYNTHETIC runs (fsarm_sim.discrepancy.arm_synth.synthesize_arm) named and their
 parameters recovered, named errors for bad arm data, model file and CLI."""
 
 from __future__ import annotations
@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from fsarm_sim.discrepancy import arm as A
+from fsarm_sim.discrepancy import arm_synth as S
 from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.effects import delay
 from fsarm_sim.measured import (
@@ -32,15 +33,15 @@ def _record(
     effects: list[str],
     *,
     noise: float = 2e-5,
-    counts: int = A.ARM_ENCODER_COUNTS,
+    counts: int = S.ARM_ENCODER_COUNTS,
     stiffness: float = 1.0,
     seed: int = 0,
     scenario: str = "fig14-sine",
     duration: float = DUR,
     derivatives: bool = True,
 ) -> Path:
-    truth = A.truth_model(effects, stiffness_scale=stiffness)
-    rec = A.ArmRecording(
+    truth = S.truth_model(effects, stiffness_scale=stiffness)
+    rec = S.ArmRecording(
         scenario=scenario,
         duration_s=duration,
         noise_rad=noise,
@@ -48,7 +49,7 @@ def _record(
         seed=seed,
         derivatives=derivatives,
     )
-    table, _ = A.write_arm_synthetic(tmp / f"{name}.csv", truth, rec)
+    table, _ = S.write_arm_synthetic(tmp / f"{name}.csv", truth, rec)
     return table
 
 
@@ -218,7 +219,7 @@ def test_ctrl_period_not_a_multiple_of_the_timestep_is_a_named_error(tmp_path: P
 
 
 def test_model_file_loads_as_a_sim_config(tmp_path: Path, prototype) -> None:  # type: ignore[no-untyped-def]
-    m = A.truth_model(
+    m = S.truth_model(
         ["payload_error=0.3", "coulomb_friction=0.1", "hysteresis=4,0.003", "delay:q3=0.002"],
         stiffness_scale=1.2,
     )
@@ -240,7 +241,7 @@ def test_model_file_loads_as_a_sim_config(tmp_path: Path, prototype) -> None:  #
     with pytest.raises(A.ArmModelFileError, match="unknown arm effect"):
         A.load_arm_model(path)
     with pytest.raises(ValueError, match="not understood"):
-        A.parse_arm_effect("payload_error=1,2")
+        S.parse_arm_effect("payload_error=1,2")
 
 
 def test_cli_synth_and_diagnose_arm(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:

@@ -157,16 +157,16 @@ def register(app: typer.Typer) -> None:
         from fsarm_sim.shaft import load_catalogue
 
         if setup == "arm":  # the arm run by the simulator (fsarm_sim.discrepancy.arm)
-            from fsarm_sim.discrepancy import arm
+            from fsarm_sim.discrepancy import arm, arm_synth
 
             if model is not None:
                 arm_truth, _ = arm.load_arm_model(model)
             else:
-                arm_truth = arm.truth_model(effect or [], stiffness_scale=stiffness_scale)
-            table, side = arm.write_arm_synthetic(
+                arm_truth = arm_synth.truth_model(effect or [], stiffness_scale=stiffness_scale)
+            table, side = arm_synth.write_arm_synthetic(
                 out,
                 arm_truth,
-                arm.ArmRecording(
+                arm_synth.ArmRecording(
                     scenario=scenario, duration_s=duration, noise_rad=noise_rad, seed=seed
                 ),
                 load_catalogue().shaft(diameter_mm, length_mm),

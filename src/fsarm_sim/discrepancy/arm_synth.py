@@ -1,0 +1,179 @@
+"""SYNTHETIC arm records for tests and demos: ``fsarm synth --setup arm``.
+
+The scenario is run by the simulator with a hidden truth (:class:`~fsarm_sim.discrepancy.arm.
+ArmModel`: stiffness scales and effects) acting on the plant only - the controller keeps the
+stated model - and recorded the way :mod:`fsarm_sim.discrepancy.arm` reads arm records: the
+truth's channel delays and offsets, Gaussian angle noise, encoder quantisation. The hidden truth
+goes into the sidecar under ``"synthetic"`` (never read by ``fsarm diagnose``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from fsarm_sim import scenarios
+from fsarm_sim.discrepancy import arm as A
+from fsarm_sim.errors import InvalidParameterError
+from fsarm_sim.measured import write_dataset
+from fsarm_sim.model import Gains
+from fsarm_sim.shaft import ShaftParams, load_catalogue
+
+FloatArray = npt.NDArray[np.float64]
+
+ARM_ENCODER_COUNTS = 131072  # 17-bit absolute encoders on every angle (estimate, as synth.py)
+ARM_NOISE_RAD = 2e-5  # angle noise std: a few counts of a 17-bit encoder (estimate)
+
+
+@dataclass(frozen=True)
+class ArmRecording:
+    """How the synthetic arm run is recorded."""
+
+    scenario: str = "fig14-sine"
+    duration_s: float | None = None  # None: the scenario's
+    payload_kg: float | None = None  # stated payload; None: the scenario's
+    noise_rad: float = ARM_NOISE_RAD
+    encoder_counts: int = ARM_ENCODER_COUNTS
+    seed: int = 0
+    derivatives: bool = True  # write qd*_ref / qdd*_ref
+
+    def validate(self) -> None:
+        if not math.isfinite(self.noise_rad) or self.noise_rad < 0.0:
+            raise InvalidParameterError(f"noise_rad must be >= 0, got {self.noise_rad!r}")
+        if self.encoder_counts < 0:
+            raise InvalidParameterError("encoder_counts must be >= 0")
+
+
+def parse_arm_effect(text: str) -> tuple[str, str, dict[str, Any]]:
+    """``NAME[:VARIANT]=v1[,v2...]`` -> (name, variant, params) of an arm effect.
+
+    payload_error=DM_KG; coulomb_friction=F_NM; viscous_damping=B_NMS; backlash=W[,C];
+    hysteresis=K1,D1[,K2,D2[,K3,D3]]; sensor_offset:CH=RAD; delay:CH=S (CH: q3, theta_m, q2).
+    """
+    if "=" not in text:
+        raise InvalidParameterError(f"arm effect {text!r}: expected NAME[:VARIANT]=VALUES")
+    head, vals = text.split("=", 1)
+    name, _, variant = (s.strip() for s in head.partition(":"))
+    try:
+        nums = [float(v) for v in vals.split(",") if v.strip()]
+    except ValueError:
+        raise InvalidParameterError(f"arm effect {text!r}: values must be numbers") from None
+    defaults = dict(A.PLANT_CANDIDATES)
+    if name in defaults and not variant:
+        variant = defaults[name]
+    p: dict[str, Any]
+    if name == "payload_error" and len(nums) == 1:
+        p = {"dm_kg": nums[0]}
+    elif name == "coulomb_friction" and len(nums) == 1:
+        p = {"f_c_nm": nums[0]}
+    elif name == "viscous_damping" and len(nums) == 1:
+        p = {"b_nms": nums[0]}
+    elif name == "backlash" and len(nums) in (1, 2):
+        p = {"width_rad": nums[0], "center_rad": nums[1] if len(nums) == 2 else 0.0}
+    elif name == "hysteresis" and len(nums) in (2, 4, 6):
+        p = {"k_nm_per_rad": nums[0::2], "delta_rad": nums[1::2]}
+    elif name == "sensor_offset" and len(nums) == 1:
+        p = {"offset_rad": nums[0]}
+    elif name == "delay" and len(nums) == 1:
+        p = {"delay_s": nums[0]}
+    else:
+        raise InvalidParameterError(
+            f"arm effect {text!r} not understood; use payload_error=DM, coulomb_friction=F, "
+            "viscous_damping=B, backlash=W[,C], hysteresis=K1,D1[,...], sensor_offset:CH=X, "
+            "delay:CH=D with CH one of q3, theta_m, q2"
+        )
+    m = A.ArmModel()
+    try:
+        A._add_effect(m, name, variant, p, f"effect {text!r}")
+    except A.ArmModelFileError as exc:
+        raise InvalidParameterError(str(exc)) from None
+    return name, variant, p
+
+
+def truth_model(
+    effects: list[str] | None = None, *, stiffness_scale: float = 1.0, kb_scale: float = 1.0
+) -> A.ArmModel:
+    """A synthetic truth: stiffness scales (true / catalogue) plus the parsed effects."""
+    m = A.ArmModel()
+    if not stiffness_scale > 0.0 or not kb_scale > 0.0:
+        raise InvalidParameterError("stiffness and K_b scales must be > 0")
+    m.values.update(c_scale=1.0 / stiffness_scale, kb_scale=kb_scale)
+    for text in effects or []:
+        name, variant, p = parse_arm_effect(text)
+        A._add_effect(m, name, variant, p, f"effect {text!r}")
+    return m
+
+
+def _quantise(x: FloatArray, counts: int) -> FloatArray:
+    if counts <= 0:
+        return x
+    q = 2.0 * math.pi / counts
+    return np.asarray(np.round(x / q) * q + 0.0, dtype=np.float64)  # + 0.0: no "-0" cells
+
+
+def synthesize_arm(
+    truth: A.ArmModel, rec: ArmRecording, shaft: ShaftParams | None = None
+) -> tuple[dict[str, FloatArray], dict[str, Any]]:
+    """(columns, sidecar) of a SYNTHETIC arm record: the scenario run by the simulator with
+    ``truth`` acting on the plant (the controller keeps the stated model), recorded with the
+    truth's delays and offsets, Gaussian angle noise and encoder quantisation."""
+    rec.validate()
+    sc = scenarios.get(rec.scenario)
+    sh = shaft or load_catalogue().shaft()
+    gains = Gains()
+    duration = float(sc.duration_s if rec.duration_s is None else rec.duration_s)
+    payload = float(sc.payload_kg if rec.payload_kg is None else rec.payload_kg)
+    n = round(duration / gains.ctrl_dt_s) + 1
+    t: FloatArray = np.arange(n, dtype=np.float64) * gains.ctrl_dt_s
+    table = sc.reference(np.arange(n + 1, dtype=np.float64) * gains.ctrl_dt_s)
+    run = A.ArmRun(sh, payload, 0.0, gains, None, table, t, gains.ctrl_dt_s, "")
+    raw, _ = A.simulate_config(run, A.to_config(run, truth))
+    meas = A.apply_measurement(raw, truth, gains.ctrl_dt_s)
+    rng = np.random.default_rng(rec.seed + 104729)
+    cols: dict[str, FloatArray] = {"t": t}
+    for ch in ("q1", "q2", "q3", "theta_m"):
+        y = meas[ch] if ch in meas else raw[ch]
+        cols[ch] = _quantise(y + rec.noise_rad * rng.standard_normal(n), rec.encoder_counts)
+    for j in range(3):
+        cols[f"q{j + 1}_ref"] = table[:n, j]
+    if rec.derivatives:
+        for j in range(3):
+            cols[f"qd{j + 1}_ref"] = table[:n, 3 + j]
+        for j in range(3):
+            cols[f"qdd{j + 1}_ref"] = table[:n, 6 + j]
+    hidden = truth.labels
+    g = dataclasses.asdict(gains)
+    side: dict[str, Any] = {
+        "setup": "arm",
+        "shaft": {"diameter_mm": sh.diameter_mm, "length_mm": sh.length_mm},
+        "payload_kg": payload,
+        "ctrl_dt_s": gains.ctrl_dt_s,
+        "scenario": rec.scenario,
+        "gains": {k: list(v) if isinstance(v, tuple) else v for k, v in g.items()},
+        "notes": (
+            f"SYNTHETIC data from fsarm synth --setup arm (not a measurement): scenario "
+            f"{rec.scenario}, {duration:g} s at {1 / gains.ctrl_dt_s:g} Hz, angle noise "
+            f"{rec.noise_rad:g} rad, {rec.encoder_counts} counts/rev, hidden effects: "
+            f"{', '.join(hidden) if hidden else 'none'}"
+        ),
+        "synthetic": {
+            "truth": A._jsonable(A.model_dict(run, truth)),
+            "noise_rad": rec.noise_rad,
+            "encoder_counts": rec.encoder_counts,
+            "seed": rec.seed,
+        },
+    }
+    return cols, side
+
+
+def write_arm_synthetic(
+    path: str | Path, truth: A.ArmModel, rec: ArmRecording, shaft: ShaftParams | None = None
+) -> tuple[Path, Path]:
+    cols, side = synthesize_arm(truth, rec, shaft)
+    return write_dataset(path, cols, side)
