@@ -87,6 +87,11 @@ def test_config_errors_are_named() -> None:
         build_model(SimConfig(transmission="nope"), hold_table(0, 0.5, 0.3))
     with pytest.raises(InvalidParameterError, match=r"SimConfig\.shaft"):
         build_model(SimConfig(transmission_params=(("k_pos", 1.0),)), hold_table(0, 0.5, 0.3))
+    with pytest.raises(TransmissionError, match="dissipative"):  # the module's own validation
+        build_model(
+            SimConfig(transmission="rtca", transmission_params=(("c", -1.0),)),
+            hold_table(0, 0.5, 0.3),
+        )
     assert parse_params(["a=1", " b = 2.5"]) == (("a", 1.0), ("b", 2.5))
     for bad in ("a", "a=", "=3", "a=nan", "a=x"):
         with pytest.raises(InvalidParameterError):

@@ -182,6 +182,20 @@ def minus_3db(freq: Array, gain: Array, static_gain: float = 1.0) -> float:
     return math.exp(la + x * (lb - la))
 
 
+def held_arm(config: SimConfig, table: Array, backend: Backend) -> tuple[Simulation, float]:
+    """The arm held for a joint-3 frequency response (step 1 of the module docstring): gravity
+    off, every link joint on :data:`HOLD_ARMATURE`, started at the table's first pose. Returns the
+    simulation and joint 3's (held) inertia M33."""
+    sim = Simulation(config, table, backend)
+    m, d, st = sim.model, sim.data, sim.structure
+    m.opt.gravity[:] = 0.0
+    for j in range(3):
+        m.dof_armature[st.dof[j]] += HOLD_ARMATURE
+    initial_state(m, d, st)
+    mujoco.mj_forward(m, d)  # no callbacks installed here: only the mass matrix is wanted
+    return sim, float(d.M[st.madr[2]])
+
+
 def torque_bandwidth(
     config: SimConfig,
     bend_rad: float = math.radians(45.0),
@@ -221,14 +235,8 @@ def torque_bandwidth(
     table = np.zeros((n, L.REF_COLS))
     table[:, 1] = bend_rad
     table[:, 2] = q3_rad
-    sim = Simulation(cfg, table, backend)
+    sim, m33 = held_arm(cfg, table, backend)
     m, d, st = sim.model, sim.data, sim.structure
-    m.opt.gravity[:] = 0.0
-    for j in range(3):
-        m.dof_armature[st.dof[j]] += HOLD_ARMATURE
-    initial_state(m, d, st)
-    mujoco.mj_forward(m, d)  # no callbacks installed here: only the mass matrix is wanted
-    m33 = float(d.M[st.madr[2]])
     ramp = np.clip(t / settle_s, 0.0, 1.0)
     smooth = ramp * ramp * (3.0 - 2.0 * ramp)
     tc = np.clip(t - settle_s, 0.0, None)

@@ -29,15 +29,15 @@ import numpy.typing as npt
 from fsarm_sim import callbacks, physics
 from fsarm_sim import layout as L
 from fsarm_sim.arm_metrics import (
-    HOLD_ARMATURE,
     Bandwidth,
     frequency_response,
+    held_arm,
     log_chirp,
     torque_bandwidth,
 )
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.model import SimConfig
-from fsarm_sim.simulation import Backend, Simulation, check_duration, initial_state
+from fsarm_sim.simulation import Backend, check_duration
 
 Array = npt.NDArray[np.float64]
 DEFAULT_BENDS_DEG = (0.0, 30.0, 60.0, 90.0, 120.0)
@@ -91,14 +91,8 @@ def output_impedance(
     table = np.zeros((n, L.REF_COLS))
     table[:, 1] = bend_rad
     table[:, 2] = q3_rad
-    sim = Simulation(cfg, table, backend)
+    sim, m33 = held_arm(cfg, table, backend)
     m, d, st = sim.model, sim.data, sim.structure
-    m.opt.gravity[:] = 0.0
-    for j in range(3):
-        m.dof_armature[st.dof[j]] += HOLD_ARMATURE
-    initial_state(m, d, st)
-    mujoco.mj_forward(m, d)  # no callbacks here: only the mass matrix is wanted
-    m33 = float(d.M[st.madr[2]])
     settle = min(1.0, 0.2 * duration_s)
     pos = chirp_motion(t, amplitude_rad, f_start_hz, f_stop_hz, settle)
     acc = np.gradient(np.gradient(pos, dt), dt)

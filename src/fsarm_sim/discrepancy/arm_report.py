@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from fsarm_sim.discrepancy import arm as A
-from fsarm_sim.discrepancy.report import _clean, confidence, confidence_line
+from fsarm_sim.discrepancy.report import _clean, confidence, confidence_line, plot_bic_steps
 from fsarm_sim.discrepancy.residuals import bic, effective_n, nrmse
 from fsarm_sim.discrepancy.selection import BIC_THRESHOLD, MIN_EXPLAINED, MIN_GAIN
 
@@ -215,23 +215,7 @@ def write_plots(diag: A.ArmDiagnosis, folder: str | Path) -> list[Path]:
     plt.close(fig)
 
     if diag.steps:
-        fig, axb = plt.subplots(1, len(diag.steps), figsize=(5 * len(diag.steps), 4), squeeze=False)
-        for a, st in zip(axb[0], diag.steps, strict=True):
-            a.barh(
-                [sc.label for sc in st.scores],
-                [sc.d_bic_held for sc in st.scores],
-                color=["tab:green" if sc.earns_place else "tab:grey" for sc in st.scores],
-            )
-            a.axvline(-BIC_THRESHOLD, color="k", ls=":", lw=0.8)
-            a.set_xscale("symlog", linthresh=10)
-            a.invert_yaxis()
-            a.set_title(f"step {st.index}: added {st.added or 'nothing'}", fontsize=9)
-            a.set_xlabel("held-out BIC change")
-            a.tick_params(axis="y", labelsize=7)
-        fig.tight_layout()
-        files.append(out / "bic.png")
-        fig.savefig(files[-1], dpi=110)
-        plt.close(fig)
+        files.append(plot_bic_steps(diag.steps, out / "bic.png"))
     return files
 
 

@@ -311,23 +311,34 @@ def write_plots(diag: Diagnosis, folder: str | Path) -> list[Path]:
 
     # 4. candidate BIC per step
     if diag.steps:
-        fig, axs = plt.subplots(1, len(diag.steps), figsize=(5 * len(diag.steps), 4), squeeze=False)
-        for a, st in zip(axs[0], diag.steps, strict=True):
-            labels = [sc.label for sc in st.scores]
-            vals = [sc.d_bic_held for sc in st.scores]
-            colors = ["tab:green" if sc.earns_place else "tab:grey" for sc in st.scores]
-            a.barh(labels, vals, color=colors)
-            a.axvline(-BIC_THRESHOLD, color="k", ls=":", lw=0.8)
-            a.set_xscale("symlog", linthresh=10)
-            a.invert_yaxis()
-            a.set_title(f"step {st.index}: added {st.added or 'nothing'}", fontsize=9)
-            a.set_xlabel("held-out BIC change")
-            a.tick_params(axis="y", labelsize=7)
-        fig.tight_layout()
-        files.append(out / "bic.png")
-        fig.savefig(files[-1], dpi=110)
-        plt.close(fig)
+        files.append(plot_bic_steps(diag.steps, out / "bic.png"))
     return files
+
+
+def plot_bic_steps(steps: list[Step], path: Path) -> Path:
+    """One panel per step: each candidate's held-out BIC change, green where it earns its place."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axs = plt.subplots(1, len(steps), figsize=(5 * len(steps), 4), squeeze=False)
+    for a, st in zip(axs[0], steps, strict=True):
+        a.barh(
+            [sc.label for sc in st.scores],
+            [sc.d_bic_held for sc in st.scores],
+            color=["tab:green" if sc.earns_place else "tab:grey" for sc in st.scores],
+        )
+        a.axvline(-BIC_THRESHOLD, color="k", ls=":", lw=0.8)
+        a.set_xscale("symlog", linthresh=10)
+        a.invert_yaxis()
+        a.set_title(f"step {st.index}: added {st.added or 'nothing'}", fontsize=9)
+        a.set_xlabel("held-out BIC change")
+        a.tick_params(axis="y", labelsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
 
 
 def write_report(diag: Diagnosis, folder: str | Path) -> dict[str, Path]:

@@ -41,6 +41,7 @@ says so in ``sensor_torque_nm``.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from types import ModuleType
 from typing import Any
@@ -68,6 +69,35 @@ class Param:
 
 class TransmissionError(FsarmError, ValueError):
     """A transmission name, parameter or value that is not allowed."""
+
+
+def fill_block(
+    name: str,
+    params: tuple[Param, ...],
+    overrides: dict[str, float] | None = None,
+    *,
+    validate: Callable[[FloatArray], None] | None = None,
+    error: type[TransmissionError] = TransmissionError,
+) -> FloatArray:
+    """A parameter block: ``params``' values in order, ``overrides`` by name, then ``validate``."""
+    names = [p.name for p in params]
+    if len(names) > N_TR:
+        raise error(f"{name}: {len(names)} parameters, at most {N_TR}")
+    out = np.zeros(N_TR)
+    for i, p in enumerate(params):
+        out[i] = p.value
+    for key, value in (overrides or {}).items():
+        if key not in names:
+            raise error(
+                f"transmission {name!r} has no parameter {key!r}; allowed: {', '.join(names)}"
+            )
+        v = float(value)
+        if not math.isfinite(v):
+            raise error(f"{name}.{key} must be finite, got {value!r}")
+        out[names.index(key)] = v
+    if validate is not None:
+        validate(out)
+    return out
 
 
 @dataclass(frozen=True)
@@ -113,24 +143,11 @@ class Transmission:
         return [p.name for p in self.params]
 
     def block(self, overrides: dict[str, float] | None = None) -> FloatArray:
-        """The parameter block (length N_TR): published values, with ``overrides`` applied."""
-        out = np.zeros(N_TR)
-        names = self.param_names()
-        if len(names) > N_TR:
-            raise TransmissionError(f"{self.name}: {len(names)} parameters, at most {N_TR}")
-        for i, p in enumerate(self.params):
-            out[i] = p.value
-        for key, value in (overrides or {}).items():
-            if key not in names:
-                raise TransmissionError(
-                    f"transmission {self.name!r} has no parameter {key!r}; "
-                    f"allowed: {', '.join(names)}"
-                )
-            v = float(value)
-            if not math.isfinite(v):
-                raise TransmissionError(f"{self.name}.{key} must be finite, got {value!r}")
-            out[names.index(key)] = v
-        return out
+        """The parameter block (length N_TR): published values, with ``overrides`` applied and
+        checked by the module's ``validate(tr)`` if it has one."""
+        return fill_block(
+            self.name, self.params, overrides, validate=getattr(self.module, "validate", None)
+        )
 
     def state_limits(self, tr: FloatArray) -> list[tuple[float, float] | None]:
         fn = getattr(self.module, "state_limits", None)

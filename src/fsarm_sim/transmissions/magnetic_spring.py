@@ -64,7 +64,7 @@ import math
 
 import numpy as np
 
-from fsarm_sim.transmissions.base import N_TR, FloatArray, Param, TransmissionError
+from fsarm_sim.transmissions.base import FloatArray, Param, TransmissionError, fill_block
 
 NAME = "magnetic_spring"
 TITLE = "Magnetic spring VSA (ATTRACTOR, flat-magnet spring, ring distance d)"
@@ -214,19 +214,8 @@ TWIST_RANGE_RAD = DATA_RANGE_DEG * DEG  # experiment A's range; includes the 31.
 
 
 def default_block(overrides: dict[str, float] | None = None) -> FloatArray:
-    """The parameter block (length N_TR) with the default values and ``overrides``."""
-    names = [p.name for p in PARAMS]
-    tr = np.zeros(N_TR)
-    for i, p in enumerate(PARAMS):
-        tr[i] = p.value
-    for key, value in (overrides or {}).items():
-        if key not in names:
-            raise MagneticSpringParamError(
-                f"magnetic_spring has no parameter {key!r}; allowed: {', '.join(names)}"
-            )
-        tr[names.index(key)] = float(value)
-    validate(tr)
-    return tr
+    """The parameter block (length N_TR) with the published values and ``overrides``."""
+    return fill_block(NAME, PARAMS, overrides, validate=validate, error=MagneticSpringParamError)
 
 
 def validate(tr: FloatArray) -> None:

@@ -55,7 +55,7 @@ import math
 
 import numpy as np
 
-from fsarm_sim.transmissions.base import N_TR, FloatArray, Param, TransmissionError
+from fsarm_sim.transmissions.base import FloatArray, Param, TransmissionError, fill_block
 
 NAME = "rtca"
 TITLE = "RTCA flexible shaft (MasterFlex08, Fourier torque-twist law, bend scaling mu)"
@@ -361,16 +361,7 @@ TWIST_RANGE_RAD = 2.0
 
 def default_block(overrides: dict[str, float] | None = None) -> FloatArray:
     """The parameter block (length N_TR) with the published values and ``overrides``."""
-    names = [p.name for p in PARAMS]
-    tr = np.zeros(N_TR)
-    for i, p in enumerate(PARAMS):
-        tr[i] = p.value
-    for key, value in (overrides or {}).items():
-        if key not in names:
-            raise RtcaParamError(f"rtca has no parameter {key!r}; allowed: {', '.join(names)}")
-        tr[names.index(key)] = float(value)
-    validate(tr)
-    return tr
+    return fill_block(NAME, PARAMS, overrides, validate=validate, error=RtcaParamError)
 
 
 def validate(tr: FloatArray) -> None:
