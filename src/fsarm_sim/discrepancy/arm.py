@@ -86,7 +86,6 @@ from scipy.optimize import lsq_linear
 from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.discrepancy.benchmodel import EffectInstance
 from fsarm_sim.discrepancy.residuals import (
-    bic,
     effective_n,
     noise_floor,
     nrmse,
@@ -103,6 +102,7 @@ from fsarm_sim.discrepancy.selection import (
     Score,
     Step,
     extra_share_ok,
+    judge,
 )
 from fsarm_sim.effects import registry, sensor_offset
 from fsarm_sim.errors import FsarmError, InvalidParameterError, SimulationWarningError
@@ -925,20 +925,15 @@ def score(
     With ``nom`` (the refit nominal) different from ``cur``, the candidate is an *extra* effect
     and must also pass the bench's extra-effect limits (MIN_EXPLAINED_EXTRA, MIN_SHARE_EXTRA).
     """
-    d_t = bic(cand.w(ctx, False), n_t, cand.k) - bic(cur.w(ctx, False), n_t, cur.k)
-    d_h = bic(cand.w(ctx), n_h, cand.k) - bic(cur.w(ctx), n_h, cur.k)
-    w_cur, w_cand = cur.w(ctx), cand.w(ctx)
-    gain = 1.0 - w_cand / w_cur if w_cur > 0 else 0.0
-    expl = w_cur - w_cand  # noise-variance units
-    ok = (
-        d_t < -BIC_THRESHOLD and d_h < -BIC_THRESHOLD and gain >= MIN_GAIN and expl >= MIN_EXPLAINED
+    w_cand = cand.w(ctx)
+    j = judge(
+        (cur.w(ctx, False), cur.w(ctx), cur.k),
+        (cand.w(ctx, False), w_cand, cand.k),
+        n_t,
+        n_h,
+        1.0,  # the weighted MSE is in noise-variance units
+        nom.w(ctx) if nom is not None and nom is not cur else None,
     )
-    extra = nom is not None and nom is not cur
-    share = math.inf
-    if extra and nom is not None:
-        done = nom.w(ctx) - w_cur  # what the effects named so far explained
-        share = expl / done if done > 0 else math.inf
-        ok = ok and expl >= MIN_EXPLAINED_EXTRA and extra_share_ok(share, gain)
     effs = {e.label: e for e in cand.model.effects()}
     eff = effs.get(cand.label)
     return Score(
@@ -949,15 +944,15 @@ def score(
         mse_teach=cand.w(ctx, held=False),
         mse_held=w_cand,
         nrmse_held=nrmse(ctx.y[MAIN], cand.pred[MAIN], ctx.held),
-        d_bic_teach=d_t,
-        d_bic_held=d_h,
-        gain_held=gain,
-        explained_over_noise=expl,
-        earns_place=ok,
+        d_bic_teach=j.d_bic_teach,
+        d_bic_held=j.d_bic_held,
+        gain_held=j.gain_held,
+        explained_over_noise=j.explained_over_noise,
+        earns_place=j.earns_place,
         params=dict(eff.params) if eff is not None else {},
         note=cand.note,
-        share_of_explained=share,
-        extra=extra,
+        share_of_explained=j.share_of_explained,
+        extra=j.extra,
     )
 
 

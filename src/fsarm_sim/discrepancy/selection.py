@@ -209,28 +209,63 @@ def common_n_eff(ctx: C.Context, fits: list[C.Fit]) -> tuple[float, float]:
     return effective_n(r, ctx.teach), effective_n(r, ctx.held)
 
 
+@dataclass(frozen=True)
+class Judgement:
+    """The selection rule's numbers for one candidate against the current model."""
+
+    d_bic_teach: float
+    d_bic_held: float
+    gain_held: float
+    explained_over_noise: float
+    share_of_explained: float
+    extra: bool
+    earns_place: bool
+
+
+def judge(
+    cur: tuple[float, float, int],
+    cand: tuple[float, float, int],
+    n_t: float,
+    n_h: float,
+    noise_var: float,
+    nominal_mse_held: float | None = None,
+) -> Judgement:
+    """The rule of the module docstring, on (teaching MSE, held-out MSE, k) of the current model
+    and of the candidate; ``nominal_mse_held`` (the refit nominal's held-out MSE) when the current
+    model already holds named effects: the candidate is then an *extra* effect. Shared by the
+    bench and the arm (whose MSE is the noise-weighted one, ``noise_var`` = 1)."""
+    (t_cur, h_cur, k_cur), (t_cand, h_cand, k_cand) = cur, cand
+    d_t = bic(t_cand, n_t, k_cand) - bic(t_cur, n_t, k_cur)
+    d_h = bic(h_cand, n_h, k_cand) - bic(h_cur, n_h, k_cur)
+    gain = 1.0 - h_cand / h_cur if h_cur > 0 else 0.0
+    expl = (h_cur - h_cand) / noise_var if noise_var > 0 else math.inf
+    extra = nominal_mse_held is not None
+    share = math.inf
+    if nominal_mse_held is not None:
+        done = nominal_mse_held - h_cur  # what the effects named so far explained
+        share = (h_cur - h_cand) / done if done > 0 else math.inf
+    ok = (
+        d_t < -BIC_THRESHOLD and d_h < -BIC_THRESHOLD and gain >= MIN_GAIN and expl >= MIN_EXPLAINED
+    )
+    if extra:
+        ok = ok and expl >= MIN_EXPLAINED_EXTRA and extra_share_ok(share, gain)
+    return Judgement(d_t, d_h, gain, expl, share, extra, ok)
+
+
 def score(
     ctx: C.Context, cur: C.Fit, cand: C.Fit, n_t: float, n_h: float, nom: C.Fit | None = None
 ) -> Score:
     """Scores of a candidate against the current model; ``nom`` (the refit nominal model) when
     the current model already holds named effects - then the stricter rule of an *extra* effect
     applies (module docstring)."""
-    y = ctx.inp.y
-    d_t = bic(cand.mse_teach, n_t, cand.k) - bic(cur.mse_teach, n_t, cur.k)
-    d_h = bic(cand.mse_held, n_h, cand.k) - bic(cur.mse_held, n_h, cur.k)
-    gain = 1.0 - cand.mse_held / cur.mse_held if cur.mse_held > 0 else 0.0
-    s2 = ctx.sigma_y**2
-    expl = (cur.mse_held - cand.mse_held) / s2 if s2 > 0 else math.inf
-    extra = nom is not None and nom is not cur
-    share = math.inf
-    if extra and nom is not None:
-        done = nom.mse_held - cur.mse_held  # what the effects named so far explained
-        share = (cur.mse_held - cand.mse_held) / done if done > 0 else math.inf
-    ok = (
-        d_t < -BIC_THRESHOLD and d_h < -BIC_THRESHOLD and gain >= MIN_GAIN and expl >= MIN_EXPLAINED
+    j = judge(
+        (cur.mse_teach, cur.mse_held, cur.k),
+        (cand.mse_teach, cand.mse_held, cand.k),
+        n_t,
+        n_h,
+        ctx.sigma_y**2,
+        nom.mse_held if nom is not None and nom is not cur else None,
     )
-    if extra:
-        ok = ok and expl >= MIN_EXPLAINED_EXTRA and extra_share_ok(share, gain)
     eff = cand.model.effect(cand.effect or "", cand.variant)
     return Score(
         label=cand.label,
@@ -239,16 +274,16 @@ def score(
         k=cand.k,
         mse_teach=cand.mse_teach,
         mse_held=cand.mse_held,
-        nrmse_held=nrmse(y, cand.yhat, ctx.held),
-        d_bic_teach=d_t,
-        d_bic_held=d_h,
-        gain_held=gain,
-        explained_over_noise=expl,
-        earns_place=ok,
+        nrmse_held=nrmse(ctx.inp.y, cand.yhat, ctx.held),
+        d_bic_teach=j.d_bic_teach,
+        d_bic_held=j.d_bic_held,
+        gain_held=j.gain_held,
+        explained_over_noise=j.explained_over_noise,
+        earns_place=j.earns_place,
         params=dict(eff.params) if eff is not None else {},
         note=cand.note,
-        share_of_explained=share,
-        extra=extra,
+        share_of_explained=j.share_of_explained,
+        extra=j.extra,
     )
 
 
