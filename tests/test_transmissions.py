@@ -204,3 +204,20 @@ def test_cli_lists_and_runs_a_transmission(monkeypatch: pytest.MonkeyPatch, tmp_
     assert code == 0
     assert run_fsarm(monkeypatch, "run", "fig14-sine", "--transmission", "nope") == 2
     assert run_fsarm(monkeypatch, "run", "fig14-sine", "--tr-param", "x") == 2
+
+
+def test_magnetic_spring_output_friction_acts_on_joint_3() -> None:
+    """Model F's frame-referenced bearing friction (tanh, 0.05 N*m) acts on the output side:
+    i_G2 * tau on q3, opposing its motion, on top of the spring torque."""
+    cfg = SimConfig(transmission="magnetic-spring", effects=Effects(control=False))
+    m = build_model(cfg, hold_table(0.0, 0.6, 0.4))
+    prm = m.numeric(L.PARAMS_NAME).data
+    st = read_structure(m)
+    d = mujoco.MjData(m)
+    initial_state(m, d, st)
+    d.qvel[st.dof[2]] = 0.3  # q3 turning: theta_s' = 3 rad/s, twist rate -3 rad/s
+    qfrc = np.zeros(m.nv)
+    physics.passive_forces(prm, d.qpos, d.qvel, d.act, qfrc, np.zeros(L.N_LOG))
+    tau = physics.shaft_torque(prm, d.qpos, d.qvel, d.act)
+    friction = qfrc[st.dof[2]] - st.coef_s * tau
+    assert friction == pytest.approx(-st.coef_s * 0.05 * math.tanh(50.0 * 3.0), rel=1e-9)

@@ -261,6 +261,14 @@ def tr_potential(
     return tendon_sheath.potential_j(tr, x, bend, act, a0)
 
 
+def tr_output_torque(kind: float, tr: FloatArray, theta_s: float, theta_s_dot: float) -> float:
+    """Torque on transmission ``kind``'s output side against the frame (bearing friction,
+    eccentric mass: seed 003 model F), N*m at theta_s; 0 for the others."""
+    if 2.5 < kind < 3.5:
+        return magnetic_spring.output_side_torque_nm(tr, theta_s, theta_s_dot)
+    return 0.0
+
+
 def shaft_torque(prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray) -> float:
     """True torque carried by joint 3's transmission (N*m).
 
@@ -322,6 +330,19 @@ def passive_forces(
     tau = shaft_torque(prm, qpos, qvel, act)
     add_force(qfrc, prm[P_DOF_ROT], -prm[P_COEF_M] * tau)
     add_force(qfrc, prm[P_DOF_Q3], prm[P_COEF_S] * tau)
+    if prm[P_TRANS] > 0.5:
+        cs = prm[P_COEF_S]
+        add_force(
+            qfrc,
+            prm[P_DOF_Q3],
+            cs
+            * tr_output_torque(
+                prm[P_TRANS],
+                prm[P_TR : P_TR + N_TR],
+                cs * coord(qpos, prm[P_QADR_Q3]),
+                cs * coord(qvel, prm[P_DOF_Q3]),
+            ),
+        )
     total, conduit = bending_torques(prm, qpos, qvel, act)
     add_force(qfrc, prm[P_DOF_Q2], total)
     if prm[P_PAY_DM] != 0.0 and prm[P_QADR_Q2] >= 0.0:

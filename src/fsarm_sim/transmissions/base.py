@@ -33,6 +33,9 @@ A transmission module (``fsarm_sim.transmissions.<name>``) holds
   optionally ``state_limits(tr) -> list[tuple[float, float] |
   None]``, ``initial_states(tr, x, bend) -> list[float]`` and ``rating_nm(tr) -> float``.
 
+A transmission whose model has torques on its *output* against the frame (seed 003 model F:
+bearing friction, eccentric mass) gets them applied on q3 through ``physics.tr_output_torque``.
+
 "What the encoders see" is the same for all: the motor encoder (``theta_m``) and the joint
 encoder (``q3``, hence ``theta_s``); a transmission with play or a position law between them
 says so in ``sensor_torque_nm``.

@@ -48,10 +48,10 @@ What the seed text lacks (no digits to read, nothing garbled to repair):
 Model F terms that act on the output shaft against the *frame* - the bearing friction
 ``-tau_fr tanh(v phi_out')`` (Table 5: kinetic friction, smooth form) and the eccentric mass of
 the bench flywheel ``w sin(phi_out + x)`` (Table 5: "imperfect wheel balance") - are not torques
-between the two rings, and the kernels see only the twist. They are **left out of the kernels**
-and given as :func:`output_side_torque_nm` (scalar ``math`` code, compilable like the kernels)
-of the output-side angle and rate ``theta_s``, for the caller to apply on the joint side. The
-flywheel unbalance belongs to the bench, not the spring: ``w`` defaults to 0.
+between the two rings, so they are not in the twist kernels: :func:`output_side_torque_nm` of the
+output-side angle and rate ``theta_s`` is applied on joint 3 by ``physics.passive_forces`` (the
+interface's optional frame-referenced output torque). The flywheel unbalance belongs to the
+bench, not the spring: ``w`` defaults to 0.
 
 ``scale`` (default 1 = the published device) multiplies every torque: n identical springs in
 parallel. The arm's joint 3 needs more than the estimated 1 N*m (see :func:`scale_for_torque`).
@@ -162,8 +162,9 @@ def output_side_torque_nm(tr: FloatArray, theta_s: float, theta_s_dot: float) ->
     """Model F's frame-referenced terms on the output shaft (not between the rings).
 
     ``-tau_fr tanh(v theta_s') + w sin(theta_s + x_e)``: smooth kinetic (bearing) friction and
-    the eccentric mass of the bench flywheel, times ``scale``. For the caller to apply on the
-    output (joint) side; no part of :func:`torque_nm`.
+    the eccentric mass of the bench flywheel, times ``scale``. Applied on the output (joint)
+    side by ``physics.passive_forces`` (``physics.tr_output_torque``); no part of
+    :func:`torque_nm`.
     """
     return tr[I_SCALE] * (
         -tr[I_TAU_FR] * math.tanh(tr[I_V] * theta_s_dot) + tr[I_W] * math.sin(theta_s + tr[I_XE])
