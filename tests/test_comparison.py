@@ -71,3 +71,14 @@ def test_cli_writes_the_table_as_json(monkeypatch: pytest.MonkeyPatch, tmp_path:
     rows = json.loads(out.read_text())
     assert rows[0]["transmission"] == "qa-joint" and math.isfinite(rows[0]["q3_rmse_deg"])
     assert run_fsarm(monkeypatch, "compare-transmissions", "--only", "nope") == 2
+
+
+def test_gain_overrides_are_checked(monkeypatch: pytest.MonkeyPatch) -> None:
+    from fsarm_sim.cli_transmissions import parse_gains
+    from fsarm_sim.errors import InvalidParameterError
+
+    assert parse_gains(["torque_integral_rad_s=0"]) == {"torque_integral_rad_s": 0.0}
+    with pytest.raises(InvalidParameterError, match="allowed"):
+        parse_gains(["wn_rad_s=3"])
+    code = run_fsarm(monkeypatch, "compare-transmissions", "--gain", "speed_kp=-1", "--quick")
+    assert code == 2  # Gains.validate: a negative gain is a named error

@@ -34,6 +34,26 @@ def parse_params(items: list[str]) -> tuple[tuple[str, float], ...]:
     return tuple(out)
 
 
+SCALAR_GAINS = (
+    "torque_bandwidth_rad_s",
+    "torque_integral_rad_s",
+    "torque_derivative",
+    "speed_kp",
+    "speed_ki",
+)
+
+
+def parse_gains(items: list[str]) -> dict[str, float]:
+    """``NAME=VALUE`` for the scalar torque/speed-loop gains of :class:`fsarm_sim.model.Gains`."""
+    out = dict(parse_params(items))
+    for name in out:
+        if name not in SCALAR_GAINS:
+            raise InvalidParameterError(
+                f"--gain {name!r} is not a tunable gain; allowed: {', '.join(SCALAR_GAINS)}"
+            )
+    return out
+
+
 def register(app: typer.Typer) -> None:
     @app.command("transmissions")
     def transmissions_cmd(
@@ -78,16 +98,23 @@ def register(app: typer.Typer) -> None:
         quick: Annotated[
             bool, typer.Option(help="tracking only: skip bandwidth/impedance")
         ] = False,
+        gain: Annotated[
+            list[str] | None,
+            typer.Option(help="joint-3 loop gain for all, NAME=VALUE (repeatable)"),
+        ] = None,
         json_file: Annotated[Path | None, typer.Option("--json", help="write rows here")] = None,
     ) -> None:
         """Tracking RMSE, peak torque, motor work, bandwidth and impedance across transmissions."""
         from fsarm_sim.comparison import COLUMNS, compare, fmt
+        from fsarm_sim.model import Gains, SimConfig
 
+        base = SimConfig(gains=Gains(**parse_gains(gain or [])))  # type: ignore[arg-type]
         rows = compare(
             only or None,
             scenario,
             payload_kg=payload_kg,
             duration_s=duration,
+            base=base,
             analyses=not quick,
         )
         table = Table(title=f"transmissions on {scenario}")

@@ -60,6 +60,7 @@ def compare(
     chosen = names or transmissions.names()
     for n in chosen:
         transmissions.get(n)  # unknown names fail before any work
+    (base or SimConfig()).gains.validate()  # so do bad gains
     bend = float(sc.reference(np.zeros(1))[0, 1])  # joint 2's angle at the start: the bend
     rows = []
     for name in chosen:
