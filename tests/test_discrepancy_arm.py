@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from fsarm_sim.discrepancy import arm as A
+from fsarm_sim.discrepancy import arm_modelfile as MF
 from fsarm_sim.discrepancy import arm_synth as S
 from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.effects import delay
@@ -226,20 +227,20 @@ def test_model_file_loads_as_a_sim_config(tmp_path: Path, prototype) -> None:  #
     run = A.ArmRun(
         prototype, 2.0, 0.0, SimConfig().gains, None, np.zeros((1, 9)), np.zeros(1), 1e-3, ""
     )
-    path = A.save_arm_model(run, m, tmp_path / "model.json")
-    cfg = A.load_arm_config(path)
+    path = MF.save_arm_model(run, m, tmp_path / "model.json")
+    cfg = MF.load_arm_config(path)
     assert cfg.payload_kg == 2.0 and cfg.effects.payload_error_kg == pytest.approx(0.3)
     assert cfg.effects.q3_friction_nm == pytest.approx(0.1)
     assert cfg.shaft.k_neg == pytest.approx(1.2 * prototype.k_neg)
     assert cfg.shaft.slip_k[0] == 4.0 and cfg.shaft.slip_f[0] == pytest.approx(0.012)
     assert cfg.controller_shaft == prototype  # the controller keeps the stated shaft
-    back, _ = A.load_arm_model(path)
+    back, _ = MF.load_arm_model(path)
     assert back.v("delay.q3") == 0.002 and back.labels == m.labels
     d = json.loads(path.read_text())
     d["effects"].append({"name": "warp_drive", "variant": "q3", "params": {}})
     path.write_text(json.dumps(d))
-    with pytest.raises(A.ArmModelFileError, match="unknown arm effect"):
-        A.load_arm_model(path)
+    with pytest.raises(MF.ArmModelFileError, match="unknown arm effect"):
+        MF.load_arm_model(path)
     with pytest.raises(ValueError, match="not understood"):
         S.parse_arm_effect("payload_error=1,2")
 
@@ -278,5 +279,5 @@ def test_cli_synth_and_diagnose_arm(monkeypatch: pytest.MonkeyPatch, tmp_path: P
     assert res["gap_after"] < 0.5 * res["gap_before"]
     assert set(res["nrmse"]) == {"q3", "theta_m", "q2", "twist"}
     assert res["confidence"][0]["runner_up"] and res["bic"]["final"] < res["bic"]["nominal"]
-    cfg = A.load_arm_config(tmp_path / "m.json")
+    cfg = MF.load_arm_config(tmp_path / "m.json")
     assert cfg.effects.q3_damping_nms == pytest.approx(0.2, rel=0.05)

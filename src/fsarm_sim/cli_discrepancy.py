@@ -157,10 +157,10 @@ def register(app: typer.Typer) -> None:
         from fsarm_sim.shaft import load_catalogue
 
         if setup == "arm":  # the arm run by the simulator (fsarm_sim.discrepancy.arm)
-            from fsarm_sim.discrepancy import arm, arm_synth
+            from fsarm_sim.discrepancy import arm_modelfile, arm_synth
 
             if model is not None:
-                arm_truth, _ = arm.load_arm_model(model)
+                arm_truth, _ = arm_modelfile.load_arm_model(model)
             else:
                 arm_truth = arm_synth.truth_model(effect or [], stiffness_scale=stiffness_scale)
             table, side = arm_synth.write_arm_synthetic(

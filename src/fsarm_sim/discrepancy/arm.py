@@ -71,7 +71,6 @@ known up to one common factor, the same objective the fits minimise.
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
 import time
 from collections.abc import Mapping
@@ -105,12 +104,11 @@ from fsarm_sim.discrepancy.selection import (
     judge,
 )
 from fsarm_sim.effects import registry, sensor_offset
-from fsarm_sim.errors import FsarmError, InvalidParameterError, SimulationWarningError
+from fsarm_sim.errors import InvalidParameterError, SimulationWarningError
 from fsarm_sim.measured import (
     Dataset,
     MeasuredDataError,
     SidecarError,
-    resolve_shaft,
 )
 from fsarm_sim.model import PAYLOAD_MAX_KG, Effects, Gains, SimConfig
 from fsarm_sim.shaft import ShaftParams
@@ -1200,145 +1198,3 @@ def residual_signature(diag: ArmDiagnosis, fit: ArmFit, channel: str = MAIN) -> 
 
 
 # ----------------------------------------------------------------------------- model file
-
-
-def model_dict(run: ArmRun, m: ArmModel) -> dict[str, Any]:
-    """The model file: stated setup, nominal refit, named effects, and the resulting plant."""
-    cfg = to_config(run, m)
-    g = dataclasses.asdict(run.gains)
-    return {
-        "format": MODEL_FORMAT,
-        "version": MODEL_VERSION,
-        "setup": "arm",
-        "shaft": {"diameter_mm": run.shaft.diameter_mm, "length_mm": run.shaft.length_mm},
-        "payload_kg": run.payload_kg,
-        "ctrl_dt_s": run.ctrl_dt,
-        "gains": {k: list(v) if isinstance(v, tuple) else v for k, v in g.items()},
-        "timestep_s": run.timestep_s,
-        "nominal": m.nominal(),
-        "effects": [e.as_dict() for e in m.effects()],
-        "plant": {
-            "k_pos": cfg.shaft.k_pos,
-            "s_pos": cfg.shaft.s_pos,
-            "k_neg": cfg.shaft.k_neg,
-            "s_neg": cfg.shaft.s_neg,
-            "kb": cfg.shaft.kb,
-            "slip_k": list(cfg.shaft.slip_k),
-            "slip_f": list(cfg.shaft.slip_f),
-            **dataclasses.asdict(cfg.effects),
-        },
-    }
-
-
-class ArmModelFileError(FsarmError, ValueError):
-    """An arm model file is malformed."""
-
-
-def model_from_dict(d: Mapping[str, Any], where: str = "arm model") -> tuple[ArmModel, ArmRun]:
-    """(model, stated run without references) from a model-file dict."""
-    if d.get("format") != MODEL_FORMAT or d.get("setup") != "arm":
-        raise ArmModelFileError(
-            f"{where}: not an arm model file (format {MODEL_FORMAT!r}, setup 'arm')"
-        )
-    try:
-        shaft = resolve_shaft({"shaft": d["shaft"]}, Path(where))
-        side = {"gains": d.get("gains", {}), "ctrl_dt_s": d["ctrl_dt_s"]}
-        gains = parse_gains(side, Path(where))
-        m = ArmModel()
-        for k, v in dict(d.get("nominal", {})).items():
-            if k in ("k_scale_pos", "k_scale_neg"):
-                if not float(v) > 0.0:
-                    raise ArmModelFileError(f"{where}: {k} must be > 0, got {v!r}")
-                m.values["c_scale_" + k[-3:]] = 1.0 / float(v)
-            elif k in ("kb_scale", "payload_kg_refit"):
-                m.values[k] = float(v)
-            else:
-                raise ArmModelFileError(f"{where}: unknown nominal parameter {k!r}")
-        for e in d.get("effects", []):
-            _add_effect(m, str(e["name"]), str(e["variant"]), dict(e["params"]), where)
-        run = ArmRun(
-            shaft=shaft,
-            payload_kg=float(d.get("payload_kg", 0.0)),
-            payload_tolerance_kg=0.0,
-            gains=gains,
-            timestep_s=d.get("timestep_s"),
-            ref_table=np.zeros((1, 9)),
-            t=np.zeros(1),
-            h=float(d["ctrl_dt_s"]),
-            ref_note="",
-        )
-    except (KeyError, TypeError, ValueError) as exc:
-        if isinstance(exc, ArmModelFileError):
-            raise
-        raise ArmModelFileError(f"{where}: malformed arm model ({exc})") from exc
-    return m, run
-
-
-def _add_effect(m: ArmModel, name: str, variant: str, p: Mapping[str, Any], where: str) -> None:
-    label = f"{name}[{variant}]"
-    if name == "hysteresis" and variant == "maxwell_slip":
-        ks, ds_ = list(p["k_nm_per_rad"]), list(p["delta_rad"])
-        if len(ks) != len(ds_) or not 1 <= len(ks) <= 3:
-            raise ArmModelFileError(f"{where}: hysteresis needs 1-3 (k, delta) elements")
-        m.set_slip([float(k) for k in ks], [float(x) for x in ds_])
-    elif name in ("sensor_offset", "delay") and variant in RAW:
-        key = "offset_rad" if name == "sensor_offset" else "delay_s"
-        m.values[f"{name}.{variant}"] = float(p[key])
-    elif (name, variant) in PLANT_CANDIDATES:
-        for k, v in p.items():
-            if f"{name}.{k}" not in BOUNDS:
-                raise ArmModelFileError(f"{where}: unknown parameter {k!r} of {label}")
-            m.values[f"{name}.{k}"] = float(v)
-        if name == "backlash":
-            m.values.setdefault("backlash.center_rad", 0.0)
-    else:
-        raise ArmModelFileError(
-            f"{where}: unknown arm effect {label}; known: "
-            + ", ".join(f"{a}[{b}]" for a, b in PLANT_CANDIDATES + MEASUREMENT_CANDIDATES)
-        )
-    for k, v in m.values.items():
-        if k in BOUNDS and not BOUNDS[k][0] <= v <= BOUNDS[k][1]:
-            raise ArmModelFileError(
-                f"{where}: {k} = {v:g} outside [{BOUNDS[k][0]:g}, {BOUNDS[k][1]:g}]"
-            )
-    m.labels.append(label)
-
-
-def save_arm_model(run: ArmRun, m: ArmModel, path: str | Path) -> Path:
-    p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    p.write_text(json.dumps(_jsonable(model_dict(run, m)), indent=2) + "\n", "utf-8")
-    return p
-
-
-def _jsonable(x: Any) -> Any:
-    if isinstance(x, dict):
-        return {str(k): _jsonable(v) for k, v in x.items()}
-    if isinstance(x, list | tuple):
-        return [_jsonable(v) for v in x]
-    if isinstance(x, np.floating | np.integer):
-        return x.item()
-    return x
-
-
-def load_arm_model(path: str | Path) -> tuple[ArmModel, ArmRun]:
-    p = Path(path)
-    try:
-        d = json.loads(p.read_text("utf-8"))
-    except (OSError, json.JSONDecodeError) as exc:
-        raise ArmModelFileError(f"{p}: not a readable JSON file ({exc})") from exc
-    return model_from_dict(d, str(p))
-
-
-def load_arm_config(path: str | Path) -> SimConfig:
-    """The simulator configuration of an arm model file (``fsarm diagnose`` writes it).
-
-    Run it with ``run_scenario(name, cfg, payload_kg=cfg.payload_kg, backend="native")``. The
-    measurement effects (sensor offsets, delays) are not part of the plant: apply them to a run's
-    columns with :func:`apply_measurement` (``load_arm_model(path)[0]`` is the model).
-    """
-    m, run = load_arm_model(path)
-    return to_config(run, m)
-
-
-# ----------------------------------------------------------------------------- synth

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from fsarm_sim.discrepancy import arm as A
+from fsarm_sim.discrepancy import arm_modelfile as MF
 from fsarm_sim.discrepancy.report import _clean, confidence, confidence_line, plot_bic_steps
 from fsarm_sim.discrepancy.residuals import bic, effective_n, nrmse
 from fsarm_sim.discrepancy.selection import BIC_THRESHOLD, MIN_EXPLAINED, MIN_GAIN
@@ -134,7 +135,7 @@ def write_json(diag: A.ArmDiagnosis, path: str | Path, model_file: Path | None =
 
 
 def write_model(diag: A.ArmDiagnosis, path: str | Path) -> Path:
-    return A.save_arm_model(diag.ctx.run, diag.final.model, path)
+    return MF.save_arm_model(diag.ctx.run, diag.final.model, path)
 
 
 def write_plots(diag: A.ArmDiagnosis, folder: str | Path) -> list[Path]:
@@ -297,7 +298,7 @@ def run_cli(
         console.print(f"result: {json_file}", markup=False)
     if written is not None:
         console.print(
-            "load the final model: fsarm_sim.discrepancy.arm.load_arm_config(MODEL) -> SimConfig",
+            "load the final model: fsarm_sim.discrepancy.arm_modelfile.load_arm_config(MODEL) -> SimConfig",
             markup=False,
         )
     return diag

@@ -20,6 +20,7 @@ import numpy.typing as npt
 
 from fsarm_sim import scenarios
 from fsarm_sim.discrepancy import arm as A
+from fsarm_sim.discrepancy import arm_modelfile as MF
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.measured import write_dataset
 from fsarm_sim.model import Gains
@@ -90,8 +91,8 @@ def parse_arm_effect(text: str) -> tuple[str, str, dict[str, Any]]:
         )
     m = A.ArmModel()
     try:
-        A._add_effect(m, name, variant, p, f"effect {text!r}")
-    except A.ArmModelFileError as exc:
+        MF.add_effect(m, name, variant, p, f"effect {text!r}")
+    except MF.ArmModelFileError as exc:
         raise InvalidParameterError(str(exc)) from None
     return name, variant, p
 
@@ -106,7 +107,7 @@ def truth_model(
     m.values.update(c_scale=1.0 / stiffness_scale, kb_scale=kb_scale)
     for text in effects or []:
         name, variant, p = parse_arm_effect(text)
-        A._add_effect(m, name, variant, p, f"effect {text!r}")
+        MF.add_effect(m, name, variant, p, f"effect {text!r}")
     return m
 
 
@@ -163,7 +164,7 @@ def synthesize_arm(
             f"{', '.join(hidden) if hidden else 'none'}"
         ),
         "synthetic": {
-            "truth": A._jsonable(A.model_dict(run, truth)),
+            "truth": MF.jsonable(MF.model_dict(run, truth)),
             "noise_rad": rec.noise_rad,
             "encoder_counts": rec.encoder_counts,
             "seed": rec.seed,

@@ -1,0 +1,163 @@
+"""The arm's final-model file: what ``fsarm diagnose`` writes for an arm record, and loading it
+back as a :class:`~fsarm_sim.model.SimConfig` the simulator runs (``load_arm_config``).
+
+Format ``fsarm-arm-model`` (JSON): the stated setup (shaft, payload, control period, gains), the
+nominal refit (stiffness scales, K_b scale, payload), the named effects with their fitted
+parameters, and - for reading by eye - the resulting plant. Recording effects (channel offsets,
+delays) are kept in the file; :func:`fsarm_sim.discrepancy.arm.apply_measurement` adds them to
+a run's columns.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from fsarm_sim.discrepancy import arm as A
+from fsarm_sim.errors import FsarmError
+from fsarm_sim.measured import resolve_shaft
+from fsarm_sim.model import SimConfig
+
+
+def model_dict(run: A.ArmRun, m: A.ArmModel) -> dict[str, Any]:
+    """The model file: stated setup, nominal refit, named effects, and the resulting plant."""
+    cfg = A.to_config(run, m)
+    g = dataclasses.asdict(run.gains)
+    return {
+        "format": A.MODEL_FORMAT,
+        "version": A.MODEL_VERSION,
+        "setup": "arm",
+        "shaft": {"diameter_mm": run.shaft.diameter_mm, "length_mm": run.shaft.length_mm},
+        "payload_kg": run.payload_kg,
+        "ctrl_dt_s": run.ctrl_dt,
+        "gains": {k: list(v) if isinstance(v, tuple) else v for k, v in g.items()},
+        "timestep_s": run.timestep_s,
+        "nominal": m.nominal(),
+        "effects": [e.as_dict() for e in m.effects()],
+        "plant": {
+            "k_pos": cfg.shaft.k_pos,
+            "s_pos": cfg.shaft.s_pos,
+            "k_neg": cfg.shaft.k_neg,
+            "s_neg": cfg.shaft.s_neg,
+            "kb": cfg.shaft.kb,
+            "slip_k": list(cfg.shaft.slip_k),
+            "slip_f": list(cfg.shaft.slip_f),
+            **dataclasses.asdict(cfg.effects),
+        },
+    }
+
+
+class ArmModelFileError(FsarmError, ValueError):
+    """An arm model file is malformed."""
+
+
+def model_from_dict(d: Mapping[str, Any], where: str = "arm model") -> tuple[A.ArmModel, A.ArmRun]:
+    """(model, stated run without references) from a model-file dict."""
+    if d.get("format") != A.MODEL_FORMAT or d.get("setup") != "arm":
+        raise ArmModelFileError(
+            f"{where}: not an arm model file (format {A.MODEL_FORMAT!r}, setup 'arm')"
+        )
+    try:
+        shaft = resolve_shaft({"shaft": d["shaft"]}, Path(where))
+        side = {"gains": d.get("gains", {}), "ctrl_dt_s": d["ctrl_dt_s"]}
+        gains = A.parse_gains(side, Path(where))
+        m = A.ArmModel()
+        for k, v in dict(d.get("nominal", {})).items():
+            if k in ("k_scale_pos", "k_scale_neg"):
+                if not float(v) > 0.0:
+                    raise ArmModelFileError(f"{where}: {k} must be > 0, got {v!r}")
+                m.values["c_scale_" + k[-3:]] = 1.0 / float(v)
+            elif k in ("kb_scale", "payload_kg_refit"):
+                m.values[k] = float(v)
+            else:
+                raise ArmModelFileError(f"{where}: unknown nominal parameter {k!r}")
+        for e in d.get("effects", []):
+            add_effect(m, str(e["name"]), str(e["variant"]), dict(e["params"]), where)
+        run = A.ArmRun(
+            shaft=shaft,
+            payload_kg=float(d.get("payload_kg", 0.0)),
+            payload_tolerance_kg=0.0,
+            gains=gains,
+            timestep_s=d.get("timestep_s"),
+            ref_table=np.zeros((1, 9)),
+            t=np.zeros(1),
+            h=float(d["ctrl_dt_s"]),
+            ref_note="",
+        )
+    except (KeyError, TypeError, ValueError) as exc:
+        if isinstance(exc, ArmModelFileError):
+            raise
+        raise ArmModelFileError(f"{where}: malformed arm model ({exc})") from exc
+    return m, run
+
+
+def add_effect(m: A.ArmModel, name: str, variant: str, p: Mapping[str, Any], where: str) -> None:
+    label = f"{name}[{variant}]"
+    if name == "hysteresis" and variant == "maxwell_slip":
+        ks, ds_ = list(p["k_nm_per_rad"]), list(p["delta_rad"])
+        if len(ks) != len(ds_) or not 1 <= len(ks) <= 3:
+            raise ArmModelFileError(f"{where}: hysteresis needs 1-3 (k, delta) elements")
+        m.set_slip([float(k) for k in ks], [float(x) for x in ds_])
+    elif name in ("sensor_offset", "delay") and variant in A.RAW:
+        key = "offset_rad" if name == "sensor_offset" else "delay_s"
+        m.values[f"{name}.{variant}"] = float(p[key])
+    elif (name, variant) in A.PLANT_CANDIDATES:
+        for k, v in p.items():
+            if f"{name}.{k}" not in A.BOUNDS:
+                raise ArmModelFileError(f"{where}: unknown parameter {k!r} of {label}")
+            m.values[f"{name}.{k}"] = float(v)
+        if name == "backlash":
+            m.values.setdefault("backlash.center_rad", 0.0)
+    else:
+        raise ArmModelFileError(
+            f"{where}: unknown arm effect {label}; known: "
+            + ", ".join(f"{a}[{b}]" for a, b in A.PLANT_CANDIDATES + A.MEASUREMENT_CANDIDATES)
+        )
+    for k, v in m.values.items():
+        if k in A.BOUNDS and not A.BOUNDS[k][0] <= v <= A.BOUNDS[k][1]:
+            raise ArmModelFileError(
+                f"{where}: {k} = {v:g} outside [{A.BOUNDS[k][0]:g}, {A.BOUNDS[k][1]:g}]"
+            )
+    m.labels.append(label)
+
+
+def save_arm_model(run: A.ArmRun, m: A.ArmModel, path: str | Path) -> Path:
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    p.write_text(json.dumps(jsonable(model_dict(run, m)), indent=2) + "\n", "utf-8")
+    return p
+
+
+def jsonable(x: Any) -> Any:
+    if isinstance(x, dict):
+        return {str(k): jsonable(v) for k, v in x.items()}
+    if isinstance(x, list | tuple):
+        return [jsonable(v) for v in x]
+    if isinstance(x, np.floating | np.integer):
+        return x.item()
+    return x
+
+
+def load_arm_model(path: str | Path) -> tuple[A.ArmModel, A.ArmRun]:
+    p = Path(path)
+    try:
+        d = json.loads(p.read_text("utf-8"))
+    except (OSError, json.JSONDecodeError) as exc:
+        raise ArmModelFileError(f"{p}: not a readable JSON file ({exc})") from exc
+    return model_from_dict(d, str(p))
+
+
+def load_arm_config(path: str | Path) -> SimConfig:
+    """The simulator configuration of an arm model file (``fsarm diagnose`` writes it).
+
+    Run it with ``run_scenario(name, cfg, payload_kg=cfg.payload_kg, backend="native")``. The
+    measurement effects (sensor offsets, delays) are not part of the plant: apply them to a run's
+    columns with :func:`apply_measurement` (``load_arm_model(path)[0]`` is the model).
+    """
+    m, run = load_arm_model(path)
+    return A.to_config(run, m)
