@@ -7,6 +7,7 @@ arm (energy without dissipation, dissipation with it, determinism, start in equi
 
 from __future__ import annotations
 
+import json
 import math
 
 import mujoco
@@ -202,6 +203,12 @@ def test_cli_lists_and_runs_a_transmission(monkeypatch: pytest.MonkeyPatch, tmp_
         "native",
     )
     assert code == 0
+    side = json.loads((tmp_path / "fig14-sine.json").read_text())
+    assert side["transmission"]["name"] == NAMES[-1]  # the run says what drove joint 3
+    block = transmissions.get(NAMES[-1]).block()
+    assert list(side["transmission"]["params"].values()) == pytest.approx(
+        list(block[: len(side["transmission"]["params"])])
+    )
     assert run_fsarm(monkeypatch, "run", "fig14-sine", "--transmission", "nope") == 2
     assert run_fsarm(monkeypatch, "run", "fig14-sine", "--tr-param", "x") == 2
 

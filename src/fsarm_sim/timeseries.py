@@ -36,9 +36,12 @@ def _clean(x: Any) -> Any:
 
 
 def run_metadata(result: RunResult) -> dict[str, Any]:
-    """Sidecar of an arm run: setup, shaft, payload, gains, effects, version."""
+    """Sidecar of an arm run: setup, transmission, shaft, payload, gains, effects, version."""
     cfg = result.config
     sh = cfg.shaft
+    tr = cfg.transmission_model()
+    plant, ctrl = cfg.transmission_blocks()
+    names = tr.param_names()
     return _clean(
         {
             "setup": "arm",
@@ -47,6 +50,12 @@ def run_metadata(result: RunResult) -> dict[str, Any]:
             "interrupted": result.interrupted,
             "shaft": {"diameter_mm": sh.diameter_mm, "length_mm": sh.length_mm},
             "shaft_params": asdict(sh),
+            "transmission": {
+                "name": tr.name,
+                "source": tr.source,
+                "params": dict(zip(names, plant[: len(names)].tolist(), strict=True)),
+                "controller_params": dict(zip(names, ctrl[: len(names)].tolist(), strict=True)),
+            },
             "payload_kg": cfg.payload_kg,
             "gains": asdict(cfg.gains),
             "effects": asdict(cfg.effects),
