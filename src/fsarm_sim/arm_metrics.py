@@ -182,18 +182,42 @@ def minus_3db(freq: Array, gain: Array, static_gain: float = 1.0) -> float:
     return math.exp(la + x * (lb - la))
 
 
-def held_arm(config: SimConfig, table: Array, backend: Backend) -> tuple[Simulation, float]:
-    """The arm held for a joint-3 frequency response (step 1 of the module docstring): gravity
-    off, every link joint on :data:`HOLD_ARMATURE`, started at the table's first pose. Returns the
-    simulation and joint 3's (held) inertia M33."""
-    sim = Simulation(config, table, backend)
+def smoothstep(t: Array, settle_s: float) -> Array:
+    """0 -> 1 over ``settle_s`` with zero slope at both ends (a bumpless fade-in)."""
+    ramp = np.clip(t / settle_s, 0.0, 1.0)
+    return ramp * ramp * (3.0 - 2.0 * ramp)
+
+
+def check_band(f_start_hz: float, f_stop_hz: float) -> None:
+    if not 0.0 < f_start_hz < f_stop_hz:
+        raise InvalidParameterError(
+            f"need 0 < f_start < f_stop, got {f_start_hz!r}, {f_stop_hz!r} Hz"
+        )
+
+
+def held_arm(
+    config: SimConfig, duration_s: float, bend_rad: float, q3_rad: float, backend: Backend
+) -> tuple[Simulation, float, Array, Array]:
+    """The arm held for a joint-3 frequency response (steps 1-2 of the module docstring): outer
+    position loops off, no payload, gravity off, every link joint on :data:`HOLD_ARMATURE`,
+    joint 2 at ``bend_rad`` and joint 3 at ``q3_rad``. Returns the simulation, joint 3's (held)
+    inertia M33, the tick times and the reference table (write joint 3's ``qdd_ref`` column
+    into the model's reference to command a desired torque)."""
+    cfg = config.with_(gains=replace(config.gains, wn_rad_s=(0.0, 0.0, 0.0)), payload_kg=0.0)
+    dt = cfg.gains.ctrl_dt_s
+    n = round(duration_s / dt) + 1
+    t = np.arange(n, dtype=np.float64) * dt
+    table = np.zeros((n, L.REF_COLS))
+    table[:, 1] = bend_rad
+    table[:, 2] = q3_rad
+    sim = Simulation(cfg, table, backend)
     m, d, st = sim.model, sim.data, sim.structure
     m.opt.gravity[:] = 0.0
     for j in range(3):
         m.dof_armature[st.dof[j]] += HOLD_ARMATURE
     initial_state(m, d, st)
     mujoco.mj_forward(m, d)  # no callbacks installed here: only the mass matrix is wanted
-    return sim, float(d.M[st.madr[2]])
+    return sim, float(d.M[st.madr[2]]), t, table
 
 
 def torque_bandwidth(
@@ -213,10 +237,7 @@ def torque_bandwidth(
     for name, v in (("chirp_s", chirp_s), ("settle_s", settle_s)):
         if not math.isfinite(v) or v <= 0.0:
             raise InvalidParameterError(f"{name} must be > 0 s, got {v!r}")
-    if not 0.0 < f_start_hz < f_stop_hz:
-        raise InvalidParameterError(
-            f"need 0 < f_start < f_stop, got {f_start_hz!r}, {f_stop_hz!r} Hz"
-        )
+    check_band(f_start_hz, f_stop_hz)
     dt = config.gains.ctrl_dt_s
     if f_stop_hz > 0.25 / dt:
         raise InvalidParameterError(
@@ -228,17 +249,9 @@ def torque_bandwidth(
         raise InvalidParameterError(
             "joint 3's transmission has no torque rating; cannot size the chirp"
         )
-    gains = replace(config.gains, wn_rad_s=(0.0, 0.0, 0.0))
-    cfg = config.with_(gains=gains, payload_kg=0.0)
-    n = round((settle_s + chirp_s) / dt) + 1
-    t = np.arange(n, dtype=np.float64) * dt
-    table = np.zeros((n, L.REF_COLS))
-    table[:, 1] = bend_rad
-    table[:, 2] = q3_rad
-    sim, m33 = held_arm(cfg, table, backend)
+    sim, m33, t, table = held_arm(config, settle_s + chirp_s, bend_rad, q3_rad, backend)
     m, d, st = sim.model, sim.data, sim.structure
-    ramp = np.clip(t / settle_s, 0.0, 1.0)
-    smooth = ramp * ramp * (3.0 - 2.0 * ramp)
+    smooth = smoothstep(t, settle_s)
     tc = np.clip(t - settle_s, 0.0, None)
     chirp = np.where(t >= settle_s, log_chirp(tc, f_start_hz, f_stop_hz, chirp_s), 0.0)
     tau_d = rating * (bias_fraction * smooth + amplitude_fraction * chirp)

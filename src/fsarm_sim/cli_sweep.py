@@ -319,6 +319,29 @@ def register(app: typer.Typer) -> None:
     )
     app.add_typer(bench_app, name="bench")
 
+    def _run_one_shaft(
+        cat: Any,
+        diameter_mm: float,
+        length_mm: float,
+        shaft_file: Path | None,
+        settings: Any,
+        make_tasks: Any,
+        workers: int | None,
+    ) -> tuple[str, Any]:
+        """Run one shaft's bench tasks (``make_tasks(shaft, coefficient_text)``) and collect them;
+        the first failure is a named error."""
+        from fsarm_sim import campaign as cp
+        from fsarm_sim.shaft import CatalogueShaft
+
+        name = f"D{diameter_mm:g}-L{length_mm:g}"
+        sh = CatalogueShaft(name, diameter_mm, length_mm)
+        text = shaft_file.read_text("utf-8") if shaft_file is not None else None
+        result = cp.CampaignResult(settings=settings, catalogue_source=cat.source, shafts=[sh])
+        cp.collect(result, cp.run_bench_tasks(make_tasks(sh, text), workers=workers))
+        if result.errors:
+            raise FsarmError("; ".join(result.errors))
+        return name, result
+
     def _settings(**kw: Any) -> Any:
         from fsarm_sim.campaign import BenchSettings
 
@@ -346,7 +369,7 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Series test: chirp into the torque controller at each bend; eq. 8/eq. 1 fits per sign."""
         from fsarm_sim import campaign as cp
-        from fsarm_sim.shaft import CatalogueShaft, load_catalogue
+        from fsarm_sim.shaft import load_catalogue
 
         cat = load_catalogue(shaft_file)
         cat.shaft(diameter_mm, length_mm)
@@ -357,19 +380,15 @@ def register(app: typer.Typer) -> None:
         )
         s.validate()
         bend_list = cp.check_bends(_floats(bends, "--bends") or (), cat)
-        name = f"D{diameter_mm:g}-L{length_mm:g}"
-        text = shaft_file.read_text("utf-8") if shaft_file is not None else None
-        tasks = cp.series_tasks(
-            CatalogueShaft(name, diameter_mm, length_mm), bend_list, s, text, True
+        name, result = _run_one_shaft(
+            cat,
+            diameter_mm,
+            length_mm,
+            shaft_file,
+            s,
+            lambda sh, text: cp.series_tasks(sh, bend_list, s, text, True),
+            workers,
         )
-        result = cp.CampaignResult(
-            settings=s,
-            catalogue_source=cat.source,
-            shafts=[CatalogueShaft(name, diameter_mm, length_mm)],
-        )
-        cp.collect(result, cp.run_bench_tasks(tasks, workers=workers))
-        if result.errors:
-            raise FsarmError("; ".join(result.errors))
         fits = result.series[name]
         _print_series_table(name, fits)
         if name in result.trends:
@@ -409,7 +428,7 @@ def register(app: typer.Typer) -> None:
         from dataclasses import asdict
 
         from fsarm_sim import campaign as cp
-        from fsarm_sim.shaft import CatalogueShaft, load_catalogue
+        from fsarm_sim.shaft import load_catalogue
 
         cat = load_catalogue(shaft_file)
         p = cat.shaft(diameter_mm, length_mm)
@@ -419,15 +438,15 @@ def register(app: typer.Typer) -> None:
             torsion_fraction=torsion_fraction,
         )
         s.validate()
-        name = f"D{diameter_mm:g}-L{length_mm:g}"
-        sh = CatalogueShaft(name, diameter_mm, length_mm)
-        text = shaft_file.read_text("utf-8") if shaft_file is not None else None
-        result = cp.CampaignResult(settings=s, catalogue_source=cat.source, shafts=[sh])
-        cp.collect(
-            result, cp.run_bench_tasks(cp.parallel_tasks(sh, s, text, True), workers=workers)
+        name, result = _run_one_shaft(
+            cat,
+            diameter_mm,
+            length_mm,
+            shaft_file,
+            s,
+            lambda sh, text: cp.parallel_tasks(sh, s, text, True),
+            workers,
         )
-        if result.errors:
-            raise FsarmError("; ".join(result.errors))
         fits = result.parallel[name]
         _print_parallel_table(name, fits)
         console.print(

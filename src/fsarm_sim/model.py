@@ -167,10 +167,7 @@ class SimConfig:
 
     def rating_nm(self) -> float:
         """Torque rating of joint 3's transmission (shaft side), N*m."""
-        tr = self.transmission_model()
-        if tr.name == transmissions.DEFAULT:
-            return self.shaft.rating_nm
-        return tr.rating_nm(self.transmission_blocks()[0])
+        return self.transmission_model().rating_nm(self.transmission_blocks()[0])
 
     def transmission_blocks(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
         """(plant, controller) parameter blocks of joint 3's transmission."""
@@ -185,7 +182,15 @@ class SimConfig:
 def _shaft_block(sh: ShaftParams) -> npt.NDArray[np.float64]:
     """The flexible shaft's generic block (transmissions.flexible_shaft order)."""
     out = np.zeros(L.N_TR)
-    out[:6] = (sh.k_pos, sh.s_pos, sh.k_neg, sh.s_neg, sh.damping_pos, sh.damping_neg)
+    out[:7] = (
+        sh.k_pos,
+        sh.s_pos,
+        sh.k_neg,
+        sh.s_neg,
+        sh.damping_pos,
+        sh.damping_neg,
+        sh.rating_nm,
+    )
     return out
 
 
@@ -504,9 +509,8 @@ def reference_stiffness(config: SimConfig) -> float:
     """
     tr = config.transmission_model()
     _, ctrl = config.transmission_blocks()
-    rating = tr.rating_nm(ctrl) if tr.name != transmissions.DEFAULT else config.shaft.rating_nm
     try:
-        x = tr.twist_for_torque(ctrl, REFERENCE_TORQUE_FRACTION * rating, 0.0)
+        x = tr.twist_for_torque(ctrl, REFERENCE_TORQUE_FRACTION * tr.rating_nm(ctrl), 0.0)
     except TransmissionError:
         x = 0.0
     return max(tr.stiffness(ctrl, x, 0.0), 0.0)

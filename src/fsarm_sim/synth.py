@@ -288,27 +288,33 @@ def truth_model(
     return m
 
 
+def split_effect_text(text: str, what: str = "effect") -> tuple[str, str, list[float]]:
+    """``NAME[:VARIANT]=v1[,v2...]`` -> (name, variant or "", numbers); named errors."""
+    if "=" not in text:
+        raise InvalidParameterError(f"{what} {text!r}: expected NAME[:VARIANT]=VALUES")
+    head, vals = text.split("=", 1)
+    name, _, variant = (part.strip() for part in head.partition(":"))
+    try:
+        nums = [float(v) for v in vals.split(",") if v.strip()]
+    except ValueError:
+        raise InvalidParameterError(f"{what} {text!r}: values must be numbers") from None
+    return name, variant, nums
+
+
 def parse_effect(text: str, setup: str, x_ref: float) -> EffectInstance:
     """``NAME[:VARIANT]=v1[,v2...]`` -> an effect with its registry parameters in order.
 
     Hysteresis takes pairs: ``hysteresis:maxwell_slip=k1,d1,k2,d2``. Nonlinear stiffness
     ``poly`` takes ``a2,a3`` (x_ref = the input amplitude).
     """
-    if "=" not in text:
-        raise InvalidParameterError(f"effect {text!r}: expected NAME[:VARIANT]=VALUES")
-    head, vals = text.split("=", 1)
-    name, _, variant = head.partition(":")
+    name, variant, nums = split_effect_text(text)
     try:
-        eff = registry.get(name.strip())
-        var = eff.variant(variant.strip()) if variant else eff.variants[0]
+        eff = registry.get(name)
+        var = eff.variant(variant) if variant else eff.variants[0]
     except KeyError as exc:
         raise InvalidParameterError(str(exc.args[0])) from None
     if setup not in var.setups:
         raise InvalidParameterError(f"{eff.name}[{var.key}] does not act in a {setup}")
-    try:
-        nums = [float(v) for v in vals.split(",") if v.strip()]
-    except ValueError:
-        raise InvalidParameterError(f"effect {text!r}: values must be numbers") from None
     params: dict[str, Any] = {}
     if eff.name == "hysteresis":
         if len(nums) % 2 or not nums:

@@ -27,12 +27,13 @@ import numpy as np
 import numpy.typing as npt
 
 from fsarm_sim import callbacks, physics
-from fsarm_sim import layout as L
 from fsarm_sim.arm_metrics import (
     Bandwidth,
+    check_band,
     frequency_response,
     held_arm,
     log_chirp,
+    smoothstep,
     torque_bandwidth,
 )
 from fsarm_sim.errors import InvalidParameterError
@@ -55,9 +56,7 @@ class Impedance:
 def chirp_motion(t: Array, amplitude: float, f0: float, f1: float, settle_s: float) -> Array:
     """Position offset: a log chirp over the whole of ``t``, faded in over ``settle_s``."""
     duration = float(t[-1]) if t.size > 1 else 1.0
-    ramp = np.clip(t / settle_s, 0.0, 1.0)
-    smooth = ramp * ramp * (3.0 - 2.0 * ramp)
-    return amplitude * smooth * log_chirp(t, f0, f1, duration)
+    return amplitude * smoothstep(t, settle_s) * log_chirp(t, f0, f1, duration)
 
 
 def output_impedance(
@@ -73,26 +72,17 @@ def output_impedance(
     backend: Backend = "python",
 ) -> Impedance:
     """Joint-3 output impedance with the torque loop commanding zero torque (module docstring)."""
-    if not 0.0 < f_start_hz < f_stop_hz:
-        raise InvalidParameterError(
-            f"need 0 < f_start < f_stop, got {f_start_hz!r}, {f_stop_hz!r} Hz"
-        )
+    check_band(f_start_hz, f_stop_hz)
     if not math.isfinite(amplitude_rad) or not 0.0 < amplitude_rad <= math.radians(10.0):
         raise InvalidParameterError(
             f"amplitude must be in (0, 10 deg] (a small-signal test), got {amplitude_rad!r} rad"
         )
     check_duration(duration_s)
-    dt = config.gains.ctrl_dt_s
-    gains = replace(config.gains, wn_rad_s=(0.0, 0.0, 0.0))
-    effects = replace(config.effects, control=control)
-    cfg = config.with_(gains=gains, payload_kg=0.0, effects=effects)
-    n = round(duration_s / dt) + 1
-    t = np.arange(n, dtype=np.float64) * dt
-    table = np.zeros((n, L.REF_COLS))
-    table[:, 1] = bend_rad
-    table[:, 2] = q3_rad
-    sim, m33 = held_arm(cfg, table, backend)
+    cfg = config.with_(effects=replace(config.effects, control=control))
+    sim, m33, t, _ = held_arm(cfg, duration_s, bend_rad, q3_rad, backend)
     m, d, st = sim.model, sim.data, sim.structure
+    dt = cfg.gains.ctrl_dt_s
+    n = t.size
     settle = min(1.0, 0.2 * duration_s)
     pos = chirp_motion(t, amplitude_rad, f_start_hz, f_stop_hz, settle)
     acc = np.gradient(np.gradient(pos, dt), dt)

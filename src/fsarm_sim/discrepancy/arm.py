@@ -707,27 +707,18 @@ def jacobian_column(
     secant over ``frac`` units (plant parameters: one simulation) or analytically (measurement)."""
     _, hi, unit = bounds_of(ctx, key)
     h = ctx.run.h
-    if key.startswith("sensor_offset."):
+    if key.startswith(("sensor_offset.", "delay.")):
         ch = key.split(".", 1)[1]
+        # change of the recorded channel: a constant (offset) or y(t - d) ~ y(t) - d y'(t)
+        dy = unit if key.startswith("sensor_offset.") else -R.derivative(raw[ch], h) * unit
         d = {c: np.zeros_like(base[c]) for c in BASIS}
-        if ch == "q3":
-            d["q3"] += unit
-            d["twist"] -= ctx.coef_s * unit
+        if ch == "q3":  # q3 enters the twist basis as -i_G2 q3
+            d["q3"] += dy
+            d["twist"] -= ctx.coef_s * dy
         elif ch == "theta_m":
-            d["twist"] += unit
+            d["twist"] += dy
         else:
-            d["q2"] += unit
-    elif key.startswith("delay."):
-        ch = key.split(".", 1)[1]
-        slope = -R.derivative(raw[ch], h) * unit  # y(t - d) ~ y(t) - d y'(t)
-        d = {c: np.zeros_like(base[c]) for c in BASIS}
-        if ch == "q3":
-            d["q3"] += slope
-            d["twist"] -= ctx.coef_s * slope
-        elif ch == "theta_m":
-            d["twist"] += slope
-        else:
-            d["q2"] += slope
+            d["q2"] += dy
     else:
         x0 = m.v(key)
         # slip deflections: a relative secant (they range over decades); others: one unit
@@ -934,7 +925,7 @@ def score(
     )
     effs = {e.label: e for e in cand.model.effects()}
     eff = effs.get(cand.label)
-    return Score(
+    return j.score(
         label=cand.label,
         effect=cand.effect or "",
         variant=cand.variant or "",
@@ -942,15 +933,8 @@ def score(
         mse_teach=cand.w(ctx, held=False),
         mse_held=w_cand,
         nrmse_held=nrmse(ctx.y[MAIN], cand.pred[MAIN], ctx.held),
-        d_bic_teach=j.d_bic_teach,
-        d_bic_held=j.d_bic_held,
-        gain_held=j.gain_held,
-        explained_over_noise=j.explained_over_noise,
-        earns_place=j.earns_place,
         params=dict(eff.params) if eff is not None else {},
         note=cand.note,
-        share_of_explained=j.share_of_explained,
-        extra=j.extra,
     )
 
 

@@ -21,7 +21,13 @@ import numpy as np
 
 from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_modelfile as MF
-from fsarm_sim.discrepancy.report import _clean, confidence, confidence_line, plot_bic_steps
+from fsarm_sim.discrepancy.report import (
+    _clean,
+    confidence,
+    confidence_line,
+    plot_bic_steps,
+    plot_channel_nrmse,
+)
 from fsarm_sim.discrepancy.residuals import bic, effective_n, nrmse
 from fsarm_sim.discrepancy.selection import BIC_THRESHOLD, MIN_EXPLAINED, MIN_GAIN
 
@@ -198,22 +204,7 @@ def write_plots(diag: A.ArmDiagnosis, folder: str | Path) -> list[Path]:
     fig.savefig(files[-1], dpi=110)
     plt.close(fig)
 
-    per_ch = channel_nrmse(diag)
-    fig, ax1 = plt.subplots(figsize=(6, 3.5))
-    names = list(per_ch)
-    w = 0.25
-    for j, key in enumerate(("catalogue", "nominal", "final")):
-        ax1.bar(
-            np.arange(len(names)) + (j - 1) * w, [100 * per_ch[c][key] for c in names], w, label=key
-        )
-    ax1.set_xticks(np.arange(len(names)), names)
-    ax1.set_yscale("log")
-    ax1.set_ylabel("held-out NRMSE [%]")
-    ax1.legend(fontsize=8)
-    fig.tight_layout()
-    files.append(out / "nrmse.png")
-    fig.savefig(files[-1], dpi=110)
-    plt.close(fig)
+    files.append(plot_channel_nrmse(channel_nrmse(diag), out / "nrmse.png", log=True))
 
     if diag.steps:
         files.append(plot_bic_steps(diag.steps, out / "bic.png"))

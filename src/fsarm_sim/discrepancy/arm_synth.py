@@ -25,6 +25,7 @@ from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.measured import write_dataset
 from fsarm_sim.model import Gains
 from fsarm_sim.shaft import ShaftParams, load_catalogue
+from fsarm_sim.synth import split_effect_text
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -57,14 +58,7 @@ def parse_arm_effect(text: str) -> tuple[str, str, dict[str, Any]]:
     payload_error=DM_KG; coulomb_friction=F_NM; viscous_damping=B_NMS; backlash=W[,C];
     hysteresis=K1,D1[,K2,D2[,K3,D3]]; sensor_offset:CH=RAD; delay:CH=S (CH: q3, theta_m, q2).
     """
-    if "=" not in text:
-        raise InvalidParameterError(f"arm effect {text!r}: expected NAME[:VARIANT]=VALUES")
-    head, vals = text.split("=", 1)
-    name, _, variant = (s.strip() for s in head.partition(":"))
-    try:
-        nums = [float(v) for v in vals.split(",") if v.strip()]
-    except ValueError:
-        raise InvalidParameterError(f"arm effect {text!r}: values must be numbers") from None
+    name, variant, nums = split_effect_text(text, "arm effect")
     defaults = dict(A.PLANT_CANDIDATES)
     if name in defaults and not variant:
         variant = defaults[name]

@@ -289,30 +289,55 @@ def write_plots(diag: Diagnosis, folder: str | Path) -> list[Path]:
 
     # 3. NRMSE per channel
     ch = channel_nrmse(diag)
-    fig, ax = plt.subplots(figsize=(6, 3.5))
-    names = list(ch)
-    w = 0.25
-    for j, key in enumerate(("catalogue", "nominal", "final")):
-        ax.bar(np.arange(len(names)) + (j - 1) * w, [100 * ch[c][key] for c in names], w, label=key)
-    ax.axhline(
-        100 * diag.noise_floor_nrmse,
-        color="k",
-        ls=":",
-        lw=1,
-        label=f"noise floor ({ds.output_column})",
+    files.append(
+        plot_channel_nrmse(
+            ch,
+            out / "nrmse.png",
+            floor=(diag.noise_floor_nrmse, f"noise floor ({ds.output_column})"),
+        )
     )
-    ax.set_xticks(np.arange(len(names)), names)
-    ax.set_ylabel("held-out NRMSE [%]")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    files.append(out / "nrmse.png")
-    fig.savefig(files[-1], dpi=110)
-    plt.close(fig)
 
     # 4. candidate BIC per step
     if diag.steps:
         files.append(plot_bic_steps(diag.steps, out / "bic.png"))
     return files
+
+
+def plot_channel_nrmse(
+    per_channel: dict[str, dict[str, float]],
+    path: Path,
+    *,
+    floor: tuple[float, str] | None = None,
+    log: bool = False,
+) -> Path:
+    """Held-out NRMSE per channel for the catalogue, nominal-refit and final models (bars),
+    with an optional noise-floor line ``(value, label)``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 3.5))
+    names = list(per_channel)
+    w = 0.25
+    for j, key in enumerate(("catalogue", "nominal", "final")):
+        ax.bar(
+            np.arange(len(names)) + (j - 1) * w,
+            [100 * per_channel[c][key] for c in names],
+            w,
+            label=key,
+        )
+    if floor is not None:
+        ax.axhline(100 * floor[0], color="k", ls=":", lw=1, label=floor[1])
+    ax.set_xticks(np.arange(len(names)), names)
+    if log:
+        ax.set_yscale("log")
+    ax.set_ylabel("held-out NRMSE [%]")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
 
 
 def plot_bic_steps(steps: list[Step], path: Path) -> Path:

@@ -221,6 +221,20 @@ class Judgement:
     extra: bool
     earns_place: bool
 
+    def score(self, **fields: Any) -> Score:
+        """The :class:`Score` of a candidate: ``fields`` (label, effect, variant, k, MSEs,
+        nrmse_held, params, note) plus this judgement's numbers."""
+        return Score(
+            d_bic_teach=self.d_bic_teach,
+            d_bic_held=self.d_bic_held,
+            gain_held=self.gain_held,
+            explained_over_noise=self.explained_over_noise,
+            earns_place=self.earns_place,
+            share_of_explained=self.share_of_explained,
+            extra=self.extra,
+            **fields,
+        )
+
 
 def judge(
     cur: tuple[float, float, int],
@@ -267,7 +281,7 @@ def score(
         nom.mse_held if nom is not None and nom is not cur else None,
     )
     eff = cand.model.effect(cand.effect or "", cand.variant)
-    return Score(
+    return j.score(
         label=cand.label,
         effect=cand.effect or "",
         variant=cand.variant or "",
@@ -275,15 +289,8 @@ def score(
         mse_teach=cand.mse_teach,
         mse_held=cand.mse_held,
         nrmse_held=nrmse(ctx.inp.y, cand.yhat, ctx.held),
-        d_bic_teach=j.d_bic_teach,
-        d_bic_held=j.d_bic_held,
-        gain_held=j.gain_held,
-        explained_over_noise=j.explained_over_noise,
-        earns_place=j.earns_place,
         params=dict(eff.params) if eff is not None else {},
         note=cand.note,
-        share_of_explained=j.share_of_explained,
-        extra=j.extra,
     )
 
 

@@ -35,6 +35,7 @@ def _params() -> tuple[Param, ...]:
         Param("s_neg", sh.s_neg, "N*m/rad^2", f"eq. 3 unwinding side slope; {src}"),
         Param("b_pos", sh.damping_pos, "N*m*s/rad", f"eq. 1 B_p; {src}"),
         Param("b_neg", sh.damping_neg, "N*m*s/rad", f"eq. 1 B_n; {src}"),
+        Param("rating_nm", sh.rating_nm, "N*m", f"nominal torque of the shaft; {src}"),
     )
 
 
@@ -55,6 +56,10 @@ def torque_nm(tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int) ->
 
 def state_rate(tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int, i: int) -> float:
     return 0.0
+
+
+def rating_nm(tr: Any) -> float:
+    return float(tr[6])
 
 
 def potential_j(tr: Any, x: float, bend: float, act: Any, a0: int) -> float:
