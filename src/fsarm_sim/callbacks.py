@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import contextlib
 import importlib
+import sys
+import threading
 import weakref
 from collections.abc import Iterator
 from typing import Any
@@ -23,7 +25,7 @@ import mujoco
 
 from fsarm_sim import layout as L
 from fsarm_sim import physics
-from fsarm_sim.errors import InvalidParameterError
+from fsarm_sim.errors import CallbackConflictError, InvalidParameterError
 
 _Cache = tuple[int, int, int, int] | None  # params start/end, ref start/end
 _cache: weakref.WeakKeyDictionary[Any, _Cache] = weakref.WeakKeyDictionary()
@@ -94,20 +96,59 @@ def _control(m: mujoco.MjModel, d: mujoco.MjData) -> None:
     )
 
 
+# --- installation: one process-wide owner at a time, counted -------------------------------
+# MuJoCo's callbacks are process globals. Several runs (threads) may step at once: the first to
+# enter ``active`` installs fsarm's callbacks and saves what was there, the others only count
+# themselves in, and the last to leave restores what was saved. A thread asking for the other
+# backend meanwhile gets CallbackConflictError (both paths compute the same physics, but a silent
+# swap would make "python" a lie). ``suspended`` (compiling) waits until no other thread steps
+# with the Python callbacks, so it never switches a running run's callbacks off.
+_lock = threading.RLock()
+_free = threading.Condition(_lock)
+_holders: dict[int, int] = {}  # thread id -> nesting depth inside active()
+_backend: str | None = None
+_saved: tuple[Any, Any, Any] | None = None
+
+
+def _current() -> tuple[Any, Any, Any]:
+    return (mujoco.get_mjcb_passive(), mujoco.get_mjcb_act_dyn(), mujoco.get_mjcb_control())
+
+
+def _restore(cbs: tuple[Any, Any, Any] | None) -> None:
+    cbs = cbs or (None, None, None)
+    mujoco.set_mjcb_passive(cbs[0])
+    mujoco.set_mjcb_act_dyn(cbs[1])
+    mujoco.set_mjcb_control(cbs[2])
+
+
+def _ours(cb: Any) -> bool:
+    if cb is None or cb in (_passive, _act_dyn, _control):
+        return True
+    native = sys.modules.get("fsarm_sim.native")
+    return native is not None and any(
+        cb is getattr(native, n, None) for n in ("PASSIVE", "ACT_DYN", "CONTROL")
+    )
+
+
 @contextlib.contextmanager
 def suspended() -> Iterator[None]:
-    """No callbacks at all inside the block (MuJoCo's compiler runs mj_forward on models that are
-    not finished yet)."""
-    saved = (mujoco.get_mjcb_passive(), mujoco.get_mjcb_act_dyn(), mujoco.get_mjcb_control())
-    mujoco.set_mjcb_passive(None)
-    mujoco.set_mjcb_act_dyn(None)
-    mujoco.set_mjcb_control(None)
-    try:
-        yield
-    finally:
-        mujoco.set_mjcb_passive(saved[0])
-        mujoco.set_mjcb_act_dyn(saved[1])
-        mujoco.set_mjcb_control(saved[2])
+    """No fsarm callbacks inside the block, for compiling models (MuJoCo's compiler runs
+    mj_forward on models that are not finished yet, and mujoco 3.17's bindings fail on any Python
+    callback then). Waits while another thread steps with the Python callbacks; with the native
+    ones installed (safe on unfinished models) it leaves them in place."""
+    me = threading.get_ident()
+    with _free:
+        while _backend == "python" and any(t != me for t in _holders):
+            _free.wait()
+        if _backend == "native":
+            yield
+            return
+        saved = _current()
+        _restore(None)
+        try:
+            yield
+        finally:
+            _restore(saved)
 
 
 def _set_python() -> None:
@@ -117,7 +158,8 @@ def _set_python() -> None:
 
 
 def install_python() -> None:
-    """Install the Python reference callbacks process-wide (idempotent).
+    """Install the Python reference callbacks process-wide (idempotent), chaining the callbacks
+    installed before them for models that are not fsarm's. Undo with :func:`uninstall`.
 
     Caveat (mujoco 3.17 Python bindings): while *any* Python callback is installed, compiling a
     model in the same process fails with "engine error: Python exception raised", because the
@@ -125,40 +167,89 @@ def install_python() -> None:
     which installs them only while stepping, or compile inside :func:`suspended`.
     """
     global _installed
-    if not _installed:
-        _previous["passive"] = mujoco.get_mjcb_passive()
-        _previous["act_dyn"] = mujoco.get_mjcb_act_dyn()
-        _previous["control"] = mujoco.get_mjcb_control()
-    _set_python()
-    _installed = True
+    with _lock:
+        if _holders:
+            raise CallbackConflictError(
+                "fsarm's callbacks are in use by a running simulation (callbacks.active); "
+                "install_python() can be called only when none runs"
+            )
+        if not _installed:
+            cbs = _current()
+            for key, cb in zip(("passive", "act_dyn", "control"), cbs, strict=True):
+                _previous[key] = None if _ours(cb) else cb
+        _set_python()
+        _installed = True
 
 
 def uninstall() -> None:
-    """Restore the callbacks that were installed before fsarm-sim's."""
+    """Restore the callbacks that were installed before :func:`install_python`."""
     global _installed
-    mujoco.set_mjcb_passive(_previous.get("passive"))
-    mujoco.set_mjcb_act_dyn(_previous.get("act_dyn"))
-    mujoco.set_mjcb_control(_previous.get("control"))
-    _previous.clear()
-    _installed = False
+    with _lock:
+        if _holders:
+            raise CallbackConflictError(
+                "fsarm's callbacks are in use by a running simulation (callbacks.active); "
+                "uninstall() can be called only when none runs"
+            )
+        _restore((_previous.get("passive"), _previous.get("act_dyn"), _previous.get("control")))
+        _previous.clear()
+        _installed = False
 
 
 @contextlib.contextmanager
 def active(backend: str = "python") -> Iterator[None]:
     """fsarm's callbacks inside the block (``python`` or ``native``), the previous ones after it.
 
-    Other models stepped inside the block are passed on untouched (see module docstring).
+    Thread-safe: runs in several threads share one installation (counted); the callbacks that
+    were installed before the first of them come back when the last one leaves. A callback of
+    your own that was installed before is chained on the Python path: models that are not fsarm's
+    are passed to it (see the module docstring). The native path cannot call Python callbacks, so
+    with one of yours installed it refuses with :class:`CallbackConflictError`.
     """
-    saved = (mujoco.get_mjcb_passive(), mujoco.get_mjcb_act_dyn(), mujoco.get_mjcb_control())
-    if backend == "python":
-        _set_python()
-    elif backend == "native":
-        importlib.import_module("fsarm_sim.native").install()
-    else:
+    global _backend, _saved
+    if backend not in ("python", "native"):
         raise InvalidParameterError(f"backend must be 'python' or 'native', got {backend!r}")
+    me = threading.get_ident()
+    with _lock:
+        if not _holders:
+            saved = _current()
+            foreign = [
+                n
+                for n, cb in zip(("passive", "act_dyn", "control"), saved, strict=True)
+                if not _ours(cb)
+            ]
+            if backend == "native":
+                if foreign:
+                    raise CallbackConflictError(
+                        f"a callback of your own is installed (mjcb_{', mjcb_'.join(foreign)}); "
+                        "the native backend cannot pass other models on to it: use "
+                        "backend='python', which chains it, or uninstall it first"
+                    )
+                importlib.import_module("fsarm_sim.native").install()
+            else:
+                if not _installed:
+                    for key, cb in zip(("passive", "act_dyn", "control"), saved, strict=True):
+                        _previous[key] = None if _ours(cb) else cb
+                _set_python()
+            _saved = saved
+            _backend = backend
+        elif backend != _backend:
+            raise CallbackConflictError(
+                f"another simulation in this process is stepping with the {_backend} callbacks; "
+                f"backend={backend!r} cannot run at the same time: use backend={_backend!r} "
+                "(same physics) or wait for it to finish"
+            )
+        _holders[me] = _holders.get(me, 0) + 1
     try:
         yield
     finally:
-        mujoco.set_mjcb_passive(saved[0])
-        mujoco.set_mjcb_act_dyn(saved[1])
-        mujoco.set_mjcb_control(saved[2])
+        with _free:
+            _holders[me] -= 1
+            if not _holders[me]:
+                del _holders[me]
+            if not _holders:
+                _restore(_saved)
+                if not _installed:
+                    _previous.clear()
+                _saved = None
+                _backend = None
+                _free.notify_all()

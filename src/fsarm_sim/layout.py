@@ -108,7 +108,11 @@ P_GRAVITY = 122  # |g|, m/s^2 (from the compiled MJCF)
 P_BL_WIDTH = 123  # backlash (dead band) on the transmission twist, total width, rad
 P_BL_CENTER = 124  # middle of the dead band, rad
 P_GAIN_SCHED = 125  # 1: torque-PID gains scheduled on the model stiffness; 0: fixed at P_TR_K0
-N_PARAMS = 126
+# --- the control clock (physics.control): ticks come from a step count, never from data.time
+# alone, which drifts by rounding (1e-4 s after an hour at 10 us); see physics.control ---
+P_TIMESTEP = 126  # physics timestep h the model was built with, s
+P_STEPS_PER_TICK = 127  # control period / timestep (a whole number >= 1)
+N_PARAMS = 128
 N_TR = 24
 
 TR_FLEXIBLE_SHAFT = 0.0
@@ -140,4 +144,24 @@ L_TAU_SHAFT = 7  # true shaft torque (written by the passive callback), N*m
 L_TAU_BEND = 8  # total bending torque on joint 2 (elastic + conduit + coupling), N*m
 L_TAU_CONDUIT = 9  # conduit (visco-elastic) part of it, N*m
 N_LOG = 10
-N_USERDATA = U_LOG + N_LOG
+U_STEP = U_LOG + N_LOG  # index+1 of the last physics step the control clock saw (0: none yet)
+U_STEP_T = U_STEP + 1  # data.time at that step's first call (anchor of the drift-free clock)
+U_TICK_STEP = U_STEP + 2  # step index at which the current control tick started
+U_ACC = U_STEP + 3  # run metrics, accumulated once per physics step (A_* below)
+# run metrics (``U_ACC + A_*``): tracking error against the reference the controllers track,
+# sampled at the start of every physics step, whatever the logging options
+A_COUNT = 0  # physics steps accumulated
+A_SQ_ERR = 1  # 3 slots: sum of squared tracking error of joints 1-3, rad^2
+A_MAX_ERR = 4  # 3 slots: largest |tracking error| of joints 1-3, rad
+A_SQ_TAU_EST = 7  # sum of squared joint-3 torque-estimate error (tau_model - tau_shaft), (N*m)^2
+A_MAX_TAU_EST = 8  # its largest magnitude, N*m
+A_PEAK_MOTOR_TORQUE = 9  # largest |joint-3 motor (rotor) torque command|, N*m
+A_PEAK_ROTOR_SPEED = 10  # largest |rotor speed|, rad/s
+A_PEAK_SHAFT_TORQUE = 11  # largest |true shaft torque|, N*m
+A_PEAK_TWIST = 12  # largest |twist theta_m - theta_s|, rad
+A_PEAK_TAU2 = 13  # largest |joint-2 torque command|, N*m
+A_MOTOR_WORK = 14  # positive mechanical work of joint 3's motor, J (sum of max(P, 0) * h)
+N_ACC = 15
+U_ACC_PRE = U_ACC + N_ACC  # the accumulators as they were before the current step (re-done)
+N_USERDATA = U_ACC_PRE + N_ACC
+N_USERDATA_LOGGED = U_LOG + N_LOG  # what a run records per row (memory, outputs, logs)

@@ -461,6 +461,8 @@ def write_params(model: mujoco.MjModel, st: ArmStructure, config: SimConfig, n_t
     p[L.P_EN_CONTROL] = on[fx.control]
     p[L.P_CTRL_DT] = g.ctrl_dt_s
     p[L.P_N_TICKS] = n_ticks
+    p[L.P_TIMESTEP] = model.opt.timestep
+    p[L.P_STEPS_PER_TICK] = max(1, round(g.ctrl_dt_s / model.opt.timestep))
     p[L.P_WN1], p[L.P_WN2], p[L.P_WN3] = g.wn_rad_s
     p[L.P_ZETA1], p[L.P_ZETA2], p[L.P_ZETA3] = g.zeta
     p[L.P_TAU_BW], p[L.P_TAU_WI] = g.torque_bandwidth_rad_s, g.torque_integral_rad_s

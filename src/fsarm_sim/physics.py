@@ -31,6 +31,17 @@ from fsarm_sim.effects import (
     series_stiffness,
 )
 from fsarm_sim.layout import (
+    A_COUNT,
+    A_MAX_ERR,
+    A_MAX_TAU_EST,
+    A_MOTOR_WORK,
+    A_PEAK_MOTOR_TORQUE,
+    A_PEAK_ROTOR_SPEED,
+    A_PEAK_SHAFT_TORQUE,
+    A_PEAK_TAU2,
+    A_PEAK_TWIST,
+    A_SQ_ERR,
+    A_SQ_TAU_EST,
     L_OMEGA_D,
     L_PID_D,
     L_PID_I,
@@ -41,6 +52,7 @@ from fsarm_sim.layout import (
     L_TAU_D_SHAFT,
     L_TAU_MODEL,
     L_TAU_SHAFT,
+    N_ACC,
     N_MEM,
     N_TR,
     P_ACT_BR1,
@@ -103,12 +115,14 @@ from fsarm_sim.layout import (
     P_SPD_KI,
     P_SPD_KP,
     P_SPEED_FF,
+    P_STEPS_PER_TICK,
     P_TAU1_MAX,
     P_TAU2_MAX,
     P_TAU_BW,
     P_TAU_KDN,
     P_TAU_MOT_MAX,
     P_TAU_WI,
+    P_TIMESTEP,
     P_TR,
     P_TR_K0,
     P_TRANS,
@@ -121,11 +135,16 @@ from fsarm_sim.layout import (
     P_ZETA3,
     REF_COLS,
     STIFFNESS_FLOOR,
+    U_ACC,
+    U_ACC_PRE,
     U_LOG,
     U_MEM,
     U_OUT,
     U_PRE,
+    U_STEP,
+    U_STEP_T,
     U_TICK,
+    U_TICK_STEP,
 )
 from fsarm_sim.transmissions import (
     flexible_shaft,
@@ -136,7 +155,10 @@ from fsarm_sim.transmissions import (
 )
 
 FloatArray = npt.NDArray[np.float64]
-TICK_TOLERANCE = 1e-6  # fraction of a control period within which a call counts as "on the tick"
+# A call is "at" a physics step when its time is within this fraction of a timestep of the step's
+# time: RK4's half-step stages (h/2 away) are never steps, while rounding of data.time (about
+# 1e-16 * t per step) stays far below it.
+STEP_TOLERANCE = 0.25
 
 
 def coord(x: FloatArray, index: float) -> float:
@@ -538,6 +560,43 @@ def control_tick(
     log[L_PID_D] = d_term
 
 
+def accumulate_metrics(
+    prm: FloatArray,
+    ref: FloatArray,
+    k: int,
+    qpos: FloatArray,
+    qvel: FloatArray,
+    pre: FloatArray,
+    acc: FloatArray,
+    out: FloatArray,
+    log: FloatArray,
+) -> None:
+    """Run metrics of one physics step: ``acc`` = ``pre`` + this step's sample.
+
+    Sampled at the start of every step (the state the step integrates from) against the reference
+    row of the current control tick ``k`` (the reference the controllers track); the torque
+    estimate and motor commands are the ones held over the step. Independent of any logging.
+    """
+    row = min(k, int(prm[P_N_TICKS]) - 1) * REF_COLS
+    acc[A_COUNT] = pre[A_COUNT] + 1.0
+    for j in range(3):
+        i = int(prm[P_QADR_Q1 + j])
+        e = qpos[i] - ref[row + j] if i >= 0 else 0.0
+        acc[A_SQ_ERR + j] = pre[A_SQ_ERR + j] + e * e
+        acc[A_MAX_ERR + j] = max(pre[A_MAX_ERR + j], abs(e))
+    te = log[L_TAU_MODEL] - log[L_TAU_SHAFT]
+    acc[A_SQ_TAU_EST] = pre[A_SQ_TAU_EST] + te * te
+    acc[A_MAX_TAU_EST] = max(pre[A_MAX_TAU_EST], abs(te))
+    omega_rotor = coord(qvel, prm[P_DOF_ROT])
+    tau_motor = out[2]
+    acc[A_PEAK_MOTOR_TORQUE] = max(pre[A_PEAK_MOTOR_TORQUE], abs(tau_motor))
+    acc[A_PEAK_ROTOR_SPEED] = max(pre[A_PEAK_ROTOR_SPEED], abs(omega_rotor))
+    acc[A_PEAK_SHAFT_TORQUE] = max(pre[A_PEAK_SHAFT_TORQUE], abs(log[L_TAU_SHAFT]))
+    acc[A_PEAK_TWIST] = max(pre[A_PEAK_TWIST], abs(twist_angle(prm, qpos)))
+    acc[A_PEAK_TAU2] = max(pre[A_PEAK_TAU2], abs(out[1]))
+    acc[A_MOTOR_WORK] = pre[A_MOTOR_WORK] + max(tau_motor * omega_rotor, 0.0) * prm[P_TIMESTEP]
+
+
 def control(
     prm: FloatArray,
     ref: FloatArray,
@@ -551,40 +610,88 @@ def control(
 ) -> None:
     """mjcb_control body: run the controllers on their clock ticks, hold the outputs between.
 
-    A call counts as a tick when ``time`` is within TICK_TOLERANCE of a multiple of the control
-    period. The first call of a new tick snapshots the controller memory; every call on that same
-    tick recomputes from the snapshot. So extra ``mj_forward`` calls, finite differencing that
-    perturbs the state (``mjd_transitionFD`` does not restore ``userdata``) and RK4's stage at
-    t+h are all harmless: the last call before integration - ``mj_step``'s own forward at the
-    start of the step - always has the final word, with the true state. Between ticks (RK4's
-    half-step stages, physics substeps) the held outputs are applied unchanged, and so is RK4's
-    last stage, which lands on the next tick with a predicted state.
+    **The clock counts steps.** MuJoCo adds ``h`` to ``data.time`` every step, and that sum
+    drifts by rounding (about 1e-4 s after an hour at h = 10 us), so "time is a multiple of the
+    control period" stops matching after long enough. Instead, a call is *at a physics step* when
+    its time is within ``STEP_TOLERANCE * h`` of the previous step's time (the same step again)
+    or at least ``(1 - STEP_TOLERANCE) * h`` after it (a new step, whose index is counted from the
+    previous one by the elapsed time over ``h``: an interval, free of the drift). The very first
+    call, or a call whose time went back, is placed on the step grid of its own time. Control tick
+    ``k`` is step ``k * P_STEPS_PER_TICK``.
+
+    The first call of a new step snapshots the run metrics, and the first call of a new tick the
+    controller memory; every later call at the same step recomputes from the snapshot. So extra
+    ``mj_forward`` calls, finite differencing that perturbs the state (``mjd_transitionFD`` does
+    not restore ``userdata``) and RK4's stage at t+h are all harmless: the last call before
+    integration - ``mj_step``'s own forward at the start of the step - always has the final word,
+    with the true state. Calls between steps (RK4's half-step stages) apply the held outputs
+    unchanged, and so does RK4's last stage, which lands on the next step with a predicted state.
     """
     if prm[P_EN_CONTROL] < 0.5:
         return
-    x = time / prm[P_CTRL_DT]
-    k = int(math.floor(x + 0.5))  # noqa: RUF046  (explicit int for Numba)
-    if abs(x - k) < TICK_TOLERANCE and k >= 0:
-        recompute = True
-        if userdata[U_TICK] != k + 1.0:
+    h = prm[P_TIMESTEP]
+    tol = STEP_TOLERANCE * h
+    at_step = False
+    new_step = False
+    s = 0.0
+    last = userdata[U_STEP] - 1.0  # index of the last step seen, -1: none yet
+    if last >= 0.0 and time > userdata[U_STEP_T] - tol:
+        elapsed = time - userdata[U_STEP_T]
+        if elapsed < tol:
+            at_step = True
+            s = last
+        elif elapsed > h - tol:
+            at_step = True
+            new_step = True
+            s = last + math.floor(elapsed / h + 0.5)
+    else:  # first call, or time was set back: the step grid of this call's own time
+        x = math.floor(time / h + 0.5)
+        if x >= 0.0 and abs(time - x * h) < tol:
+            at_step = True
+            new_step = True
+            s = x
+            last = -1.0
+    if at_step:
+        predicted = False
+        if new_step:
+            for i in range(N_ACC):
+                userdata[U_ACC_PRE + i] = userdata[U_ACC + i]
+            userdata[U_STEP] = s + 1.0
+            userdata[U_STEP_T] = time
+            # Under RK4 the first call at a step that follows the last one seen is the 4th stage
+            # of the step that ends on it, with a predicted state: keep the held output there
+            # (zero-order hold); mj_step's own forward at that time redoes it from the true state.
+            predicted = prm[P_RK4] > 0.5 and last >= 0.0
+        per_tick = prm[P_STEPS_PER_TICK]
+        k = int(math.floor(s / per_tick))  # noqa: RUF046  the tick this step belongs to (int for Numba)
+        if k + 1.0 > userdata[U_TICK]:
             for i in range(N_MEM):
                 userdata[U_PRE + i] = userdata[U_MEM + i]
             userdata[U_TICK] = k + 1.0
-            # Under RK4 the first call at a new tick is the 4th stage of the step that ends on it,
-            # with a predicted state: keep applying the held output there (zero-order hold);
-            # mj_step's own forward at the tick computes the new output from the true state.
-            recompute = not (prm[P_RK4] > 0.5 and k > 0)
-        if recompute:
-            control_tick(
+            userdata[U_TICK_STEP] = s
+        if not predicted:
+            if s == userdata[U_TICK_STEP]:
+                control_tick(
+                    prm,
+                    ref,
+                    int(userdata[U_TICK]) - 1,
+                    qpos,
+                    qvel,
+                    bias,
+                    mass,
+                    userdata[U_PRE : U_PRE + N_MEM],
+                    userdata[U_MEM : U_MEM + N_MEM],
+                    userdata[U_OUT : U_OUT + 3],
+                    userdata[U_LOG:],
+                )
+            accumulate_metrics(
                 prm,
                 ref,
-                k,
+                int(userdata[U_TICK]) - 1,
                 qpos,
                 qvel,
-                bias,
-                mass,
-                userdata[U_PRE : U_PRE + N_MEM],
-                userdata[U_MEM : U_MEM + N_MEM],
+                userdata[U_ACC_PRE : U_ACC_PRE + N_ACC],
+                userdata[U_ACC : U_ACC + N_ACC],
                 userdata[U_OUT : U_OUT + 3],
                 userdata[U_LOG:],
             )
