@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 
 class FsarmError(Exception):
     """Base class of every error fsarm-sim raises on purpose."""
@@ -30,5 +32,28 @@ class ModelStructureError(FsarmError, ValueError):
     """The MJCF lacks a joint, tendon or actuator fsarm-sim needs, or they disagree."""
 
 
-class SimulationWarningError(FsarmError, RuntimeError):
+class RunFailedError(FsarmError, RuntimeError):
+    """A run went wrong while stepping. ``columns`` holds what was recorded up to the failure
+    (empty when nothing was recorded or the failure came from outside a run)."""
+
+    def __init__(self, message: str, columns: dict[str, Any] | None = None) -> None:
+        super().__init__(message)
+        self.columns: dict[str, Any] = columns or {}
+
+
+class SimulationWarningError(RunFailedError):
     """MuJoCo raised a warning (bad state, instability, ...) during a run."""
+
+
+class RunHealthError(RunFailedError):
+    """A run's health check failed: its control clock stopped, its state is not finite, or a
+    joint diverged from its reference. The message gives the time, the joint and the state."""
+
+
+class CallbackBypassError(FsarmError, RuntimeError):
+    """An fsarm model was stepped without fsarm's callbacks (plain ``mujoco.mj_step`` outside
+    ``fsarm_sim.callbacks.active()``): its shaft and controllers did not act over those steps."""
+
+
+class CallbackConflictError(FsarmError, RuntimeError):
+    """fsarm's process-global callbacks are held by another thread with the other backend."""
