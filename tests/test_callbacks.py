@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import threading
+
 import mujoco
 import numpy as np
 import pytest
 
 from fsarm_sim import callbacks, scenarios
+from fsarm_sim.errors import CallbackConflictError
 from fsarm_sim.model import Gains, SimConfig
 from fsarm_sim.shaft import load_catalogue
 from fsarm_sim.simulation import Simulation
@@ -99,3 +102,89 @@ def test_callbacks_only_while_active() -> None:
     assert mujoco.get_mjcb_control() is not None
     callbacks.uninstall()
     assert mujoco.get_mjcb_control() is None
+
+
+def test_runs_in_threads_share_the_callbacks_and_match_a_run_alone() -> None:
+    """Two runs stepping at once in two threads: each as if alone, callbacks restored after."""
+    from fsarm_sim.simulation import run_scenario
+
+    alone = run_scenario("fig14-sine", duration_s=1.0).metrics["rmse_rad"]
+    results: dict[int, object] = {}
+
+    def work(i: int) -> None:
+        try:
+            results[i] = run_scenario("fig14-sine", duration_s=1.0).metrics["rmse_rad"]
+        except Exception as exc:  # reported below, with the thread's own error
+            results[i] = exc
+
+    for _ in range(3):
+        threads = [threading.Thread(target=work, args=(i,)) for i in range(2)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        assert results == {0: alone, 1: alone}
+    assert mujoco.get_mjcb_control() is None and mujoco.get_mjcb_passive() is None
+    mujoco.MjModel.from_xml_string(PENDULUM)  # no callback left behind
+
+
+def test_building_a_model_waits_for_a_python_run_in_another_thread() -> None:
+    """Compiling suspends the callbacks; it must not switch off another thread's run."""
+    from fsarm_sim.simulation import run_scenario
+
+    alone = run_scenario("fig14-sine", duration_s=1.5).metrics["rmse_rad"]
+    out: dict[str, object] = {}
+
+    def run() -> None:
+        out["run"] = run_scenario("fig14-sine", duration_s=1.5).metrics["rmse_rad"]
+
+    t = threading.Thread(target=run)
+    t.start()
+    for _ in range(3):
+        _sim(seconds=0.1)  # builds (compiles) a model while the other thread steps
+    t.join()
+    assert out["run"] == alone
+
+
+def test_the_other_backend_in_another_thread_is_refused_by_name() -> None:
+    errors: list[BaseException] = []
+
+    def other() -> None:
+        try:
+            with callbacks.active("native"):
+                pass
+        except BaseException as exc:
+            errors.append(exc)
+
+    with callbacks.active("python"):
+        t = threading.Thread(target=other)
+        t.start()
+        t.join()
+    assert len(errors) == 1 and isinstance(errors[0], CallbackConflictError)
+    assert "python" in str(errors[0])
+
+
+def test_a_users_own_callback_is_chained_for_other_models() -> None:
+    m = mujoco.MjModel.from_xml_string(PENDULUM)
+    d = mujoco.MjData(m)
+    calls: list[float] = []
+
+    def mine(model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        calls.append(data.time)
+        data.qfrc_passive[0] += 0.0
+
+    mujoco.set_mjcb_passive(mine)
+    try:
+        with callbacks.active("python"):
+            mujoco.mj_step(m, d)
+            mujoco.mj_step(m, d)
+        assert len(calls) == 2  # passed on for the foreign model
+        assert mujoco.get_mjcb_passive() is mine  # and back after the block
+        with (
+            pytest.raises(CallbackConflictError, match="native backend cannot"),
+            callbacks.active("native"),
+        ):
+            pass
+        assert mujoco.get_mjcb_passive() is mine
+    finally:
+        mujoco.set_mjcb_passive(None)

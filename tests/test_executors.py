@@ -2,6 +2,11 @@
 
 from __future__ import annotations
 
+import os
+import signal
+import subprocess
+import sys
+import time
 from pathlib import Path
 from typing import Any
 
@@ -78,3 +83,72 @@ def test_task_errors_are_captured_not_raised() -> None:
 def test_bad_executor_settings(kwargs: dict[str, Any], match: str) -> None:
     with pytest.raises(ExecutorError, match=match):
         run_tasks(sw.evaluate_point, _tiny_tasks(), **kwargs)
+
+
+def _children(pid: int) -> list[int]:
+    out = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == pid:
+                out.append(int(entry.name))
+    return out
+
+
+def _alive(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
+
+
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads the process table from /proc")
+def test_pool_workers_end_when_the_sweep_is_killed(tmp_path: Path) -> None:
+    """kill -9 of a sweep must not leave its workers computing on as orphans."""
+    cmd = [
+        sys.executable,
+        "-c",
+        "from fsarm_sim.cli import main; main()",
+        "sweep",
+        "--store",
+        str(tmp_path / "r.sqlite"),
+        "--grid",
+        "payload_kg=0:15:8",
+        "--set",
+        "duration_s=60",
+        "--outputs",
+        "tracking",
+        "--workers",
+        "2",
+        "--no-progress",
+    ]
+    proc = subprocess.Popen(
+        cmd, env={**os.environ, "MUJOCO_GL": "disable"}, stdout=subprocess.DEVNULL
+    )
+    deadline = time.monotonic() + 60.0
+    workers: list[int] = []
+    while len(workers) < 2 and time.monotonic() < deadline:
+        time.sleep(0.2)
+        # the pool's workers (and its resource tracker) are the sweep's children
+        workers = [c for c in _children(proc.pid) if "spawn_main" in _cmdline(c)]
+    assert len(workers) == 2, "the pool did not start"
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    deadline = time.monotonic() + 10.0
+    while any(_alive(w) for w in workers) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    left = [w for w in workers if _alive(w)]
+    for w in left:
+        os.kill(w, signal.SIGKILL)
+    assert not left, f"orphaned workers still running: {left}"
+
+
+def _cmdline(pid: int) -> str:
+    try:
+        return Path(f"/proc/{pid}/cmdline").read_bytes().replace(b"\0", b" ").decode()
+    except OSError:
+        return ""

@@ -133,8 +133,30 @@ def run_tasks(
     return out
 
 
+PARENT_POLL_S = 0.5  # how often a pool worker checks that the sweep that started it still runs
+
+
+def _exit_with_parent(parent_pid: int) -> None:
+    """Pool-worker initializer: end this worker when the process that started it is gone
+    (``kill -9`` of a sweep must not leave orphaned workers computing on): a daemon thread checks
+    the parent id every PARENT_POLL_S (an orphan is re-parented, so the id changes)."""
+
+    def watch() -> None:
+        while True:
+            if os.getppid() != parent_pid:
+                os._exit(1)
+            time.sleep(PARENT_POLL_S)
+
+    threading.Thread(target=watch, name="fsarm-parent-watch", daemon=True).start()
+
+
 def _run_pool(fn: TaskFn, tasks: Sequence[Any], n_workers: int) -> Iterator[Outcome]:
-    pool = ProcessPoolExecutor(max_workers=n_workers, mp_context=get_context("spawn"))
+    pool = ProcessPoolExecutor(
+        max_workers=n_workers,
+        mp_context=get_context("spawn"),
+        initializer=_exit_with_parent,
+        initargs=(os.getpid(),),
+    )
     pending: set[Future[Outcome]] = set()
     next_i = 0
     try:

@@ -121,10 +121,9 @@ def check_clock(model: mujoco.MjModel, data: mujoco.MjData) -> None:
     prm = model.numeric(L.PARAMS_NAME).data
     if prm[L.P_EN_CONTROL] < 0.5:
         return
-    h = float(prm[L.P_TIMESTEP])
-    seen = data.userdata[L.U_STEP] > 0.0
-    last = float(data.userdata[L.U_STEP_T]) if seen else 0.0
-    gap = float(data.time) - last
+    h = float(model.opt.timestep)
+    # before the first step U_STEP_T holds the start time (initial_state, Simulation.start_at)
+    gap = float(data.time) - float(data.userdata[L.U_STEP_T])
     if gap > 1.5 * h:
         raise CallbackBypassError(
             f"this fsarm model was stepped about {gap / h:.0f} steps (to t = {data.time:.6g} s) "
@@ -230,6 +229,18 @@ class Simulation:
         with callbacks.active(self.backend):
             mujoco.mj_step(self.model, self.data, nstep=n)
 
+    def start_at(self, time_s: float) -> None:
+        """Start the run's clock at ``time_s`` instead of 0 (the first control tick is then the
+        reference row of that time); only before the first step."""
+        if self.data.userdata[L.U_STEP] > 0.0:
+            raise InvalidParameterError("start_at() is only allowed before the first step")
+        if not math.isfinite(time_s) or time_s < 0.0:
+            raise InvalidParameterError(
+                f"start time must be a finite number >= 0 s, got {time_s!r}"
+            )
+        self.data.time = float(time_s)
+        self.data.userdata[L.U_STEP_T] = float(time_s)
+
     def step_index(self) -> int:
         """Index of the physics step that starts at the current state, by the control clock's
         own count (``data.time`` alone drifts by rounding over long runs)."""
@@ -257,12 +268,22 @@ class Simulation:
         prm = self.params
         if prm[L.P_EN_CONTROL] < 0.5:
             return
-        h = float(prm[L.P_TIMESTEP])
+        h = float(m.opt.timestep)
         gap = t - float(d.userdata[L.U_STEP_T])
         if d.userdata[L.U_STEP] < 1.0 or gap > 1.5 * h:
             raise RunHealthError(
-                f"control clock stopped at t = {t:.6f} s: the controllers last ticked at "
-                f"t = {d.userdata[L.U_STEP_T]:.6f} s (timestep {h:g} s), so their outputs are frozen"
+                f"control clock stopped at t = {t:.6f} s: it last saw a step at "
+                f"t = {d.userdata[L.U_STEP_T]:.6f} s (timestep {h:g} s), so the controllers' "
+                "outputs are frozen"
+            )
+        per_tick = round(self.config.gains.ctrl_dt_s / h)
+        due = self.step_index() // per_tick  # the tick the controllers should be at
+        ticked = int(d.userdata[L.U_TICK]) - 1
+        if ticked < due - 1:
+            raise RunHealthError(
+                f"controllers stopped at t = {t:.6f} s: their last tick was #{ticked} "
+                f"(t = {ticked * self.config.gains.ctrl_dt_s:.6f} s) but #{due} is due, so their "
+                "outputs are frozen"
             )
         ref = m.numeric(L.REF_NAME).data.reshape(-1, L.REF_COLS)
         k = min(int(d.userdata[L.U_TICK]) - 1, ref.shape[0] - 1)
