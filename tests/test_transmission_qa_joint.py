@@ -200,8 +200,10 @@ def test_sigma_drive_converges_rate_limited() -> None:
     assert max(rates) == pytest.approx(float(tr[qa.I_SIGMA_RATE]), rel=1e-12)
     assert act[0] == pytest.approx(15 * DEG, abs=1e-6)  # converged to sigma_cmd
     assert t_99 is not None and 0.12 < t_99 < 0.12 + 4 * float(tr[qa.I_SIGMA_TAU])  # Table III
-    # a command outside the preset range is clamped: the drive settles at the end of the range
-    tr_out = TR.block({"sigma_cmd": 40 * DEG})
+    # a command outside the preset range is refused when the block is built (named error,
+    # tests/test_bad_input_params.py); the kernels still clamp one: the drive settles at the end
+    tr_out = TR.block()
+    tr_out[qa.I_SIGMA_CMD] = 40 * DEG
     act = act_at(10 * DEG)
     for _ in range(400):
         act[0] += DT * qa.state_rate(tr_out, 0.0, 0.0, 0.0, act, 0, 0)

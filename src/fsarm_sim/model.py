@@ -364,6 +364,8 @@ def build_model(
         )
     if not np.all(np.isfinite(ref)):
         raise InvalidParameterError("reference table contains NaN or infinite values")
+    if config.transmission_model().routed_over_joint2:  # phi_B = q2: the file's bend range
+        config.shaft.check_bend(ref[:, 1], "joint 2's reference q2 (the shaft's bend phi_B)")
     with callbacks.suspended():
         model = build_spec(config, ref, path).compile()
     if config.timestep_s is not None:

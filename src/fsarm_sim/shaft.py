@@ -3,16 +3,40 @@
 A coefficient file is TOML with the keys of ``data/shafts.toml`` (the default catalogue).
 ``load_catalogue(path)`` validates it; ``Catalogue.shaft(D, L)`` evaluates eq. 3 and eq. 4 for one
 shaft and refuses D or L outside the validity range unless ``extrapolate=True``.
+
+Parsing is strict (a setting is never silently ignored or misread):
+
+* only the sections and keys of :data:`SCHEMA` are allowed: a misspelt section or key is a
+  :class:`CoefficientFileError` naming the file, the section and the key, and listing the allowed
+  ones;
+* numbers must be TOML numbers (finite), booleans TOML booleans (``enabled = "false"`` - a
+  string - is refused, not read as true), names strings;
+* ``[meta].units`` (optional; when absent the file is read in the units below) must declare
+  exactly the units the coefficients are written in, :data:`UNITS`: diameter and length in mm,
+  bend in rad, stiffness in N*m/rad. A file declaring, e.g., ``diameter = "m"`` is refused: the
+  polynomials of eq. 3/4 are fitted in mm and would silently give wrong stiffnesses;
+* ``[series.maxwell_slip].enabled`` is the file's default for series hysteresis: it takes
+  effect wherever the caller leaves ``series_hysteresis`` as None (``Catalogue.shaft``; the CLI
+  when neither ``--series-hysteresis`` nor ``--no-series-hysteresis`` is given); an explicit
+  True/False from the caller wins. Switching it on with no element of non-zero stiffness is an
+  error (it would do nothing);
+* ``[validity].bend_rad`` bounds the bend angle |phi_B| everywhere it is used - bench, sweep and
+  arm runs (joint 2's reference, ``model.build_model``) - through one check,
+  :func:`check_bend_rad`.
 """
 
 from __future__ import annotations
 
+import difflib
 import math
 import tomllib
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from fsarm_sim.effects import bending, series_stiffness
 from fsarm_sim.errors import CoefficientFileError, ShaftRangeError
@@ -43,6 +67,12 @@ class ShaftParams:
     slip_f: tuple[float, float, float] = (0.0, 0.0, 0.0)
     rating_nm: float = 0.0
     bend_limit_rad: float = 2.0 * math.pi / 3.0
+    # where the numbers come from (named in errors); not part of equality
+    source: str = field(default="", compare=False)
+
+    def check_bend(self, bend_rad: float | Iterable[float], what: str = "bend angle") -> None:
+        """Raise ShaftRangeError for a bend angle beyond the file's ``validity.bend_rad``."""
+        check_bend_rad(bend_rad, self.bend_limit_rad, self.source or "the shaft", what)
 
     def k_series(self, bend_rad: float, side: int) -> float:
         """Eq. 3 stiffness at a bend angle for side +1 (winding) or -1 (unwinding)."""
@@ -86,6 +116,15 @@ class Catalogue:
     slip_f_fraction: tuple[float, float, float]  # of the torque rating
     shafts: tuple[CatalogueShaft, ...] = field(default=())
 
+    @property
+    def bend_limit_rad(self) -> float:
+        """Largest |phi_B| of ``validity.bend_rad`` (eq. 3/4 depend on |phi_B| only)."""
+        return max(abs(self.bend_range[0]), abs(self.bend_range[1]))
+
+    def check_bend(self, bend_rad: float | Iterable[float], what: str = "bend angle") -> None:
+        """Raise ShaftRangeError for a bend angle beyond ``validity.bend_rad``."""
+        check_bend_rad(bend_rad, self.bend_limit_rad, self.source, what)
+
     def check_range(self, diameter_mm: float, length_mm: float, extrapolate: bool = False) -> None:
         """Raise ShaftRangeError for a shaft outside the validity box (unless extrapolating)."""
         for label, value, (lo, hi), unit in (
@@ -120,7 +159,7 @@ class Catalogue:
         k_pos, s_pos = series_stiffness.eq3_base_and_slope(self.p_pos, diameter_mm, length_mm)
         k_neg, s_neg = series_stiffness.eq3_base_and_slope(self.p_neg, diameter_mm, length_mm)
         kb = bending.eq4_stiffness_nm_per_rad(self.q_bend, diameter_mm, length_mm)
-        bend_max = max(abs(self.bend_range[0]), abs(self.bend_range[1]))
+        bend_max = self.bend_limit_rad
         k_min = min(k_pos + min(s_pos, 0.0) * bend_max, k_neg + min(s_neg, 0.0) * bend_max)
         if k_min <= 0.0 or kb <= 0.0:
             raise ShaftRangeError(
@@ -128,7 +167,14 @@ class Catalogue:
                 f"(series min {k_min:.3g}, bending {kb:.3g} N*m/rad) with {self.source}: "
                 "the eq. 3/4 polynomials are not valid there"
             )
-        slip_on = self.slip_enabled if series_hysteresis is None else series_hysteresis
+        slip_on = self.slip_enabled if series_hysteresis is None else bool(series_hysteresis)
+        if slip_on and max(self.slip_k_fraction) <= 0.0:
+            raise CoefficientFileError(
+                f"{self.source}: series hysteresis is switched on "
+                f"({'by the caller' if series_hysteresis else 'by series.maxwell_slip.enabled'})"
+                " but 'series.maxwell_slip.stiffness_fraction' gives no element a stiffness > 0, "
+                "so it would have no effect; give the elements' stiffness fractions"
+            )
         return ShaftParams(
             diameter_mm=diameter_mm,
             length_mm=length_mm,
@@ -147,7 +193,153 @@ class Catalogue:
             slip_f=_scaled(self.slip_f_fraction, self.rating_nm(diameter_mm)),
             rating_nm=self.rating_nm(diameter_mm),
             bend_limit_rad=bend_max,
+            source=self.source,
         )
+
+
+def check_bend_rad(
+    bend_rad: float | Iterable[float], limit_rad: float, source: str, what: str = "bend angle"
+) -> None:
+    """The one bend-angle check (bench, sweep, arm runs): |phi_B| <= ``limit_rad``, the largest
+    |bend| of the coefficient file's ``validity.bend_rad``; ShaftRangeError names the worst value,
+    the range and the file."""
+    raw = bend_rad if isinstance(bend_rad, int | float | np.ndarray) else list(bend_rad)
+    values = np.atleast_1d(np.asarray(raw, dtype=np.float64)).ravel()
+    if values.size == 0:
+        return
+    if not np.all(np.isfinite(values)):
+        bad = float(values[~np.isfinite(values)][0])
+        raise ShaftRangeError(f"{what} must be a finite angle in rad, got {bad!r}")
+    worst = float(values[int(np.argmax(np.abs(values)))])
+    if abs(worst) > limit_rad + 1e-9:
+        raise ShaftRangeError(
+            f"{what}: {worst:.4g} rad ({math.degrees(worst):.1f} deg) is outside the validity "
+            f"range [-{limit_rad:.4g}, {limit_rad:.4g}] rad "
+            f"(+-{math.degrees(limit_rad):.0f} deg) of "
+            f"{source} (its validity.bend_rad: seed 000 eq. 3/4 were fitted there, Sec. IV-C); "
+            "keep |phi_B| within it or widen validity.bend_rad in your own coefficient file"
+        )
+
+
+# Every section ("" = the top level, "shafts[]" = each [[shafts]] entry) and the keys it may hold;
+# a key that is itself listed here is a sub-section (a table).
+SCHEMA: dict[str, tuple[str, ...]] = {
+    "": ("meta", "validity", "series", "bending", "rating", "shafts"),
+    "meta": ("name", "description", "source", "units"),
+    "meta.units": ("diameter", "length", "bend", "stiffness"),
+    "validity": ("diameter_mm", "length_mm", "bend_rad"),
+    "series": ("positive", "negative", "dynamic", "maxwell_slip"),
+    "series.positive": ("p",),
+    "series.negative": ("p",),
+    "series.dynamic": ("inertia_kgm2", "damping_pos_nms", "damping_neg_nms"),
+    "series.maxwell_slip": ("enabled", "stiffness_fraction", "slip_torque_fraction"),
+    "bending": ("q", "stiffening_per_rad2", "conduit"),
+    "bending.conduit": ("branch_stiffness_fraction", "branch_time_constant_s"),
+    "rating": ("coefficient_nm_per_mm3",),
+    "shafts[]": ("name", "diameter_mm", "length_mm"),
+}
+# [meta].units: the units the coefficients are written in (the only ones accepted), with the
+# spellings accepted for each.
+UNITS: dict[str, tuple[str, ...]] = {
+    "diameter": ("mm",),
+    "length": ("mm",),
+    "bend": ("rad",),
+    "stiffness": ("N*m/rad", "N·m/rad", "Nm/rad", "N m/rad", "N.m/rad"),
+}
+
+
+def _type_name(value: Any) -> str:
+    if isinstance(value, bool):
+        return "a boolean"
+    if isinstance(value, str):
+        return "a string"
+    if isinstance(value, int | float):
+        return "a number"
+    if isinstance(value, list):
+        return "a list"
+    if isinstance(value, dict):
+        return "a table"
+    return type(value).__name__
+
+
+def _unknown(source: str, where: str, key: str, value: Any, allowed: tuple[str, ...]) -> str:
+    prefix = f"{where}." if where else ""
+    if isinstance(value, dict):
+        what = f"section '{prefix}{key}'"
+    else:
+        what = f"key '{key}' in section '{where}'" if where else f"top-level key '{key}'"
+    near = (
+        difflib.get_close_matches(key, allowed, n=1, cutoff=0.5)
+        or [a for a in allowed if a.startswith(key) or key.startswith(a)][:1]
+    )
+    hint = (
+        f" (did you mean '{prefix if isinstance(value, dict) else ''}{near[0]}'?)" if near else ""
+    )
+    place = f"section '{where}'" if where else "the top level"
+    return f"{source}: unknown {what}{hint}; allowed in {place}: {', '.join(allowed)}"
+
+
+def _check_keys(table: dict[str, Any], where: str, source: str) -> None:
+    """Refuse keys and sections that :data:`SCHEMA` does not list, recursively."""
+    schema_key = "shafts[]" if where.startswith("shafts[") else where
+    allowed = SCHEMA[schema_key]
+    for key, value in table.items():
+        if key not in allowed:
+            raise CoefficientFileError(_unknown(source, where, key, value, allowed))
+        sub = f"{where}.{key}" if where else key
+        if sub == "shafts":
+            if not isinstance(value, list):
+                raise CoefficientFileError(
+                    f"{source}: 'shafts' must be an array of tables (one table per shaft), "
+                    f"got {_type_name(value)}"
+                )
+            for i, entry in enumerate(value):
+                if not isinstance(entry, dict):
+                    raise CoefficientFileError(
+                        f"{source}: shafts[{i}] must be a table with name, diameter_mm, "
+                        f"length_mm, got {_type_name(entry)}"
+                    )
+                _check_keys(entry, f"shafts[{i}]", source)
+        elif sub in SCHEMA:
+            if not isinstance(value, dict):
+                raise CoefficientFileError(
+                    f"{source}: '{sub}' must be a table (a section) with keys "
+                    f"{', '.join(SCHEMA[sub])}, got {_type_name(value)} {value!r}"
+                )
+            _check_keys(value, sub, source)
+
+
+def _check_units(units: Any, source: str) -> None:
+    """``[meta].units`` must declare the units the coefficients are written in."""
+    if units is None:
+        return
+    assert isinstance(units, dict)  # _check_keys: a table with known keys only
+    for key, value in units.items():
+        accepted = UNITS[key]
+        if not isinstance(value, str) or value.strip() not in accepted:
+            raise CoefficientFileError(
+                f"{source}: 'meta.units.{key}' = {value!r} is not supported: the coefficients of "
+                f"a coefficient file are written with {key} in {accepted[0]!r} "
+                f"(accepted spellings: {', '.join(repr(a) for a in accepted)}); convert the "
+                "coefficients to these units and declare them"
+            )
+
+
+def _bool(value: Any, dotted: str, source: str) -> bool:
+    if not isinstance(value, bool):
+        raise CoefficientFileError(
+            f"{source}: '{dotted}' must be true or false (a TOML boolean, without quotes), "
+            f"got {_type_name(value)} {value!r}"
+        )
+    return value
+
+
+def _string(value: Any, dotted: str, source: str) -> str:
+    if not isinstance(value, str) or not value.strip():
+        raise CoefficientFileError(
+            f"{source}: '{dotted}' must be a non-empty string, got {_type_name(value)} {value!r}"
+        )
+    return value
 
 
 def _scaled(fractions: tuple[float, float, float], scale: float) -> tuple[float, float, float]:
@@ -194,8 +386,26 @@ def _float(value: Any, dotted: str, source: str, *, minimum: float | None = None
     return float(value)
 
 
+def _positive(value: Any, dotted: str, source: str) -> float:
+    v = _float(value, dotted, source)
+    if v <= 0.0:
+        raise CoefficientFileError(f"{source}: '{dotted}' must be > 0, got {value!r}")
+    return v
+
+
 def parse_catalogue(data: dict[str, Any], source: str) -> Catalogue:
-    """Validate a parsed coefficient table; every problem is a CoefficientFileError."""
+    """Validate a parsed coefficient table; every problem is a CoefficientFileError.
+
+    Strict: unknown sections/keys, wrong types and undeclared units are errors (module docstring).
+    """
+    if not isinstance(data, dict):
+        raise CoefficientFileError(f"{source}: must be a TOML table, got {_type_name(data)}")
+    _check_keys(data, "", source)
+    meta = data.get("meta", {})
+    for key in ("name", "description", "source"):
+        if key in meta:
+            _string(meta[key], f"meta.{key}", source)
+    _check_units(meta.get("units"), source)
     p_pos = _floats(_get(data, "series.positive.p", source), 7, "series.positive.p", source)
     p_neg = _floats(_get(data, "series.negative.p", source), 7, "series.negative.p", source)
     q_bend = _floats(_get(data, "bending.q", source), 5, "bending.q", source)
@@ -261,19 +471,34 @@ def parse_catalogue(data: dict[str, Any], source: str) -> Catalogue:
         source,
         positive=True,
     )
-    shafts = []
+    for i, (k, f) in enumerate(zip(slip_k, slip_f, strict=True)):
+        if k > 0.0 and f <= 0.0:
+            raise CoefficientFileError(
+                f"{source}: Maxwell-slip element {i + 1} has stiffness_fraction {k:g} > 0 but "
+                f"slip_torque_fraction {f:g}: an element with stiffness needs a slip torque > 0 "
+                "(or set both to 0 to leave it out)"
+            )
+    slip_enabled = _bool(slip.get("enabled", False), "series.maxwell_slip.enabled", source)
+    if slip_enabled and max(slip_k) <= 0.0:
+        raise CoefficientFileError(
+            f"{source}: 'series.maxwell_slip.enabled' is true but no element has a "
+            "stiffness_fraction > 0, so series hysteresis would have no effect; give "
+            "stiffness_fraction and slip_torque_fraction (3 numbers each)"
+        )
+    shafts: list[CatalogueShaft] = []
     for i, entry in enumerate(data.get("shafts", [])):
-        if not isinstance(entry, dict):
-            raise CoefficientFileError(f"{source}: shafts[{i}] must be a table")
+        name = _string(entry.get("name", f"shaft{i}"), f"shafts[{i}].name", source)
+        if any(s.name == name for s in shafts):
+            raise CoefficientFileError(f"{source}: shafts[{i}].name {name!r} is used twice")
+        where = f"shafts[{i}] ({name})"
+        for key in ("diameter_mm", "length_mm"):
+            if key not in entry:
+                raise CoefficientFileError(f"{source}: {where} lacks '{key}'")
         shafts.append(
             CatalogueShaft(
-                name=str(entry.get("name", f"shaft{i}")),
-                diameter_mm=_float(
-                    entry.get("diameter_mm"), f"shafts[{i}].diameter_mm", source, minimum=0.0
-                ),
-                length_mm=_float(
-                    entry.get("length_mm"), f"shafts[{i}].length_mm", source, minimum=0.0
-                ),
+                name=name,
+                diameter_mm=_positive(entry["diameter_mm"], f"shafts[{i}].diameter_mm", source),
+                length_mm=_positive(entry["length_mm"], f"shafts[{i}].length_mm", source),
             )
         )
     return Catalogue(
@@ -297,7 +522,7 @@ def parse_catalogue(data: dict[str, Any], source: str) -> Catalogue:
         damping_neg=_float(
             dyn.get("damping_neg_nms", 0.0), "series.dynamic.damping_neg_nms", source, minimum=0.0
         ),
-        slip_enabled=bool(slip.get("enabled", False)),
+        slip_enabled=slip_enabled,
         slip_k_fraction=(slip_k[0], slip_k[1], slip_k[2]),
         slip_f_fraction=(slip_f[0], slip_f[1], slip_f[2]),
         shafts=tuple(shafts),

@@ -25,7 +25,9 @@ A transmission module (``fsarm_sim.transmissions.<name>``) holds
   - ``potential_j(tr, x, bend, act, a0) -> float``          stored elastic energy.
 
 * **Python data** - ``NAME``, ``TITLE``, ``SOURCE`` (seed, equations, tables), ``PARAMS`` (a
-  tuple of :class:`Param`, each with its published value and where it comes from), ``STATES``
+  tuple of :class:`Param`, each with its published value, where it comes from, and its allowed
+  range with the reason - :class:`Bounds`), optionally ``validate(tr)`` (checks across
+  parameters, e.g. ``sigma_min < sigma_max``, raising :class:`TransmissionError`), ``STATES``
   (names of the state slots used, at most :data:`N_STATES`), ``ROUTED_OVER_JOINT2`` (True when
   the transmission is a shaft/sheath bent by joint 2: the flexible shaft's bending moment on
   joint 2 then also acts), ``TWIST_RANGE_RAD`` (the range of twist its law is valid for, used for
@@ -61,17 +63,104 @@ N_STATES = 3  # continuous state slots (data.act) a transmission may use: the sh
 
 
 @dataclass(frozen=True)
+class Bounds:
+    """The values a parameter may take: ``lo``..``hi``, each end open or closed, and why.
+
+    Checked for every parameter of every block at build time (:func:`fill_block`); a value
+    outside is a :class:`TransmissionError` naming the transmission, the parameter, the value,
+    the range and this reason.
+    """
+
+    lo: float
+    hi: float
+    why: str
+    lo_open: bool = False  # True: lo itself is not allowed
+    hi_open: bool = False
+
+    def contains(self, value: float) -> bool:
+        if not math.isfinite(value):
+            return False
+        above = value > self.lo if self.lo_open else value >= self.lo
+        below = value < self.hi if self.hi_open else value <= self.hi
+        return above and below
+
+    def text(self) -> str:
+        """Interval notation, e.g. ``(0, 1]`` or ``[0, inf)``."""
+        lo = "-inf" if self.lo == -math.inf else f"{self.lo:.6g}"
+        hi = "inf" if self.hi == math.inf else f"{self.hi:.6g}"
+        left = "(" if self.lo_open or self.lo == -math.inf else "["
+        right = ")" if self.hi_open or self.hi == math.inf else "]"
+        return f"{left}{lo}, {hi}{right}"
+
+    def just_outside(self) -> tuple[float, ...]:
+        """Values just outside each finite end (an open end itself, and a step beyond)."""
+        out: list[float] = []
+        for end, is_open, direction in (
+            (self.lo, self.lo_open, -1.0),
+            (self.hi, self.hi_open, 1.0),
+        ):
+            if not math.isfinite(end):
+                continue
+            if is_open:
+                out.append(end)
+            out.append(end + direction * max(1e-6 * abs(end), 1e-9))
+        return tuple(out)
+
+
+def positive(why: str, hi: float = math.inf, *, hi_open: bool = False) -> Bounds:
+    """``(0, hi]``: a length, a time constant, a stiffness - zero or negative has no meaning."""
+    return Bounds(0.0, hi, why, lo_open=True, hi_open=hi_open)
+
+
+def non_negative(why: str, hi: float = math.inf, *, hi_open: bool = False) -> Bounds:
+    """``[0, hi]``: a magnitude (friction, damping, play) that may be absent."""
+    return Bounds(0.0, hi, why, hi_open=hi_open)
+
+
+def any_finite(why: str) -> Bounds:
+    """Any finite number: a fitted coefficient whose sign the fit decides (the law's shape is
+    checked across parameters in the module's ``validate``)."""
+    return Bounds(-math.inf, math.inf, why)
+
+
+@dataclass(frozen=True)
 class Param:
-    """One parameter of a transmission law, with its published/default value and its source."""
+    """One parameter of a transmission law: published/default value, unit, source, valid range."""
 
     name: str
     value: float
     unit: str
     source: str
+    bounds: Bounds
 
 
 class TransmissionError(FsarmError, ValueError):
     """A transmission name, parameter or value that is not allowed."""
+
+
+def out_of_range(
+    transmission: str, p: Param, value: float, error: type[TransmissionError] = TransmissionError
+) -> TransmissionError:
+    """The error for ``p`` set to ``value`` outside its bounds (names all of it)."""
+    unit = "" if p.unit in ("-", "") else f" {p.unit}"
+    return error(
+        f"transmission {transmission!r}: parameter {p.name} = {value!r}{unit} is outside its "
+        f"allowed range {p.bounds.text()}{unit} ({p.bounds.why}); "
+        f"default {p.value:.6g}{unit}, set with --tr-param {p.name}=VALUE"
+    )
+
+
+def check_bounds(
+    transmission: str,
+    params: tuple[Param, ...],
+    tr: FloatArray,
+    error: type[TransmissionError] = TransmissionError,
+) -> None:
+    """The generic range check: every parameter of block ``tr`` within its :class:`Bounds`."""
+    for i, p in enumerate(params):
+        v = float(tr[i])
+        if not p.bounds.contains(v):
+            raise out_of_range(transmission, p, v, error)
 
 
 def fill_block(
@@ -82,7 +171,8 @@ def fill_block(
     validate: Callable[[FloatArray], None] | None = None,
     error: type[TransmissionError] = TransmissionError,
 ) -> FloatArray:
-    """A parameter block: ``params``' values in order, ``overrides`` by name, then ``validate``."""
+    """A parameter block: ``params``' values in order, ``overrides`` by name, each value checked
+    against its :class:`Bounds` (:func:`check_bounds`), then ``validate`` (cross-parameter)."""
     names = [p.name for p in params]
     if len(names) > N_TR:
         raise error(f"{name}: {len(names)} parameters, at most {N_TR}")
@@ -94,10 +184,18 @@ def fill_block(
             raise error(
                 f"transmission {name!r} has no parameter {key!r}; allowed: {', '.join(names)}"
             )
-        v = float(value)
+        try:
+            v = float(value)
+        except (TypeError, ValueError):
+            v = math.nan
         if not math.isfinite(v):
-            raise error(f"{name}.{key} must be finite, got {value!r}")
+            p = params[names.index(key)]
+            raise error(
+                f"transmission {name!r}: parameter {key} must be a finite number, got {value!r}; "
+                f"allowed range {p.bounds.text()} ({p.bounds.why})"
+            )
         out[names.index(key)] = v
+    check_bounds(name, params, out, error)
     if validate is not None:
         validate(out)
     return out
@@ -228,7 +326,14 @@ class Transmission:
             "states": list(self.states),
             "routed_over_joint2": self.routed_over_joint2,
             "params": [
-                {"name": p.name, "value": p.value, "unit": p.unit, "source": p.source}
+                {
+                    "name": p.name,
+                    "value": p.value,
+                    "unit": p.unit,
+                    "source": p.source,
+                    "range": p.bounds.text(),
+                    "range_reason": p.bounds.why,
+                }
                 for p in self.params
             ],
         }

@@ -64,7 +64,17 @@ import math
 
 import numpy as np
 
-from fsarm_sim.transmissions.base import FloatArray, Param, TransmissionError, fill_block
+from fsarm_sim.transmissions.base import (
+    Bounds,
+    FloatArray,
+    Param,
+    TransmissionError,
+    any_finite,
+    check_bounds,
+    fill_block,
+    non_negative,
+    positive,
+)
 
 NAME = "magnetic_spring"
 TITLE = "Magnetic spring VSA (ATTRACTOR, flat-magnet spring, ring distance d)"
@@ -183,60 +193,120 @@ _EST_A = (
     "P1 = P2); eq. 1's fitted value is not in the seed text"
 )
 
+_SHAPE_WHY = (
+    "a harmonic of eq. 1: either sign; the stiffness at x = 0 must stay > 0 (checked across b1..b3)"
+)
+_P_WHY = "a coefficient of P(d) (eq. 1): either sign; P(d) > 0 at the set d is checked"
+_SCALE_WHY = (
+    "a torque multiplier (springs in parallel): > 0 (0 transmits nothing, < 0 reverses the "
+    "spring); a stiffness too high for the timestep is refused at build"
+)
+
 PARAMS: tuple[Param, ...] = (
-    Param("d", 0.0, "m", "stiffness setting: ring distance; 0 = stiff configuration (Fig. 17)"),
-    Param("b1", 0.99697, "N*m", _EST_B),
-    Param("b2", -0.061811, "N*m", _EST_B),
-    Param("b3", -0.011534, "N*m", _EST_B),
-    Param("a1", -50.0, "1/m", _EST_A),
-    Param("a2", 0.0, "1/m^2", _EST_A),
-    Param("a3", 0.0, "1/m^3", _EST_A),
-    Param("a4", 0.0, "1/m^4", _EST_A),
+    Param(
+        "d",
+        0.0,
+        "m",
+        "stiffness setting: ring distance; 0 = stiff configuration (Fig. 17)",
+        non_negative(
+            "a ring distance must be >= 0 (0 = full overlap, the stiff configuration); its "
+            "upper end is where P(d) reaches 0 (rings decoupled), checked with a1..a4"
+        ),
+    ),
+    Param(
+        "b1",
+        0.99697,
+        "N*m",
+        _EST_B,
+        positive(
+            "> 0: the first harmonic carries the spring (eq. 1); <= 0 makes x = 0 an unstable "
+            "equilibrium"
+        ),
+    ),
+    Param("b2", -0.061811, "N*m", _EST_B, any_finite(_SHAPE_WHY)),
+    Param("b3", -0.011534, "N*m", _EST_B, any_finite(_SHAPE_WHY)),
+    Param("a1", -50.0, "1/m", _EST_A, any_finite(_P_WHY)),
+    Param("a2", 0.0, "1/m^2", _EST_A, any_finite(_P_WHY)),
+    Param("a3", 0.0, "1/m^3", _EST_A, any_finite(_P_WHY)),
+    Param("a4", 0.0, "1/m^4", _EST_A, any_finite(_P_WHY)),
     Param(
         "z",
         0.002,
         "N*m*s/rad",
         "estimate: model F relative (eddy-current) damping, value not in the seed text; "
         "small (Sec. 7.2: 'relatively low impact'): 0.002 N*m at 1 rad/s",
+        non_negative("relative damping must be >= 0 (dissipative; < 0 would feed energy in)"),
     ),
-    Param("tau_fr", 0.05, "N*m", "seed 003 Sec. 7.1: kinetic friction identified as about 0.05"),
+    Param(
+        "tau_fr",
+        0.05,
+        "N*m",
+        "seed 003 Sec. 7.1: kinetic friction identified as about 0.05",
+        non_negative("a friction level must be >= 0 (0 = no bearing friction)"),
+    ),
     Param(
         "v",
         50.0,
         "s/rad",
         "estimate: tanh sharpness of model C-F, value not in the seed text (95 % of tau_fr "
         "at 0.037 rad/s)",
+        non_negative(
+            "the tanh sharpness must be >= 0 (0 switches the friction off; < 0 would make it "
+            "drive the motion)"
+        ),
     ),
-    Param("w", 0.0, "N*m", "model D-F eccentric mass of the bench flywheel: not on the arm"),
-    Param("x_e", 0.0, "rad", "model D-F phase of the eccentric mass (not in the seed text)"),
-    Param("scale", 1.0, "-", "torque multiplier: 1 = the published device (n springs in parallel)"),
+    Param(
+        "w",
+        0.0,
+        "N*m",
+        "model D-F eccentric mass of the bench flywheel: not on the arm",
+        non_negative("an amplitude must be >= 0 (its direction is the phase x_e)"),
+    ),
+    Param(
+        "x_e",
+        0.0,
+        "rad",
+        "model D-F phase of the eccentric mass (not in the seed text)",
+        Bounds(-math.pi, math.pi, "a phase angle: one turn, [-pi, pi]"),
+    ),
+    Param(
+        "scale",
+        1.0,
+        "-",
+        "torque multiplier: 1 = the published device (n springs in parallel)",
+        positive(_SCALE_WHY),
+    ),
 )
 TWIST_RANGE_RAD = DATA_RANGE_DEG * DEG  # experiment A's range; includes the 31.5 deg peak
 
 
 def default_block(overrides: dict[str, float] | None = None) -> FloatArray:
     """The parameter block (length N_TR) with the published values and ``overrides``."""
-    return fill_block(NAME, PARAMS, overrides, validate=validate, error=MagneticSpringParamError)
+    return fill_block(
+        "magnetic-spring", PARAMS, overrides, validate=validate, error=MagneticSpringParamError
+    )
 
 
 def validate(tr: FloatArray) -> None:
-    """Raise :class:`MagneticSpringParamError` for a block the law does not cover."""
-    if not np.all(np.isfinite(tr[: len(PARAMS)])):
-        raise MagneticSpringParamError("magnetic_spring parameters must be finite")
-    if tr[I_D] < 0.0:
-        raise MagneticSpringParamError(f"magnetic_spring.d must be >= 0 m, got {tr[I_D]!r}")
+    """Raise :class:`MagneticSpringParamError` for a block the law does not cover.
+
+    Each parameter's own range comes from ``PARAMS``' bounds (checked again here, so a block
+    changed by hand - :func:`_block_at` - is covered); then the checks across parameters.
+    """
+    check_bounds("magnetic-spring", PARAMS, tr, MagneticSpringParamError)
     if distance_factor(tr) <= 0.0:
         raise MagneticSpringParamError(
-            f"magnetic_spring.d = {tr[I_D]!r} m decouples the rings (P(d) <= 0, no spring); "
-            f"allowed: 0 <= d < {decoupling_distance_m(tr):.4g} m"
+            f"transmission 'magnetic-spring': parameter d = {float(tr[I_D])!r} m decouples the "
+            f"rings (P(d) <= 0 with a1..a4 as set: no spring); allowed: 0 <= d < "
+            f"{decoupling_distance_m(tr):.4g} m"
         )
     if _shape_slope(tr, 0.0) <= 0.0:
-        raise MagneticSpringParamError("b1..b3 must give a stable equilibrium at x = 0")
-    for i, name in ((I_Z, "z"), (I_TAU_FR, "tau_fr"), (I_V, "v")):
-        if tr[i] < 0.0:
-            raise MagneticSpringParamError(f"magnetic_spring.{name} must be >= 0, got {tr[i]!r}")
-    if tr[I_SCALE] <= 0.0:
-        raise MagneticSpringParamError(f"magnetic_spring.scale must be > 0, got {tr[I_SCALE]!r}")
+        raise MagneticSpringParamError(
+            f"transmission 'magnetic-spring': b1 = {float(tr[I_B1])!r}, b2 = {float(tr[I_B2])!r}, "
+            f"b3 = {float(tr[I_B3])!r} N*m give stiffness 3 b1 + 6 b2 + 12 b3 = "
+            f"{_shape_slope(tr, 0.0):.4g} N*m/rad <= 0 at x = 0: must be > 0 (a stable "
+            "equilibrium, eq. 2)"
+        )
 
 
 def _block_at(d: float, tr: FloatArray | None) -> FloatArray:

@@ -28,8 +28,10 @@ stay benign (state slot 1, ``|z| <= 1``, ``delta`` = presliding deflection)::
 Sign convention: eq. 15 writes ``-tau_F`` on the link; in parallel with the spring the element
 must carry ``+tau_F sgn(phi')`` to dissipate (positive loop area), which is what is used here.
 
-Stiffness drive (state slot 0): ``sigma`` follows the commanded preset ``sigma_cmd`` (clamped to
-the preset range 3...15 deg, Table III/IV) through a first-order lag with time constant
+Stiffness drive (state slot 0): ``sigma`` follows the commanded preset ``sigma_cmd`` (within
+the preset range 3...15 deg, Table III/IV: a command outside ``[sigma_min, sigma_max]`` is refused
+when the block is built, see :func:`validate`; the kernels still clamp to the range) through a
+first-order lag with time constant
 ``sigma_tau_s`` (estimate, the paper gives none) limited to ``sigma_rate`` = full range in 0.12 s
 (Table III "maximum stiffness adjustment time 0.12 s", Sec. IV-A "~120 ms for full stiffness
 range")::
@@ -47,7 +49,13 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from fsarm_sim.transmissions.base import Param, TransmissionError
+from fsarm_sim.transmissions.base import (
+    FloatArray,
+    Param,
+    TransmissionError,
+    non_negative,
+    positive,
+)
 
 NAME = "qa-joint"
 TITLE = "DLR QA-Joint: exponential quasi-antagonistic spring with stiffness preset (seed 002)"
@@ -73,6 +81,15 @@ DESIGN_A_NM = 40.0  # eq. 12-13: a = 40 N*m
 DESIGN_B_PER_RAD = 15.0  # eq. 12-13: b = 15 1/rad
 DEFAULT_SIGMA_DEG = 15.0  # softest preset: closest to the flexible shaft's ~10 N*m/rad it replaces
 _ROW = TABLE_IV[DEFAULT_SIGMA_DEG]
+_PRESET_WHY = (
+    "a preset is the deflection limit |phi| <= sigma (eq. 11): > 0, <= 90 deg (6x Table III's "
+    "largest preset, 15 deg)"
+)
+_SPRING_WHY = (
+    "> 0: each spring of the antagonistic pair pulls (eq. 16; 0 leaves one side without a "
+    "spring); a stiffness too high for the timestep is refused at build"
+)
+_FRICTION_WHY = "a friction level (eq. 19): >= 0 (0 = no friction)"
 
 # parameter block indices (order of PARAMS)
 I_SIGMA_CMD = 0
@@ -95,26 +112,81 @@ PARAMS: tuple[Param, ...] = (
         "rad",
         "commanded stiffness preset; 15 deg = softest preset of Table III/IV (K(0) = 15.6 N*m/rad "
         "with the Table IV row, nearest the flexible shaft it replaces)",
+        positive(
+            f"{_PRESET_WHY}; and from sigma_min to sigma_max, the drive's preset range",
+            math.pi / 2.0,
+        ),
     ),
-    Param("a_s", _ROW[0], "N*m", "eq. 16 a_S, Table IV row sigma = 15 deg (design eq. 13: 40)"),
-    Param("b_s", _ROW[1], "N*m", "eq. 16 b_S, Table IV row sigma = 15 deg (design eq. 13: 40)"),
-    Param("a_f", _ROW[2], "N*m", "eq. 19 a_F, Table IV row sigma = 15 deg"),
-    Param("b_f", _ROW[3], "N*m", "eq. 19 b_F, Table IV row sigma = 15 deg"),
-    Param("b_exp", DESIGN_B_PER_RAD, "1/rad", "eq. 12-13, 16, 19: exponent b = 15 rad^-1"),
-    Param("sigma_min", math.radians(3.0), "rad", "Table III phi_max = 3...15 deg; Table IV"),
-    Param("sigma_max", math.radians(15.0), "rad", "Table III phi_max = 3...15 deg; Table IV"),
+    Param(
+        "a_s",
+        _ROW[0],
+        "N*m",
+        "eq. 16 a_S, Table IV row sigma = 15 deg (design eq. 13: 40)",
+        positive(_SPRING_WHY),
+    ),
+    Param(
+        "b_s",
+        _ROW[1],
+        "N*m",
+        "eq. 16 b_S, Table IV row sigma = 15 deg (design eq. 13: 40)",
+        positive(_SPRING_WHY),
+    ),
+    Param(
+        "a_f",
+        _ROW[2],
+        "N*m",
+        "eq. 19 a_F, Table IV row sigma = 15 deg",
+        non_negative(_FRICTION_WHY),
+    ),
+    Param(
+        "b_f",
+        _ROW[3],
+        "N*m",
+        "eq. 19 b_F, Table IV row sigma = 15 deg",
+        non_negative(_FRICTION_WHY),
+    ),
+    Param(
+        "b_exp",
+        DESIGN_B_PER_RAD,
+        "1/rad",
+        "eq. 12-13, 16, 19: exponent b = 15 rad^-1",
+        positive(
+            "> 0: the springs stiffen with deflection (eq. 12); 0 gives a constant torque (no "
+            "spring), < 0 a law that softens outward and has no stable centre"
+        ),
+    ),
+    Param(
+        "sigma_min",
+        math.radians(3.0),
+        "rad",
+        "Table III phi_max = 3...15 deg; Table IV",
+        positive(f"{_PRESET_WHY}; and < sigma_max", math.pi / 2.0),
+    ),
+    Param(
+        "sigma_max",
+        math.radians(15.0),
+        "rad",
+        "Table III phi_max = 3...15 deg; Table IV",
+        positive(f"{_PRESET_WHY}; and > sigma_min", math.pi / 2.0),
+    ),
     Param(
         "sigma_tau_s",
         0.02,
         "s",
         "estimate: stiffness-drive lag; seed 002 gives none (Fig. 12: 'slightly too little "
         "dynamics'); 20 ms is well inside the 0.12 s full-range time",
+        positive(
+            "a time constant: > 0 (the drive's rate divides by it; 0 is a division by zero), "
+            "<= 10 s (Table III: full range in 0.12 s)",
+            10.0,
+        ),
     ),
     Param(
         "sigma_rate",
         math.radians(12.0) / 0.12,
         "rad/s",
         "Table III: full preset range (3...15 deg) in 0.12 s",
+        positive("a rate limit: > 0 (0 freezes the preset drive, < 0 inverts the limit's clamp)"),
     ),
     Param(
         "presliding_rad",
@@ -123,9 +195,46 @@ PARAMS: tuple[Param, ...] = (
         "estimate: Dahl presliding deflection (not in seed 002); 0.57 deg keeps the presliding "
         "stiffness tau_F/delta below the elastic stiffness at every preset and |x'| dt/delta < 1 "
         "up to 10 rad/s at 1 ms",
+        positive(
+            "> 0: the Dahl rate divides by it (0 is a division by zero), <= 15 deg, the "
+            "joint's largest deflection (TWIST_RANGE_RAD)",
+            TWIST_RANGE_RAD,
+        ),
     ),
-    Param("scale", 1.0, "-", "torque scale for the arm (1 = the published joint)"),
+    Param(
+        "scale",
+        1.0,
+        "-",
+        "torque scale for the arm (1 = the published joint)",
+        positive(
+            "a torque multiplier: > 0 (0 transmits nothing, < 0 reverses the springs); a "
+            "stiffness too high for the timestep is refused at build"
+        ),
+    ),
 )
+
+
+def validate(tr: FloatArray) -> None:
+    """Cross-parameter checks (each parameter's own range: ``PARAMS``' bounds, base.fill_block).
+
+    The preset range must be a range, and the commanded preset inside it: the drive cannot set a
+    preset beyond its end stops, so a command outside is refused here rather than clamped
+    silently (the kernels still clamp, for states that overshoot).
+    """
+    lo, hi, cmd = float(tr[I_SIGMA_MIN]), float(tr[I_SIGMA_MAX]), float(tr[I_SIGMA_CMD])
+    if not lo < hi:
+        raise TransmissionError(
+            f"transmission {NAME!r}: sigma_min = {lo!r} rad must be below sigma_max = {hi!r} rad "
+            f"(the drive's preset range, Table III: {math.radians(3.0):.4g} to "
+            f"{math.radians(15.0):.4g} rad)"
+        )
+    if not lo <= cmd <= hi:
+        raise TransmissionError(
+            f"transmission {NAME!r}: parameter sigma_cmd = {cmd!r} rad "
+            f"({math.degrees(cmd):.4g} deg) is outside the preset range sigma_min..sigma_max = "
+            f"[{lo:.6g}, {hi:.6g}] rad ([{math.degrees(lo):.4g}, {math.degrees(hi):.4g}] deg): "
+            "the stiffness drive cannot set a preset beyond its end stops (Table III)"
+        )
 
 
 # ------------------------------------------------------------------ kernels (Numba-compilable)

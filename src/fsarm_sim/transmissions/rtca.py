@@ -55,7 +55,17 @@ import math
 
 import numpy as np
 
-from fsarm_sim.transmissions.base import FloatArray, Param, TransmissionError, fill_block
+from fsarm_sim.transmissions.base import (
+    Bounds,
+    FloatArray,
+    Param,
+    TransmissionError,
+    any_finite,
+    check_bounds,
+    fill_block,
+    non_negative,
+    positive,
+)
 
 NAME = "rtca"
 TITLE = "RTCA flexible shaft (MasterFlex08, Fourier torque-twist law, bend scaling mu)"
@@ -71,6 +81,10 @@ DEG_PER_RAD = 180.0 / math.pi
 FIT_TORQUE_NM = 5.0  # Sec. 3.2: the characterisation kept |T_s| <= 5 N*m
 R_MU_M = 0.250  # Sec. 6.1: the bend radius of the published mu values (largest loss)
 NOMINAL_TORQUE_NM = 6.0  # Sec. 2.2: MasterFlex08 nominal torque
+SHAFT_LENGTH_M = 0.865  # Table 1: MasterFlex08, 8 mm x 865 mm
+# The law covers the shaft's 6 N*m nominal torque (Sec. 2.2) on both sides at the largest bend
+# loss (x = -1.87 rad on the soft side), beyond Table 1's data only by its linear extension.
+TWIST_RANGE_RAD = 2.0
 
 # Table 1 as printed (Δθ in degrees, torque in N*m): a0, a1, a2, a3, b1, b2, b3, omega [1/deg]
 TABLE1_POS = (4.20200, -4.20100, 0.0, 0.0, 0.16220, 0.0, 0.0, 0.03322)
@@ -297,6 +311,24 @@ _NEG = _table1_si(TABLE1_NEG)
 _NAMES = ("a0", "a1", "a2", "a3", "b1", "b2", "b3", "omega")
 
 
+_COEF_WHY = (
+    "a coefficient of Table 1's Fourier fit: either sign, as fitted; the law it gives must rise "
+    "through the fitted range (checked across parameters)"
+)
+_MU_WHY = (
+    "(0, 1]: bending only loses torque (eq. 3/5: mu = 1 straight, 0.705 / 0.82 at R = 250 mm); "
+    "0 would transmit nothing"
+)
+_XFIT_WHY = (
+    "the end of the fitted range: > 0, <= the law's twist range TWIST_RANGE_RAD = 2 rad "
+    "(Sec. 3.2: the data end at 5 N*m)"
+)
+_POSITIVE_SCALE_WHY = (
+    "a torque multiplier (shafts in parallel): > 0 (0 transmits nothing, < 0 reverses the "
+    "spring); a stiffness too high for the timestep is refused at build"
+)
+
+
 def _coefficient_params(side: str, c: tuple[float, ...], label: str) -> tuple[Param, ...]:
     out = []
     for name, value in zip(_NAMES, c, strict=True):
@@ -307,10 +339,22 @@ def _coefficient_params(side: str, c: tuple[float, ...], label: str) -> tuple[Pa
                     value,
                     "1/rad",
                     f"{_T1}, {label}: omega printed per degree, times 180/pi",
+                    positive(
+                        "the Fourier series' base frequency: > 0 (its sign is carried by the "
+                        "b_n; 0 makes the series a constant, no spring)"
+                    ),
                 )
             )
         else:
-            out.append(Param(f"{name}_{side}", value, "N*m", f"{_T1}, {label} ('-' read as 0)"))
+            out.append(
+                Param(
+                    f"{name}_{side}",
+                    value,
+                    "N*m",
+                    f"{_T1}, {label} ('-' read as 0)",
+                    any_finite(_COEF_WHY),
+                )
+            )
     return tuple(out)
 
 
@@ -322,15 +366,33 @@ PARAMS: tuple[Param, ...] = (
         TABLE1_C_NM_PER_DEG_S * DEG_PER_RAD,
         "N*m*s/rad",
         f"{_T1}: c = 0.00003 N*m per deg/s (both signs), times 180/pi",
+        non_negative("eq. 1's c x' must be dissipative: c >= 0 (< 0 would feed energy in)"),
     ),
-    Param("mu_pos", 0.705, "-", "seed 001 Sec. 6.1: mu of TOL (x >= 0) at R = 250 mm"),
-    Param("mu_neg", 0.82, "-", "seed 001 Sec. 6.1: mu of LOL (x < 0) at R = 250 mm"),
+    Param(
+        "mu_pos",
+        0.705,
+        "-",
+        "seed 001 Sec. 6.1: mu of TOL (x >= 0) at R = 250 mm",
+        Bounds(0.0, 1.0, _MU_WHY, lo_open=True),
+    ),
+    Param(
+        "mu_neg",
+        0.82,
+        "-",
+        "seed 001 Sec. 6.1: mu of LOL (x < 0) at R = 250 mm",
+        Bounds(0.0, 1.0, _MU_WHY, lo_open=True),
+    ),
     Param(
         "bend_length",
         0.255,
         "m",
         "seed 001 Sec. 5.1 bend length L = 255 mm over a hinge joint; estimate of the routing "
         "over joint 2 (R = L / |phi_B|)",
+        positive(
+            "a length: > 0 (R = L / |phi_B|), <= 0.865 m, the shaft's length (Table 1): the bent "
+            "part cannot be longer than the shaft",
+            SHAFT_LENGTH_M,
+        ),
     ),
     Param(
         "x_fit_pos",
@@ -338,12 +400,14 @@ PARAMS: tuple[Param, ...] = (
         "rad",
         "twist where Table 1's x >= 0 branch reaches 5 N*m, the characterisation limit of "
         "seed 001 Sec. 3.2; linear with the end slope beyond",
+        positive(_XFIT_WHY, TWIST_RANGE_RAD),
     ),
     Param(
         "x_fit_neg",
         _fit_end_rad(-1.0),
         "rad",
         "|twist| where Table 1's x < 0 branch reaches -5 N*m (seed 001 Sec. 3.2)",
+        positive(_XFIT_WHY, TWIST_RANGE_RAD),
     ),
     Param(
         "x_dead_neg",
@@ -351,12 +415,20 @@ PARAMS: tuple[Param, ...] = (
         "rad",
         "|twist| below which Table 1's x < 0 branch has the wrong sign (printed coefficients); "
         "torque held at 0 there: a dead zone, as reported in seed 001 Sec. 4.1.1 / 6.2",
+        non_negative(
+            "a dead-zone width: >= 0 (0 = none), and below x_fit_neg (inside the fitted range)",
+            TWIST_RANGE_RAD,
+            hi_open=True,
+        ),
     ),
-    Param("scale", 1.0, "-", "torque multiplier: 1 = the published shaft (n shafts in parallel)"),
+    Param(
+        "scale",
+        1.0,
+        "-",
+        "torque multiplier: 1 = the published shaft (n shafts in parallel)",
+        positive(_POSITIVE_SCALE_WHY),
+    ),
 )
-# The law covers the shaft's 6 N*m nominal torque (Sec. 2.2) on both sides at the largest bend
-# loss (x = -1.87 rad on the soft side), beyond Table 1's data only by its linear extension.
-TWIST_RANGE_RAD = 2.0
 
 
 def default_block(overrides: dict[str, float] | None = None) -> FloatArray:
@@ -365,27 +437,38 @@ def default_block(overrides: dict[str, float] | None = None) -> FloatArray:
 
 
 def validate(tr: FloatArray) -> None:
-    """Raise :class:`RtcaParamError` for a block the kernels cannot evaluate meaningfully."""
-    if not np.all(np.isfinite(tr[: len(PARAMS)])):
-        raise RtcaParamError("rtca parameters must be finite")
-    for i, name in ((I_POS + 7, "omega_pos"), (I_NEG + 7, "omega_neg")):
-        if tr[i] <= 0.0:
-            raise RtcaParamError(f"rtca.{name} must be > 0 (1/rad), got {tr[i]!r}")
-    if tr[I_C] < 0.0:
-        raise RtcaParamError(f"rtca.c must be >= 0 (dissipative), got {tr[I_C]!r}")
-    for i, name in ((I_MU_POS, "mu_pos"), (I_MU_NEG, "mu_neg")):
-        if not 0.0 < tr[i] <= 1.0:
-            raise RtcaParamError(f"rtca.{name} must be in (0, 1], got {tr[i]!r}")
-    if tr[I_XDEAD_NEG] < 0.0 or tr[I_XDEAD_NEG] >= tr[I_XFIT_NEG]:
-        raise RtcaParamError("rtca.x_dead_neg must be in [0, x_fit_neg)")
-    for i, name in (
-        (I_L_BEND, "bend_length"),
-        (I_XFIT_POS, "x_fit_pos"),
-        (I_XFIT_NEG, "x_fit_neg"),
-        (I_SCALE, "scale"),
-    ):
-        if tr[i] <= 0.0:
-            raise RtcaParamError(f"rtca.{name} must be > 0, got {tr[i]!r}")
+    """Raise :class:`RtcaParamError` for a block the kernels cannot evaluate meaningfully.
+
+    Each parameter's own range is checked from ``PARAMS``' bounds (base.fill_block); here the
+    checks across parameters (run again in full, so a block built by hand is checked too).
+    """
+    check_bounds(NAME, PARAMS, tr, RtcaParamError)
+    if tr[I_XDEAD_NEG] >= tr[I_XFIT_NEG]:
+        raise RtcaParamError(
+            f"transmission {NAME!r}: x_dead_neg = {float(tr[I_XDEAD_NEG])!r} rad must be below "
+            f"x_fit_neg = {float(tr[I_XFIT_NEG])!r} rad (the dead zone lies inside the fitted "
+            "range)"
+        )
+    # the static law must rise through the fitted range on both sides (a spring): a falling
+    # stretch would have negative stiffness where the controller and twist_for_torque need > 0
+    for sign, end in ((1.0, float(tr[I_XFIT_POS])), (-1.0, float(tr[I_XFIT_NEG]))):
+        for x in np.linspace(0.0, end, 201)[1:]:
+            k = straight_stiffness(tr, sign * float(x))
+            if k < 0.0:
+                side = "pos" if sign > 0 else "neg"
+                raise RtcaParamError(
+                    f"transmission {NAME!r}: the Fourier coefficients of the x "
+                    f"{'>=' if sign > 0 else '<'} 0 branch (a0_{side}..b3_{side}, omega_{side}) "
+                    f"give a falling torque (stiffness {k:.3g} N*m/rad) at twist "
+                    f"{sign * float(x):.4g} rad inside the fitted range: the law must rise "
+                    "there (a spring)"
+                    + (
+                        f"; on this side the dead zone x_dead_neg = {float(tr[I_XDEAD_NEG])!r} "
+                        "rad holds the torque at 0 where the printed series runs the wrong way"
+                        if sign < 0
+                        else ""
+                    )
+                )
 
 
 def bend_radius_m(bend_rad: float, tr: FloatArray | None = None) -> float:

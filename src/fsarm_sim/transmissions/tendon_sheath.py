@@ -53,7 +53,14 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from fsarm_sim.transmissions.base import Param
+from fsarm_sim.transmissions.base import (
+    Bounds,
+    FloatArray,
+    Param,
+    TransmissionError,
+    non_negative,
+    positive,
+)
 
 NAME = "tendon-sheath"
 TITLE = "Tendon-sheath: capstan friction along the bent sheath, tendon stretch, play (seed 004)"
@@ -103,23 +110,75 @@ PARAMS: tuple[Param, ...] = (
         "-",
         "estimate: tendon/sheath friction coefficient, not given in seed 004; steel tendon in a "
         "bare wound-steel sheath, typical 0.1-0.2",
+        non_negative(
+            "a Coulomb friction coefficient: >= 0 (friction only opposes sliding; < 0 would "
+            "drive the tendon), <= 1 (dry steel on steel ~0.8, lined sheaths 0.05-0.3)",
+            1.0,
+        ),
     ),
     Param(
         "wrap_rad",
         math.pi / 2.0,
         "rad",
         "seed 004 Sec. III: 'whole bending angle of the tendon sheath is designed to pi/2'",
+        non_negative(
+            "the sheath's own total curvature angle: >= 0 (curvature angles add as magnitudes), "
+            "<= 2 pi, one full loop (seed 004 Table 2 tests up to 3 pi/2)",
+            2.0 * math.pi,
+        ),
     ),
-    Param("pulley_radius_m", 0.025, "m", "seed 004 Sec. III: joint pulley r2 = 25 mm (r1 = 20 mm)"),
-    Param("tendon_radius_m", 0.6e-3, "m", "seed 004 Sec. III: stainless tendon radius 0.6 mm"),
+    Param(
+        "pulley_radius_m",
+        0.025,
+        "m",
+        "seed 004 Sec. III: joint pulley r2 = 25 mm (r1 = 20 mm)",
+        positive(
+            "a radius: > 0 (0 transmits no torque), <= 0.25 m, 10x the seed's 25 mm pulley and "
+            "beyond any joint pulley of an arm (catches mm given as m)",
+            0.25,
+        ),
+    ),
+    Param(
+        "tendon_radius_m",
+        0.6e-3,
+        "m",
+        "seed 004 Sec. III: stainless tendon radius 0.6 mm",
+        positive(
+            "a radius: > 0 (0 leaves no cross-section: infinite compliance), <= 10 mm "
+            "(seed 004: 0.6 mm; catches mm given as m)",
+            0.01,
+        ),
+    ),
     Param(
         "youngs_modulus_pa",
         193e9,
         "Pa",
         "estimate: AISI 304 stainless steel; seed 004 gives no modulus (a stranded cable is softer)",
+        Bounds(
+            1e8,
+            1.2e12,
+            "a tendon material's modulus: >= 1e8 Pa (anything softer than nylon's 2-4 GPa is a "
+            "rubber band, not a tendon), <= 1.2e12 Pa, diamond's: nothing is stiffer",
+        ),
     ),
-    Param("tendon_length_m", 1.2, "m", "seed 004 Sec. III: tendon 1.2 m"),
-    Param("sheath_length_m", 0.8, "m", "seed 004 Sec. III: sheath 0.8 m"),
+    Param(
+        "tendon_length_m",
+        1.2,
+        "m",
+        "seed 004 Sec. III: tendon 1.2 m",
+        positive("a length: > 0, <= 10 m (a tendon along an arm; seed 004: 1.2 m)", 10.0),
+    ),
+    Param(
+        "sheath_length_m",
+        0.8,
+        "m",
+        "seed 004 Sec. III: sheath 0.8 m",
+        non_negative(
+            "a length: >= 0 (0 = a bare tendon), <= 10 m; and at most tendon_length_m (the "
+            "tendon runs through the whole sheath)",
+            10.0,
+        ),
+    ),
     Param(
         "backlash_rad",
         0.0,
@@ -127,15 +186,46 @@ PARAMS: tuple[Param, ...] = (
         "dead band width; Tables 1-2 show none resolvable: the two branches of eq. 19 meet at "
         "zero load (theta2 = pi/2) within 0.071 rad for the bend rows, so the seed's 'backlash' "
         "(phases C, F) is the load-proportional capstan hysteresis carried by the friction state",
+        non_negative(
+            "a dead band width: >= 0, below the law's twist range TWIST_RANGE_RAD = 0.15 rad "
+            "(wider play leaves no elastic range)",
+            TWIST_RANGE_RAD,
+            hi_open=True,
+        ),
     ),
     Param(
         "presliding_rad",
         1e-3,
         "rad",
         "estimate: Dahl presliding floor at zero load (seed 004 uses static Coulomb friction)",
+        positive(
+            "> 0: the Dahl rate divides by it (0 is a division by zero), <= the twist range "
+            "0.15 rad (a larger 'presliding' deflection is the whole law)",
+            TWIST_RANGE_RAD,
+        ),
     ),
-    Param("scale", 1.0, "-", "torque scale for the arm (1 = the seed's tendon and pulley)"),
+    Param(
+        "scale",
+        1.0,
+        "-",
+        "torque scale for the arm (1 = the seed's tendon and pulley)",
+        positive(
+            "a torque multiplier (tendons in parallel): > 0 (0 transmits nothing, < 0 reverses "
+            "the spring); a stiffness too high for the timestep is refused at build"
+        ),
+    ),
 )
+
+
+def validate(tr: FloatArray) -> None:
+    """Cross-parameter checks (each parameter's own range: ``PARAMS``' bounds, base.fill_block)."""
+    if tr[I_L_SHEATH] > tr[I_L_TENDON]:
+        raise TransmissionError(
+            f"transmission {NAME!r}: sheath_length_m = {float(tr[I_L_SHEATH])!r} m is longer "
+            f"than tendon_length_m = {float(tr[I_L_TENDON])!r} m; the tendon runs through the "
+            "whole sheath, "
+            "so sheath_length_m <= tendon_length_m"
+        )
 
 
 # ------------------------------------------------------------------ kernels (Numba-compilable)
