@@ -18,6 +18,7 @@ from fsarm_sim.effects import maxwell_slip, series_stiffness
 from fsarm_sim.errors import InvalidParameterError, ShaftRangeError
 from fsarm_sim.model import Effects
 from fsarm_sim.shaft import ShaftParams, load_catalogue
+from fsarm_sim.transmissions import flexible_shaft
 
 
 @pytest.fixture(scope="module")
@@ -45,7 +46,8 @@ def test_bench_models_compile_with_the_paper_ratios_and_run_without_warnings(
     assert prm[L.P_SETUP] == L.SETUP_SERIES_BENCH
     assert prm[L.P_EN_CONTROL] == 0.0  # the arm's control kernel never runs on a bench
     assert prm[L.P_BEND_FIXED] == pytest.approx(math.radians(30))
-    assert prm[L.P_EN_SLIP] == 1.0
+    slip = prm[L.P_TR + flexible_shaft.I_SLIP_K : L.P_TR + flexible_shaft.I_SLIP_F]
+    assert slip == pytest.approx(slip_shaft.slip_k)  # the shaft block carries its elements
     assert s.model.body("load_disc").inertia[0] == pytest.approx(0.01)
     blocked = bench.build_series_bench(prototype, "blocked", 0.0)
     assert blocked.structure.load_qadr == -1
@@ -54,7 +56,8 @@ def test_bench_models_compile_with_the_paper_ratios_and_run_without_warnings(
     assert p.structure.motor_gear == 51.0  # 51:1 geared joint motor
     assert p.params[L.P_SETUP] == L.SETUP_PARALLEL_BENCH
     assert p.params[L.P_EN_CONDUIT] == 1.0
-    assert p.params[L.P_EN_SLIP] == 0.0  # the parallel bench has no slip states
+    # the parallel bench has no slip states: the shaft block's elements are off
+    assert not p.params[L.P_TR + flexible_shaft.I_SLIP_K : L.P_TR + flexible_shaft.I_SLIP_F].any()
     t = np.linspace(0.0, 1.0, 201)
     cols = s.replay(0.2 * np.sin(2 * np.pi * 2.0 * t), t)
     assert tuple(cols) == bench.SERIES_COLUMNS

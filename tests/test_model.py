@@ -64,7 +64,7 @@ def test_parameters_reach_the_model() -> None:
     p = m.numeric(L.PARAMS_NAME).data
     assert p[L.P_MAGIC] == L.MAGIC
     assert p[L.P_TAU_BW] == 70.0
-    assert p[L.P_K_POS] == pytest.approx(cfg.shaft.k_pos)
+    assert p[L.P_TR] == pytest.approx(cfg.shaft.k_pos)  # the shaft block: k_pos first
     assert p[L.P_N_TICKS] == 5
     assert m.nuserdata == L.N_USERDATA
 

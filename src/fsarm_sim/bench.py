@@ -52,6 +52,7 @@ from fsarm_sim.model import (
 )
 from fsarm_sim.shaft import ShaftParams, load_catalogue
 from fsarm_sim.simulation import Backend, raise_on_warning
+from fsarm_sim.transmissions import flexible_shaft
 
 Array = npt.NDArray[np.float64]
 Load = str | float  # "blocked" or a load inertia in kg*m^2
@@ -214,8 +215,8 @@ def write_bench_params(
     p[L.P_EN_CONTROL] = 0.0
     p[L.P_SETUP] = setup
     p[L.P_BEND_FIXED] = bend_fixed_rad
-    if st.act_slip < 0:
-        p[L.P_EN_SLIP] = 0.0
+    if st.act_slip < 0:  # no state slots: the shaft's slip elements are off
+        p[L.P_TR + flexible_shaft.I_SLIP_K : L.P_TR + flexible_shaft.I_SLIP_F] = 0.0
     if st.act_branch[0] < 0 or st.bend_qadr < 0:
         p[L.P_EN_CONDUIT] = 0.0
     if st.bend_qadr < 0:

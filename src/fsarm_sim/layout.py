@@ -43,25 +43,18 @@ P_CTRL_J3 = 16
 P_MADR_Q1 = 17  # index of the diagonal of the joint-space inertia in data.M (CSR)
 P_MADR_Q2 = 18
 P_MADR_Q3 = 19
-# --- shaft (the "true" plant) ---
-P_K_POS = 20
-P_S_POS = 21
-P_K_NEG = 22
-P_S_NEG = 23
-P_B_POS = 24
-P_B_NEG = 25
+# --- the shaft's parallel (bending) side; its series side is the transmission block P_TR ---
+# (slots 20-25, 32-34, 38 and 58-61 held the flexible shaft's own copy before 0.3.0: free)
 P_KB = 26
 P_BETA = 27
 P_BR_K1 = 28
 P_BR_TAU1 = 29
 P_BR_K2 = 30
 P_BR_TAU2 = 31
-P_SLIP_K1 = 32  # three consecutive
 # --- effect switches (1.0 on, 0.0 off) ---
 P_EN_SERIES = 35
 P_EN_BEND = 36
 P_EN_CONDUIT = 37
-P_EN_SLIP = 38
 P_EN_COUPLING = 39
 P_EN_CONTROL = 40
 # --- control ---
@@ -82,11 +75,7 @@ P_OMEGA_MAX = 54  # motor speed limit, rad/s (motor side)
 P_TAU_MOT_MAX = 55  # motor torque (current) limit, N*m (motor side)
 P_TAU1_MAX = 56
 P_TAU2_MAX = 57
-P_CM_K_POS = 58  # the controller's own shaft model (virtual torque sensor, eq. 8)
-P_CM_S_POS = 59
-P_CM_K_NEG = 60
-P_CM_S_NEG = 61
-P_CM_KB = 62
+P_CM_KB = 62  # the controller's model of the bending moment (eq. 4); its shaft model is P_TRC
 P_CM_BETA = 63
 P_CM_BEND_COMP = 64  # 1: joint-2 controller adds the modeled elastic bending moment
 P_SPEED_FF = 65  # 1: torque PID adds the measured shaft-output speed as feedforward
@@ -94,8 +83,8 @@ P_BEND_FIXED = 66  # bend angle used when there is no bend joint (P_QADR_Q2 < 0)
 P_SETUP = 67  # 0: arm, 1: series bench, 2: parallel bench
 P_RK4 = 68  # 1 when the model integrates with RK4 (see physics.control)
 # --- joint-3 transmission (fsarm_sim.transmissions): which one, the plant's parameter block and
-# the controller's copy (virtual torque sensor, gain scheduling). The flexible shaft (kind 0)
-# keeps its own slots above; its block is filled too, for the generic Python-side interface.
+# the controller's copy (virtual torque sensor, gain scheduling); the flexible shaft (kind 0)
+# included, like every other.
 P_TRANS = 69
 P_TR = 70  # N_TR consecutive parameters (transmissions.base.N_TR)
 P_TRC = 94  # N_TR consecutive parameters: the controller's model of the transmission

@@ -21,6 +21,7 @@ from fsarm_sim import callbacks, transmissions
 from fsarm_sim import layout as L
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
 from fsarm_sim.shaft import ShaftParams, load_catalogue
+from fsarm_sim.transmissions import flexible_shaft
 from fsarm_sim.transmissions.base import Transmission, TransmissionError
 
 PAYLOAD_MAX_KG = 15.0  # seed 000 Table III
@@ -173,16 +174,20 @@ class SimConfig:
         """(plant, controller) parameter blocks of joint 3's transmission."""
         tr = self.transmission_model()
         if tr.name == transmissions.DEFAULT:
-            return _shaft_block(self.shaft), _shaft_block(self.controller_shaft or self.shaft)
+            plant = _shaft_block(self.shaft)
+            if not self.effects.slip:  # Maxwell-slip elements switched off on the plant
+                plant[flexible_shaft.I_SLIP_K : flexible_shaft.I_SLIP_F] = 0.0
+            return plant, _shaft_block(self.controller_shaft or self.shaft)
         plant = tr.block(dict(self.transmission_params))
         ctrl = tr.block(dict(self.controller_transmission_params or self.transmission_params))
         return plant, ctrl
 
 
 def _shaft_block(sh: ShaftParams) -> npt.NDArray[np.float64]:
-    """The flexible shaft's generic block (transmissions.flexible_shaft order)."""
+    """The flexible shaft's block (transmissions.flexible_shaft order) from a catalogue shaft."""
     out = np.zeros(L.N_TR)
-    out[:7] = (
+    n = flexible_shaft.N_SLIP
+    out[: flexible_shaft.I_SLIP_K] = (
         sh.k_pos,
         sh.s_pos,
         sh.k_neg,
@@ -191,6 +196,8 @@ def _shaft_block(sh: ShaftParams) -> npt.NDArray[np.float64]:
         sh.damping_neg,
         sh.rating_nm,
     )
+    out[flexible_shaft.I_SLIP_K : flexible_shaft.I_SLIP_K + n] = sh.slip_k
+    out[flexible_shaft.I_SLIP_F : flexible_shaft.I_SLIP_F + n] = sh.slip_f
     return out
 
 
@@ -329,20 +336,14 @@ def build_spec(
         spec.joint("j3_rotor").armature += 0.5 * sh.inertia_kgm2 * st.coef_m**2
         spec.joint("q3").armature += 0.5 * sh.inertia_kgm2 * st.coef_s**2
     tr = config.transmission_model()
-    if tr.name == transmissions.DEFAULT:
-        for i in range(3):
-            act = spec.actuator(f"shaft_slip{i + 1}")
-            limit = sh.slip_f[i] / sh.slip_k[i] if sh.slip_k[i] > 0.0 else 1e-12
+    # the slip slots carry the transmission's own states (the shaft's Maxwell-slip elements...)
+    for i, lim in enumerate(tr.state_limits(config.transmission_blocks()[0])):
+        act = spec.actuator(f"shaft_slip{i + 1}")
+        if lim is None:
+            act.actlimited = mujoco.mjtLimited.mjLIMITED_FALSE
+        else:
             act.actlimited = mujoco.mjtLimited.mjLIMITED_TRUE
-            act.actrange = [-limit, limit]
-    else:  # the slip slots carry the transmission's own states
-        for i, lim in enumerate(tr.state_limits(config.transmission_blocks()[0])):
-            act = spec.actuator(f"shaft_slip{i + 1}")
-            if lim is None:
-                act.actlimited = mujoco.mjtLimited.mjLIMITED_FALSE
-            else:
-                act.actlimited = mujoco.mjtLimited.mjLIMITED_TRUE
-                act.actrange = [lim[0], lim[1]]
+            act.actrange = [lim[0], lim[1]]
     spec.add_numeric(name=L.PARAMS_NAME, size=L.N_PARAMS, data=np.zeros(L.N_PARAMS))
     spec.add_numeric(name=L.REF_NAME, size=ref_table.size, data=ref_table.ravel())
     spec.nuserdata = L.N_USERDATA
@@ -405,10 +406,7 @@ def max_stiffness(config: SimConfig) -> float:
     Flexible shaft: the stiffer eq. 3 side straight plus the slip elements; any other: the
     largest stiffness of its law over its valid twist range and the bends joint 2 can reach.
     """
-    tr = config.transmission_model()
-    if tr.name == transmissions.DEFAULT:
-        return max(config.shaft.k_pos, config.shaft.k_neg) + sum(config.shaft.slip_k)
-    return tr.max_stiffness(config.transmission_blocks()[0])
+    return config.transmission_model().max_stiffness(config.transmission_blocks()[0])
 
 
 def shaft_mode_rad_s(
@@ -449,16 +447,12 @@ def write_params(model: mujoco.MjModel, st: ArmStructure, config: SimConfig, n_t
     p[L.P_ACT_SLIP1] = st.act_slip
     p[L.P_CTRL_J1], p[L.P_CTRL_J2], p[L.P_CTRL_J3] = st.ctrl
     p[L.P_MADR_Q1], p[L.P_MADR_Q2], p[L.P_MADR_Q3] = st.madr
-    p[L.P_K_POS], p[L.P_S_POS], p[L.P_K_NEG], p[L.P_S_NEG] = sh.k_pos, sh.s_pos, sh.k_neg, sh.s_neg
-    p[L.P_B_POS], p[L.P_B_NEG] = sh.damping_pos, sh.damping_neg
     p[L.P_KB], p[L.P_BETA] = sh.kb, sh.beta
     p[L.P_BR_K1], p[L.P_BR_K2] = sh.conduit_k
     p[L.P_BR_TAU1], p[L.P_BR_TAU2] = sh.conduit_tau
-    p[L.P_SLIP_K1 : L.P_SLIP_K1 + 3] = sh.slip_k
     p[L.P_EN_SERIES] = on[fx.series]
     p[L.P_EN_BEND] = on[fx.bending]
     p[L.P_EN_CONDUIT] = on[fx.conduit]
-    p[L.P_EN_SLIP] = on[fx.slip and any(k > 0.0 for k in sh.slip_k)]
     p[L.P_EN_COUPLING] = on[fx.coupling]
     p[L.P_EN_CONTROL] = on[fx.control]
     p[L.P_CTRL_DT] = g.ctrl_dt_s
@@ -472,8 +466,6 @@ def write_params(model: mujoco.MjModel, st: ArmStructure, config: SimConfig, n_t
     p[L.P_SPD_KP], p[L.P_SPD_KI] = g.speed_kp, g.speed_ki
     p[L.P_OMEGA_MAX] = st.motor_speed_limit
     p[L.P_TAU1_MAX], p[L.P_TAU2_MAX], p[L.P_TAU_MOT_MAX] = st.tau_max
-    p[L.P_CM_K_POS], p[L.P_CM_S_POS] = cm_sh.k_pos, cm_sh.s_pos
-    p[L.P_CM_K_NEG], p[L.P_CM_S_NEG] = cm_sh.k_neg, cm_sh.s_neg
     p[L.P_CM_KB], p[L.P_CM_BETA] = cm_sh.kb, cm_sh.beta
     p[L.P_CM_BEND_COMP] = on[g.bend_compensation]
     p[L.P_SPEED_FF] = on[g.speed_ff]
@@ -492,11 +484,9 @@ def write_transmission(p: npt.NDArray[np.float64], config: SimConfig) -> None:
     p[L.P_TR : L.P_TR + L.N_TR] = plant
     p[L.P_TRC : L.P_TRC + L.N_TR] = ctrl
     p[L.P_TR_K0] = reference_stiffness(config)
-    if tr.name != transmissions.DEFAULT:
-        p[L.P_EN_SLIP] = 0.0  # the slip slots hold the transmission's states
-        if not tr.routed_over_joint2:  # no shaft over joint 2: no bending moment to feel or cancel
-            p[L.P_EN_BEND] = p[L.P_EN_CONDUIT] = 0.0
-            p[L.P_CM_KB] = p[L.P_CM_BETA] = 0.0
+    if not tr.routed_over_joint2:  # no shaft over joint 2: no bending moment to feel or cancel
+        p[L.P_EN_BEND] = p[L.P_EN_CONDUIT] = p[L.P_EN_COUPLING] = 0.0
+        p[L.P_CM_KB] = p[L.P_CM_BETA] = 0.0
 
 
 REFERENCE_TORQUE_FRACTION = 0.3  # of the rating: the operating point fixed gains are tuned for

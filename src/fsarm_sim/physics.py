@@ -26,9 +26,7 @@ from fsarm_sim.effects import (
     backlash,
     bending,
     conduit_viscoelastic,
-    maxwell_slip,
     payload_error,
-    series_stiffness,
 )
 from fsarm_sim.layout import (
     A_COUNT,
@@ -58,8 +56,6 @@ from fsarm_sim.layout import (
     P_ACT_BR1,
     P_ACT_BR2,
     P_ACT_SLIP1,
-    P_B_NEG,
-    P_B_POS,
     P_BEND_FIXED,
     P_BETA,
     P_BL_CENTER,
@@ -70,11 +66,7 @@ from fsarm_sim.layout import (
     P_BR_TAU2,
     P_CM_BEND_COMP,
     P_CM_BETA,
-    P_CM_K_NEG,
-    P_CM_K_POS,
     P_CM_KB,
-    P_CM_S_NEG,
-    P_CM_S_POS,
     P_COEF_M,
     P_COEF_S,
     P_CTRL_DT,
@@ -90,11 +82,8 @@ from fsarm_sim.layout import (
     P_EN_CONTROL,
     P_EN_COUPLING,
     P_EN_SERIES,
-    P_EN_SLIP,
     P_GAIN_SCHED,
     P_GRAVITY,
-    P_K_NEG,
-    P_K_POS,
     P_KB,
     P_MADR_Q1,
     P_MADR_Q2,
@@ -109,9 +98,6 @@ from fsarm_sim.layout import (
     P_QADR_Q3,
     P_QADR_ROT,
     P_RK4,
-    P_S_NEG,
-    P_S_POS,
-    P_SLIP_K1,
     P_SPD_KI,
     P_SPD_KP,
     P_SPEED_FF,
@@ -297,24 +283,50 @@ def shaft_torque(prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: Float
     Flexible shaft (default): eq. 8 + eq. 1 damping + Maxwell-slip elements. Any other
     transmission: its own law (:mod:`fsarm_sim.transmissions`).
     """
+    if prm[P_EN_SERIES] < 0.5:
+        return 0.0
     twist, rate = twist_and_rate(prm, qpos, qvel)
     twist, rate = transmitted_twist(prm, twist, rate)
     bend = bend_angle(prm, qpos)
-    if prm[P_TRANS] > 0.5:
-        return tr_torque(
-            prm[P_TRANS], prm[P_TR : P_TR + N_TR], twist, rate, bend, act, int(prm[P_ACT_SLIP1])
-        )
-    tau = 0.0
-    if prm[P_EN_SERIES] > 0.5:
-        tau += series_stiffness.elastic_torque_nm(
-            twist, bend, prm[P_K_POS], prm[P_S_POS], prm[P_K_NEG], prm[P_S_NEG]
-        )
-        tau += series_stiffness.damping_torque_nm(twist, rate, prm[P_B_POS], prm[P_B_NEG])
-    if prm[P_EN_SLIP] > 0.5:
-        a0 = int(prm[P_ACT_SLIP1])
-        for i in range(3):
-            tau += maxwell_slip.element_torque_nm(act[a0 + i], prm[P_SLIP_K1 + i])
-    return tau
+    return tr_torque(
+        prm[P_TRANS], prm[P_TR : P_TR + N_TR], twist, rate, bend, act, int(prm[P_ACT_SLIP1])
+    )
+
+
+def tr_bend_torque(
+    kind: float, tr: FloatArray, x: float, bend: float, act: FloatArray, a0: int
+) -> float:
+    """-dV/dphi_B of transmission ``kind`` (its ``bend_torque_nm``)."""
+    if kind < 0.5:
+        return flexible_shaft.bend_torque_nm(tr, x, bend, act, a0)
+    if kind < 1.5:
+        return rtca.bend_torque_nm(tr, x, bend, act, a0)
+    if kind < 2.5:
+        return qa_joint.bend_torque_nm(tr, x, bend, act, a0)
+    if kind < 3.5:
+        return magnetic_spring.bend_torque_nm(tr, x, bend, act, a0)
+    return tendon_sheath.bend_torque_nm(tr, x, bend, act, a0)
+
+
+def bend_coupling_torque(prm: FloatArray, qpos: FloatArray, act: FloatArray) -> float:
+    """-dV/dphi_B on joint 2, V the transmission's stored energy (its ``potential_j``).
+
+    A transmission routed over joint 2 whose law depends on the bend stores energy that changes
+    when joint 2 moves at constant twist; this torque is its reaction, so the arm conserves energy
+    (tests/test_energy_check.py, ``fsarm check-dynamics``). Every transmission states it through
+    the interface (``bend_torque_nm``; tests check it against the derivative of ``potential_j``).
+    """
+    x = twist_angle(prm, qpos)
+    if prm[P_BL_WIDTH] > 0.0:
+        x = backlash.transmitted_deflection_rad(x, prm[P_BL_WIDTH], prm[P_BL_CENTER])
+    return tr_bend_torque(
+        prm[P_TRANS],
+        prm[P_TR : P_TR + N_TR],
+        x,
+        bend_angle(prm, qpos),
+        act,
+        int(prm[P_ACT_SLIP1]),
+    )
 
 
 def bending_torques(
@@ -334,9 +346,8 @@ def bending_torques(
             bend, act[int(prm[P_ACT_BR2])], prm[P_BR_K2]
         )
         total += conduit
-    if prm[P_EN_SERIES] > 0.5 and prm[P_EN_COUPLING] > 0.5 and prm[P_TRANS] < 0.5:
-        twist = twist_angle(prm, qpos)
-        total += series_stiffness.bend_coupling_torque_nm(twist, bend, prm[P_S_POS], prm[P_S_NEG])
+    if prm[P_EN_SERIES] > 0.5 and prm[P_EN_COUPLING] > 0.5:
+        total += bend_coupling_torque(prm, qpos, act)
     return total, conduit
 
 
@@ -395,12 +406,10 @@ def state_rate(
         return conduit_viscoelastic.branch_rate(bend, act[act_adr], prm[P_BR_TAU2])
     twist, rate = twist_and_rate(prm, qpos, qvel)
     twist, rate = transmitted_twist(prm, twist, rate)
-    if prm[P_TRANS] > 0.5:
-        a0 = int(prm[P_ACT_SLIP1])
-        return tr_state_rate(
-            prm[P_TRANS], prm[P_TR : P_TR + N_TR], twist, rate, bend, act, a0, act_adr - a0
-        )
-    return maxwell_slip.element_rate(rate)
+    a0 = int(prm[P_ACT_SLIP1])
+    return tr_state_rate(
+        prm[P_TRANS], prm[P_TR : P_TR + N_TR], twist, rate, bend, act, a0, act_adr - a0
+    )
 
 
 def shaft_potential(prm: FloatArray, qpos: FloatArray, act: FloatArray) -> float:
@@ -410,18 +419,10 @@ def shaft_potential(prm: FloatArray, qpos: FloatArray, act: FloatArray) -> float
         twist = backlash.transmitted_deflection_rad(twist, prm[P_BL_WIDTH], prm[P_BL_CENTER])
     bend = bend_angle(prm, qpos)
     v = 0.0
-    if prm[P_TRANS] > 0.5:
+    if prm[P_EN_SERIES] > 0.5:
         v += tr_potential(
             prm[P_TRANS], prm[P_TR : P_TR + N_TR], twist, bend, act, int(prm[P_ACT_SLIP1])
         )
-    elif prm[P_EN_SERIES] > 0.5:
-        v += series_stiffness.potential_j(
-            twist, bend, prm[P_K_POS], prm[P_S_POS], prm[P_K_NEG], prm[P_S_NEG]
-        )
-    if prm[P_EN_SLIP] > 0.5:
-        a0 = int(prm[P_ACT_SLIP1])
-        for i in range(3):
-            v += maxwell_slip.element_potential_j(act[a0 + i], prm[P_SLIP_K1 + i])
     if prm[P_EN_BEND] > 0.5:
         v += bending.potential_j(bend, prm[P_KB], prm[P_BETA])
     if prm[P_EN_CONDUIT] > 0.5:
@@ -501,29 +502,11 @@ def control_tick(
     # virtual torque sensor: eq. 8 on the two encoders and the joint-2 encoder
     theta_m = cm * qpos[int(prm[P_QADR_ROT])]
     theta_s = cs * q3
-    if prm[P_TRANS] > 0.5:
-        trc = prm[P_TRC : P_TRC + N_TR]
-        tau_m = tr_sensor_torque(prm[P_TRANS], trc, theta_m - theta_s, q2)
-        k_model = max(
-            tr_stiffness(prm[P_TRANS], trc, theta_m - theta_s, q2), STIFFNESS_FLOOR * prm[P_TR_K0]
-        )
-    else:
-        tau_m = series_stiffness.elastic_torque_nm(
-            theta_m - theta_s,
-            q2,
-            prm[P_CM_K_POS],
-            prm[P_CM_S_POS],
-            prm[P_CM_K_NEG],
-            prm[P_CM_S_NEG],
-        )
-        k_model = series_stiffness.stiffness_nm_per_rad(
-            theta_m - theta_s,
-            q2,
-            prm[P_CM_K_POS],
-            prm[P_CM_S_POS],
-            prm[P_CM_K_NEG],
-            prm[P_CM_S_NEG],
-        )
+    trc = prm[P_TRC : P_TRC + N_TR]
+    tau_m = tr_sensor_torque(prm[P_TRANS], trc, theta_m - theta_s, q2)
+    k_model = max(
+        tr_stiffness(prm[P_TRANS], trc, theta_m - theta_s, q2), STIFFNESS_FLOOR * prm[P_TR_K0]
+    )
     omega_ff = cs * qvel[dof3] if prm[P_SPEED_FF] > 0.5 else 0.0
     omega_max_shaft = prm[P_OMEGA_MAX] * cm
     if prm[P_GAIN_SCHED] < 0.5:  # fixed gains, tuned at zero twist, straight (seed 001's PID)

@@ -163,11 +163,10 @@ def initial_state(model: mujoco.MjModel, data: mujoco.MjData, st: ArmStructure) 
     bend = data.qpos[st.qadr[1]]
     twist = static_twist(prm, tau_shaft, bend)
     data.qpos[st.qadr[3]] = (st.coef_s * data.qpos[st.qadr[2]] + twist) / st.coef_m
-    if prm[L.P_TRANS] > 0.5:
-        tr = transmissions.by_kind(prm[L.P_TRANS])
-        block = prm[L.P_TR : L.P_TR + L.N_TR]
-        for i, v in enumerate(tr.initial_states(block, twist, bend)):
-            data.act[st.act_slip + i] = v
+    tr = transmissions.by_kind(prm[L.P_TRANS])
+    block = prm[L.P_TR : L.P_TR + L.N_TR]
+    for i, v in enumerate(tr.initial_states(block, twist, bend)):
+        data.act[st.act_slip + i] = v
     data.act[st.act_branch[0]] = bend
     data.act[st.act_branch[1]] = bend
     if prm[L.P_SPD_KI] > 0.0:
@@ -180,19 +179,8 @@ def static_twist(prm: Array, tau_shaft: float, bend: float) -> float:
     """Twist at which joint 3's transmission holds ``tau_shaft`` statically (0: no spring)."""
     if prm[L.P_EN_SERIES] < 0.5:
         return 0.0
-    if prm[L.P_TRANS] > 0.5:
-        tr = transmissions.by_kind(prm[L.P_TRANS])
-        twist = tr.twist_for_torque(prm[L.P_TR : L.P_TR + L.N_TR], tau_shaft, bend)
-    else:
-        side = 1.0 if tau_shaft >= 0.0 else -1.0
-        k = (
-            (prm[L.P_K_POS] + prm[L.P_S_POS] * abs(bend))
-            if side > 0
-            else (prm[L.P_K_NEG] + prm[L.P_S_NEG] * abs(bend))
-        )
-        if k <= 0.0:
-            return 0.0
-        twist = tau_shaft / k
+    tr = transmissions.by_kind(prm[L.P_TRANS])
+    twist = tr.twist_for_torque(prm[L.P_TR : L.P_TR + L.N_TR], tau_shaft, bend)
     if prm[L.P_BL_WIDTH] > 0.0:  # the play must be taken up first, on the loaded flank
         c, w = prm[L.P_BL_CENTER], prm[L.P_BL_WIDTH]
         twist += c + (0.5 * w if twist > 0.0 else -0.5 * w if twist < 0.0 else 0.0)

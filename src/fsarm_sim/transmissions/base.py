@@ -22,7 +22,10 @@ A transmission module (``fsarm_sim.transmissions.<name>``) holds
     where the law has negative stiffness; the gain scheduler floors it);
   - ``state_rate(tr, x, xdot, bend, act, a0, i) -> float``  d(act[a0 + i])/dt, i < N_STATES
     (0.0 for slots the transmission does not use);
-  - ``potential_j(tr, x, bend, act, a0) -> float``          stored elastic energy.
+  - ``potential_j(tr, x, bend, act, a0) -> float``          stored elastic energy;
+  - ``bend_torque_nm(tr, x, bend, act, a0) -> float``       -d(potential_j)/d(bend): the torque
+    on joint 2 that keeps a routed, bend-dependent law energy-consistent (0.0 when the law does
+    not read the bend).
 
 * **Python data** - ``NAME``, ``TITLE``, ``SOURCE`` (seed, equations, tables), ``PARAMS`` (a
   tuple of :class:`Param`, each with its published value, where it comes from, and its allowed
@@ -280,7 +283,11 @@ class Transmission:
         return min(abs(self.sensor_torque(tr, half, 0.0)), abs(self.sensor_torque(tr, -half, 0.0)))
 
     def max_stiffness(self, tr: FloatArray, bend_max_rad: float = 2.1) -> float:
-        """Largest stiffness over the valid twist range and bends up to ``bend_max_rad``."""
+        """Largest stiffness over the valid twist range and bends up to ``bend_max_rad`` (the
+        module's ``max_stiffness(tr)`` when it states one, e.g. with parallel elements)."""
+        fn = getattr(self.module, "max_stiffness", None)
+        if fn is not None:
+            return float(fn(tr))
         r = self.valid_twist_rad(tr)
         xs = np.linspace(-r, r, 401)
         bends = np.linspace(-bend_max_rad, bend_max_rad, 9) if self.routed_over_joint2 else [0.0]
@@ -294,6 +301,9 @@ class Transmission:
         """
         if tau == 0.0:
             return 0.0
+        fn = getattr(self.module, "twist_for_torque", None)
+        if fn is not None:  # the module inverts its own law (e.g. a linear one, exactly)
+            return float(fn(tr, tau, bend))
         sign = 1.0 if tau > 0.0 else -1.0
         r = self.valid_twist_rad(tr)
         n = 2000

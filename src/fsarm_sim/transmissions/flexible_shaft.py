@@ -1,19 +1,21 @@
-"""The flexible shaft (seed 000): the default joint-3 transmission, seen through the interface.
+"""The flexible shaft (seed 000): the default joint-3 transmission, a transmission like the others.
 
-The simulator's kernels run the flexible shaft from its own parameter slots (eq. 3/8 asymmetric
-stiffness per twist sign falling with |phi_B|, eq. 1 damping, Maxwell-slip series hysteresis:
-:mod:`fsarm_sim.effects.series_stiffness`, :mod:`fsarm_sim.effects.maxwell_slip`, see
-:mod:`fsarm_sim.physics`). This module states the same elastic law on the generic parameter
-block, so analyses written against :class:`fsarm_sim.transmissions.base.Transmission` (bandwidth,
-comparison tables, static twist) treat all transmissions alike. ``model.write_params`` fills the
-block from the run's :class:`fsarm_sim.shaft.ShaftParams`, so both views carry the same numbers.
+eq. 3/8 asymmetric series stiffness per twist sign, falling with |phi_B|
+(:mod:`fsarm_sim.effects.series_stiffness`), eq. 1 damping, and the Maxwell-slip series
+hysteresis (:mod:`fsarm_sim.effects.maxwell_slip`): three elasto-slip elements in parallel with
+the spring, whose deflections are this transmission's states (``data.act``, limited to +-f/k so
+that they slip). ``model.write_params`` fills the block from the run's
+:class:`fsarm_sim.shaft.ShaftParams` (the coefficient file), so the kernels, the analyses and the
+controller's virtual torque sensor all read the shaft through this interface. The shaft is routed
+over joint 2: its stored energy depends on the bend, and the kernels apply the matching
+-dV/dphi_B on joint 2 from :func:`potential_j`, as for every routed transmission.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-from fsarm_sim.effects import series_stiffness
+from fsarm_sim.effects import maxwell_slip, series_stiffness
 from fsarm_sim.shaft import load_catalogue
 from fsarm_sim.transmissions.base import (
     FloatArray,
@@ -29,7 +31,18 @@ TITLE = "Flexible shaft, asymmetric series stiffness (seed 000)"
 SOURCE = "seed 000 eq. 1, 3, 8 (coefficients: src/fsarm_sim/data/shafts.toml, estimates)"
 ROUTED_OVER_JOINT2 = True
 TWIST_RANGE_RAD = 1.0  # estimate: about 1.5x the twist at rated torque of the default shaft
-STATES: tuple[str, ...] = ()  # slip states live in the shaft's own slots
+STATES: tuple[str, ...] = ("slip1", "slip2", "slip3")  # Maxwell-slip element deflections, rad
+# parameter values that switch every dissipation of the law off (energy checks)
+CONSERVATIVE: dict[str, float] = {
+    "b_pos": 0.0,
+    "b_neg": 0.0,
+    "slip_k1": 0.0,
+    "slip_k2": 0.0,
+    "slip_k3": 0.0,
+}
+N_SLIP = 3
+I_SLIP_K = 7  # block index of the first element stiffness (then the three slip torques)
+I_SLIP_F = I_SLIP_K + N_SLIP
 
 
 _K_WHY = (
@@ -72,6 +85,26 @@ def _params() -> tuple[Param, ...]:
             f"nominal torque of the shaft; {src}",
             positive("a torque rating: > 0 (it sizes test signals and flags overloads)"),
         ),
+        *(
+            Param(
+                f"slip_k{i + 1}",
+                sh.slip_k[i],
+                "N*m/rad",
+                f"Maxwell-slip element {i + 1} stiffness (0: element off); {src}",
+                non_negative("an element stiffness: >= 0 (0 switches the element off)"),
+            )
+            for i in range(N_SLIP)
+        ),
+        *(
+            Param(
+                f"slip_f{i + 1}",
+                sh.slip_f[i],
+                "N*m",
+                f"Maxwell-slip element {i + 1} slip torque; {src}",
+                non_negative("a slip torque: >= 0; > 0 wherever the element's k > 0"),
+            )
+            for i in range(N_SLIP)
+        ),
     )
 
 
@@ -80,7 +113,9 @@ BEND_LIMIT_RAD = load_catalogue().bend_limit_rad  # the default file's validity.
 
 
 def validate(tr: FloatArray) -> None:
-    """Cross-parameter check: eq. 3 stays > 0 on both sides up to the largest valid bend."""
+    """Cross-parameter checks: eq. 3 stays > 0 on both sides up to the largest valid bend; a slip
+    element with stiffness has a slip torque."""
+    validate_slip(tr)
     for side, k, slope in (("pos", tr[0], tr[1]), ("neg", tr[2], tr[3])):
         k_bent = float(k + min(float(slope), 0.0) * BEND_LIMIT_RAD)
         if k_bent <= 0.0:
@@ -88,6 +123,16 @@ def validate(tr: FloatArray) -> None:
                 f"transmission {NAME!r}: k_{side} = {float(k)!r} N*m/rad with s_{side} = "
                 f"{float(slope)!r} N*m/rad^2 gives stiffness {k_bent:.4g} N*m/rad <= 0 at the "
                 f"largest valid bend {BEND_LIMIT_RAD:.4g} rad: eq. 3 must stay > 0 there"
+            )
+
+
+def validate_slip(tr: FloatArray) -> None:
+    for i in range(N_SLIP):
+        if tr[I_SLIP_K + i] > 0.0 and tr[I_SLIP_F + i] <= 0.0:
+            raise TransmissionError(
+                f"transmission {NAME!r}: slip element {i + 1} has stiffness "
+                f"{float(tr[I_SLIP_K + i])!r} N*m/rad but slip torque {float(tr[I_SLIP_F + i])!r} "
+                "N*m: an element with k > 0 needs a slip torque > 0"
             )
 
 
@@ -100,11 +145,48 @@ def stiffness_nm_per_rad(tr: Any, x: float, bend: float) -> float:
 
 
 def torque_nm(tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int) -> float:
-    return sensor_torque_nm(tr, x, bend) + series_stiffness.damping_torque_nm(x, xdot, tr[4], tr[5])
+    tau = sensor_torque_nm(tr, x, bend) + series_stiffness.damping_torque_nm(x, xdot, tr[4], tr[5])
+    for i in range(N_SLIP):
+        if tr[I_SLIP_K + i] > 0.0:
+            tau += maxwell_slip.element_torque_nm(act[a0 + i], tr[I_SLIP_K + i])
+    return tau
 
 
 def state_rate(tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int, i: int) -> float:
-    return 0.0
+    return maxwell_slip.element_rate(xdot)
+
+
+def state_limits(tr: Any) -> list[tuple[float, float] | None]:
+    """Each element's deflection stays within +-f/k: beyond, it slips (MuJoCo clamps ``act``)."""
+    out: list[tuple[float, float] | None] = []
+    for i in range(N_SLIP):
+        k, f = float(tr[I_SLIP_K + i]), float(tr[I_SLIP_F + i])
+        lim = f / k if k > 0.0 else 1e-12  # an element that is off stays at zero
+        out.append((-lim, lim))
+    return out
+
+
+def twist_for_torque(tr: Any, tau: float, bend: float) -> float:
+    """eq. 8 inverted (linear per side): the twist whose elastic torque is ``tau``."""
+    k = (
+        tr[0] + tr[1] * abs(bend) if tau >= 0.0 else tr[2] + tr[3] * abs(bend)
+    )  # eq. 3 stiffness of the loaded side at this bend
+    if k <= 0.0:
+        raise TransmissionError(
+            f"transmission {NAME!r} has no stiffness left at bend {bend:.3g} rad "
+            f"(K = {float(k):.3g} N*m/rad), so it cannot hold {tau:.3g} N*m"
+        )
+    return float(tau / k)
+
+
+def bend_torque_nm(tr: Any, x: float, bend: float, act: Any, a0: int) -> float:
+    """-dV/dphi_B: eq. 3's stiffness falls with |phi_B| (the slip elements do not read it)."""
+    return series_stiffness.bend_coupling_torque_nm(x, bend, tr[1], tr[3])
+
+
+def max_stiffness(tr: Any) -> float:
+    """The stiffer eq. 3 side straight plus the stuck slip elements (N*m/rad)."""
+    return float(max(tr[0], tr[2]) + sum(tr[I_SLIP_K + i] for i in range(N_SLIP)))
 
 
 def rating_nm(tr: Any) -> float:
@@ -112,4 +194,8 @@ def rating_nm(tr: Any) -> float:
 
 
 def potential_j(tr: Any, x: float, bend: float, act: Any, a0: int) -> float:
-    return series_stiffness.potential_j(x, bend, tr[0], tr[1], tr[2], tr[3])
+    v = series_stiffness.potential_j(x, bend, tr[0], tr[1], tr[2], tr[3])
+    for i in range(N_SLIP):
+        if tr[I_SLIP_K + i] > 0.0:
+            v += maxwell_slip.element_potential_j(act[a0 + i], tr[I_SLIP_K + i])
+    return v

@@ -85,6 +85,8 @@ SOURCE = (
     "19.7 deg, kinetic friction 0.05 N*m)"
 )
 STATES: tuple[str, ...] = ()
+# parameter values that switch every dissipation of the law off (energy checks)
+CONSERVATIVE: dict[str, float] = {"z": 0.0, "tau_fr": 0.0}
 ROUTED_OVER_JOINT2 = False
 
 DEG = math.pi / 180.0
@@ -160,6 +162,11 @@ def state_rate(
     tr: FloatArray, x: float, xdot: float, bend: float, act: FloatArray, a0: int, i: int
 ) -> float:
     """No internal states."""
+    return 0.0
+
+
+def bend_torque_nm(tr: FloatArray, x: float, bend: float, act: FloatArray, a0: int) -> float:
+    """-dV/dphi_B: 0, the law does not read the bend (not routed over joint 2)."""
     return 0.0
 
 

@@ -66,6 +66,8 @@ SOURCE = (
 ROUTED_OVER_JOINT2 = False
 TWIST_RANGE_RAD = math.radians(15.0)  # largest elastic deflection of any preset (Table III)
 STATES: tuple[str, ...] = ("sigma_rad", "z_friction")
+# parameter values that switch every dissipation of the law off (energy checks)
+CONSERVATIVE: dict[str, float] = {"a_f": 0.0, "b_f": 0.0}
 
 # Table IV: sigma [deg] -> (a_S, b_S, a_F, b_F) [N*m], identified on the real joint (seed 002).
 TABLE_IV: dict[float, tuple[float, float, float, float]] = {
@@ -315,6 +317,11 @@ def state_rate(tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int, i
         return sigma_rate(tr, act[a0])
     if i == 1:
         return dahl_rate(xdot, _clamp(act[a0 + 1], -1.0, 1.0), tr[I_DELTA])
+    return 0.0
+
+
+def bend_torque_nm(tr: Any, x: float, bend: float, act: Any, a0: int) -> float:
+    """-dV/dphi_B: 0, the law does not read the bend (not routed over joint 2)."""
     return 0.0
 
 

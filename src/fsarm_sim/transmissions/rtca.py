@@ -75,6 +75,8 @@ SOURCE = (
     "8 mm x 865 mm), Sec. 3.2 (+-5 N*m characterisation range), Sec. 6.1 (mu at R = 250 mm)"
 )
 STATES: tuple[str, ...] = ()
+# parameter values that switch every dissipation of the law off (energy checks)
+CONSERVATIVE: dict[str, float] = {"c": 0.0}
 ROUTED_OVER_JOINT2 = True
 
 DEG_PER_RAD = 180.0 / math.pi
@@ -215,6 +217,15 @@ def mu_factor(tr: FloatArray, x: float, bend: float) -> float:
     if frac > 1.0:
         frac = 1.0
     return 1.0 - (1.0 - mu_bent) * frac
+
+
+def bend_torque_nm(tr: FloatArray, x: float, bend: float, act: FloatArray, a0: int) -> float:
+    """-dV/dphi_B of :func:`potential_j`: mu falls linearly with the curvature up to R_mu."""
+    if bend == 0.0 or abs(bend) * R_MU_M / tr[I_L_BEND] >= 1.0:
+        return 0.0  # straight (the two sides' slopes cancel) or the loss already saturated
+    mu_bent = tr[I_MU_POS] if x >= 0.0 else tr[I_MU_NEG]
+    dmu_db = -(1.0 - mu_bent) * R_MU_M / tr[I_L_BEND] * math.copysign(1.0, bend)
+    return -tr[I_SCALE] * dmu_db * straight_energy_j(tr, x)
 
 
 def torque_nm(

@@ -73,6 +73,8 @@ ROUTED_OVER_JOINT2 = True
 # 0.14 rad at r = 25 mm (about 16 N*m at the default stiffness)
 TWIST_RANGE_RAD = 0.15
 STATES: tuple[str, ...] = ("z_friction",)
+# parameter values that switch every dissipation of the law off (energy checks)
+CONSERVATIVE: dict[str, float] = {"mu": 0.0}
 
 # Seed 004 Tables 1-2: position transmission eq. 19, theta_1 = P th2^2 + Q th2 + M per direction
 # (R.C. = rotate clockwise, R.A. = counter-clockwise), with the maximal error M.E. (rad).
@@ -287,6 +289,32 @@ def branch_stiffness_release(tr: Any, bend: float) -> float:
     """Unloading branch: r^2 / C_rel (N*m/rad, no scale)."""
     r = tr[I_RADIUS]
     return r * r / compliance_release(tr, bend)
+
+
+def _sheath_factor_slope(m: float) -> float:
+    """d/dm of (e^m - 1)/m (-> 1/2 as m -> 0)."""
+    if abs(m) < 1e-6:
+        return 0.5 + m / 3.0
+    return (m * math.exp(m) - math.expm1(m)) / (m * m)
+
+
+def bend_torque_nm(tr: Any, x: float, bend: float, act: Any, a0: int) -> float:
+    """-dV/dphi_B: the capstan factor e^(mu Theta) grows with the bend over joint 2, so the
+    branch stiffnesses (eq. 11) and the stored energy change with it at constant twist."""
+    if bend == 0.0 or tr[I_MU] == 0.0:
+        return 0.0
+    m = tr[I_MU] * total_wrap_rad(tr, bend)
+    lf = _free_length(tr)
+    ea = _axial_stiffness(tr)
+    r2 = tr[I_RADIUS] * tr[I_RADIUS]
+    c_p = compliance_pull(tr, bend)
+    c_r = compliance_release(tr, bend)
+    dc_p = (-0.5 * lf * math.exp(-m) - tr[I_L_SHEATH] * _sheath_factor_slope(-m)) / ea
+    dc_r = (0.5 * lf * math.exp(m) + tr[I_L_SHEATH] * _sheath_factor_slope(m)) / ea
+    dkm_dm = 0.5 * (-r2 * dc_p / (c_p * c_p) - r2 * dc_r / (c_r * c_r))
+    xe = effective_twist_rad(tr, x)
+    dm_db = tr[I_MU] * math.copysign(1.0, bend)
+    return -tr[I_SCALE] * 0.5 * xe * xe * dkm_dm * dm_db
 
 
 def effective_twist_rad(tr: Any, x: float) -> float:
