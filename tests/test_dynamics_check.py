@@ -134,7 +134,9 @@ def test_wrong_inertia_index_in_the_controller_fails_only_the_controller_check()
 
 def test_series_stiffness_wired_wrong_fails_the_structure() -> None:
     pair = _pair()
-    pair.params[L.P_TR] *= 1.01  # k_pos (first in the block): the shaft no longer matches its parameters
+    pair.params[L.P_TR] *= (
+        1.01  # k_pos (first in the block): the shaft no longer matches its parameters
+    )
     structure = C.elastic_structure(pair)
     assert not C.check_structure(structure).passed
     errors = {e.name: e.error for e in structure.entries}

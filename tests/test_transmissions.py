@@ -14,11 +14,11 @@ import mujoco
 import numpy as np
 import pytest
 
-from fsarm_sim import callbacks, physics, transmissions
 from fsarm_sim import layout as L
+from fsarm_sim import physics, transmissions
 from fsarm_sim.cli_transmissions import parse_params
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.model import Effects, Gains, SimConfig, build_model, read_structure
+from fsarm_sim.model import Effects, SimConfig, build_model, read_structure
 from fsarm_sim.shaft import load_catalogue
 from fsarm_sim.simulation import initial_state, run_scenario
 from fsarm_sim.transmissions.base import N_STATES, TransmissionError

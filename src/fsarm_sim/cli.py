@@ -102,8 +102,12 @@ def run_cmd(
         bool, typer.Option(help="allow D/L outside the coefficient file's validity range")
     ] = False,
     series_hysteresis: Annotated[
-        bool, typer.Option(help="switch on Maxwell-slip series hysteresis")
-    ] = False,
+        bool | None,
+        typer.Option(
+            help="Maxwell-slip series hysteresis on/off "
+            "(default: the coefficient file's series.maxwell_slip.enabled)"
+        ),
+    ] = None,
     integrator: Annotated[
         str | None, typer.Option(help="Euler, RK4, implicit or implicitfast")
     ] = None,
@@ -137,15 +141,19 @@ def run_cmd(
 ) -> None:
     """Run a scenario headless, print tracking metrics, write its time series."""
     from fsarm_sim.model import Gains, SimConfig
+    from fsarm_sim.outputs import SafeWriter
     from fsarm_sim.shaft import load_catalogue
     from fsarm_sim.simulation import run_scenario
     from fsarm_sim.timeseries import write_summary, write_timeseries
 
     if backend not in ("python", "native"):
         raise FsarmError(f"--backend must be 'python' or 'native', got {backend!r}")
-    from fsarm_sim.cli_review import check_review_options, review_outputs
+    from fsarm_sim.cli_review import check_review_options, review_outputs, run_output_plan
 
     check_review_options(rrd_rate)
+    run_output_plan(
+        scenario, fmt, out=out, json_file=json_file, rrd=rrd, spawn=spawn, figures=figures
+    ).input("the coefficient file of --shaft-file", shaft_file).check()
     shaft = load_catalogue(shaft_file).shaft(
         diameter_mm, length_mm, extrapolate=extrapolate, series_hysteresis=series_hysteresis
     )
@@ -159,14 +167,18 @@ def run_cmd(
         transmission=transmission,
         transmission_params=parse_params(tr_param or []),
     )
-    result = run_scenario(
-        scenario,
-        cfg,
-        duration_s=duration,
-        payload_kg=payload_kg,
-        backend=backend,  # type: ignore[arg-type]
-        log_every_ticks=log_every,
-    )
+    try:
+        result = run_scenario(
+            scenario,
+            cfg,
+            duration_s=duration,
+            payload_kg=payload_kg,
+            backend=backend,  # type: ignore[arg-type]
+            log_every_ticks=log_every,
+        )
+    except KeyboardInterrupt:
+        err_console.print("[bold yellow]interrupted[/] before anything was recorded: no output")
+        raise typer.Exit(130) from None
     m = result.metrics
     if result.interrupted:
         err_console.print(
@@ -208,11 +220,21 @@ def run_cmd(
             f"[bold yellow]warning:[/] peak transmission torque is {over:.1f}x the nominal "
             f"rating ({result.config.rating_nm():.2f} N·m {advice}"
         )
-    path = write_timeseries(result, out, fmt)
-    console.print(f"time series: {path}  (sidecar {path.with_suffix('.json')})")
+    writes = SafeWriter(lambda msg: err_console.print(f"[bold yellow]warning:[/] {escape(msg)}"))
+    path = writes.write(
+        out, lambda d: write_timeseries(result, d, fmt), "the time series (--out)", folder=True
+    )
+    if path is not None:
+        console.print(f"time series: {path}  (sidecar {path.with_suffix('.json')})")
     if json_file is not None:
-        write_summary(result, json_file)
-        console.print(f"summary: {json_file}")
+
+        def summary(p: Path) -> Path:
+            write_summary(result, p)
+            return p
+
+        where = writes.write(json_file, summary, "the summary (--json)")
+        if where is not None:
+            console.print(f"summary: {where}")
     review_outputs(
         result,
         rrd=rrd,
@@ -221,7 +243,11 @@ def run_cmd(
         figures_dir=figures,
         out=out,
         console=console,
+        writes=writes,
     )
+    writes.finish()
+    if result.interrupted:
+        raise typer.Exit(130)
 
 
 def _register_extensions() -> None:
@@ -243,5 +269,5 @@ def main() -> None:
     try:
         app()
     except FsarmError as exc:
-        err_console.print(f"[bold red]error:[/] {exc}")
+        err_console.print(f"[bold red]error:[/] {escape(str(exc))}", soft_wrap=True)
         raise SystemExit(2) from None

@@ -20,6 +20,7 @@ from rich.table import Table
 
 from fsarm_sim.console import make_console
 from fsarm_sim.errors import FsarmError
+from fsarm_sim.outputs import OutputPlan, safe_write, write_text
 
 
 def _fmt(x: float | None, scale: float = 1.0, digits: int = 3) -> str:
@@ -54,6 +55,7 @@ def register(app: typer.Typer) -> None:
 
         if backend not in ("python", "native"):
             raise FsarmError(f"--backend must be 'python' or 'native', got {backend!r}")
+        OutputPlan().file("--json", json_file).check()
         cfg = SimConfig(
             shaft=load_catalogue().shaft(series_hysteresis=series_hysteresis),
             transmission=transmission,
@@ -132,6 +134,6 @@ def register(app: typer.Typer) -> None:
 
 def _write_json(path: Path | None, data: dict[str, object], console: Console) -> None:
     if path is not None:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(data, indent=2))
-        console.print(f"results: {path}", markup=False)
+        text = json.dumps(data, indent=2)
+        where = safe_write(path, lambda p: write_text(p, text), "the results (--json)")
+        console.print(f"results: {where}", markup=False)

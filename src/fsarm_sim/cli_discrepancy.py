@@ -14,6 +14,7 @@ from typing import Annotated
 import typer
 
 from fsarm_sim.console import make_console
+from fsarm_sim.outputs import OutputPlan, SafeWriter
 
 
 def register(app: typer.Typer) -> None:
@@ -39,9 +40,17 @@ def register(app: typer.Typer) -> None:
 
         from fsarm_sim.discrepancy import diagnose
         from fsarm_sim.discrepancy import report as rep
-        from fsarm_sim.measured import load_dataset
+        from fsarm_sim.measured import dataset_files, load_dataset
 
+        table, side = dataset_files(data)
+        OutputPlan().input(f"the dataset {table}", table).input(
+            f"the sidecar of the dataset {table}", side
+        ).file("--json", json_file).file("--model", model_file).folder(
+            "--report", report, rep.REPORT_FILES
+        ).check()
         console = make_console()
+        err = make_console(stderr=True)
+        writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
         ds = load_dataset(data)
         if ds.setup == "arm":  # closed-loop replay of the run (fsarm_sim.discrepancy.arm)
             from fsarm_sim.discrepancy import arm_report
@@ -53,7 +62,9 @@ def register(app: typer.Typer) -> None:
                 report=report,
                 model_file=model_file,
                 max_effects=min(max_effects, 3),
+                writes=writes,
             )
+            writes.finish()
             return
         diag = diagnose(ds, max_effects=max_effects)
         for st in diag.steps:
@@ -92,15 +103,28 @@ def register(app: typer.Typer) -> None:
         console.print(f"runtime {diag.runtime_s:.1f} s", markup=False)
         written: Path | None = None
         if model_file is not None:
-            written = rep.write_model(diag, model_file)
-            console.print(f"model: {written}")
+            written = writes.write(
+                model_file, lambda p: rep.write_model(diag, p), "the final model (--model)"
+            )
+            if written is not None:
+                console.print(f"model: {written}", markup=False)
         if report is not None:
-            files = rep.write_report(diag, report)
-            written = written or files["model"]
-            console.print(f"report: {report} ({', '.join(p.name for p in files.values())})")
+            files = writes.write(
+                report, lambda d: rep.write_report(diag, d), "the report (--report)", folder=True
+            )
+            if files is not None:
+                written = written or files["model"]
+                where = files["result"].parent
+                console.print(
+                    f"report: {where} ({', '.join(p.name for p in files.values())})", markup=False
+                )
         if json_file is not None:
-            rep.write_json(diag, json_file, written)
-            console.print(f"result: {json_file}")
+            res = writes.write(
+                json_file, lambda p: rep.write_json(diag, p, written), "the result (--json)"
+            )
+            if res is not None:
+                console.print(f"result: {res}", markup=False)
+        writes.finish()
 
     @app.command("synth")
     def synth_cmd(
@@ -154,8 +178,26 @@ def register(app: typer.Typer) -> None:
         from fsarm_sim import synth
         from fsarm_sim.discrepancy.benchmodel import load_model
         from fsarm_sim.errors import InvalidParameterError
+        from fsarm_sim.measured import output_files, write_dataset
         from fsarm_sim.shaft import load_catalogue
 
+        for opt, v in (
+            ("--inertia", inertia),
+            ("--true-inertia", true_inertia),
+            ("--stiffness-scale", stiffness_scale),
+            ("--amplitude", amplitude),
+        ):
+            if v is not None and not (math.isfinite(v) and v > 0):
+                raise InvalidParameterError(f"{opt} must be a finite number > 0, got {v!r}")
+        for opt, v in (("--noise", noise), ("--noise-rad", noise_rad)):
+            if not (math.isfinite(v) and v >= 0):
+                raise InvalidParameterError(f"{opt} must be a finite number >= 0, got {v!r}")
+        table_out, side_out = output_files(out)
+        OutputPlan().file("OUT", table_out).file("the sidecar of OUT", side_out).input(
+            "the truth model of --model", model
+        ).check()
+        err = make_console(stderr=True)
+        writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
         if setup == "arm":  # the arm run by the simulator (fsarm_sim.discrepancy.arm)
             from fsarm_sim.discrepancy import arm_modelfile, arm_synth
 
@@ -163,17 +205,20 @@ def register(app: typer.Typer) -> None:
                 arm_truth, _ = arm_modelfile.load_arm_model(model)
             else:
                 arm_truth = arm_synth.truth_model(effect or [], stiffness_scale=stiffness_scale)
-            table, side = arm_synth.write_arm_synthetic(
-                out,
-                arm_truth,
-                arm_synth.ArmRecording(
-                    scenario=scenario, duration_s=duration, noise_rad=noise_rad, seed=seed
-                ),
-                load_catalogue().shaft(diameter_mm, length_mm),
+            arm_rec = arm_synth.ArmRecording(
+                scenario=scenario, duration_s=duration, noise_rad=noise_rad, seed=seed
             )
-            typer.echo(
-                f"wrote {table} and {side} (SYNTHETIC; hidden: {arm_truth.labels or 'none'})"
+            arm_shaft = load_catalogue().shaft(diameter_mm, length_mm)
+            arm_cols, arm_side = arm_synth.synthesize_arm(arm_truth, arm_rec, arm_shaft)
+            arm_written = writes.write(
+                out, lambda p: write_dataset(p, arm_cols, arm_side), "the dataset (OUT)"
             )
+            if arm_written is not None:
+                typer.echo(
+                    f"wrote {arm_written[0]} and {arm_written[1]} "
+                    f"(SYNTHETIC; hidden: {arm_truth.labels or 'none'})"
+                )
+            writes.finish()
             return
         if setup not in ("series_bench", "parallel_bench"):
             raise InvalidParameterError(
@@ -205,7 +250,11 @@ def register(app: typer.Typer) -> None:
             amp = amplitude if amplitude is not None else synth.default_amplitude(truth, shaft)
             for text in effect or []:
                 truth.effects.append(synth.parse_effect(text, setup, amp))
-        table, side = synth.write_synthetic(out, truth, rec, shaft)
-        typer.echo(
-            f"wrote {table} and {side} (SYNTHETIC; hidden: {[e.label for e in truth.effects] or 'none'})"
-        )
+        cols, side = synth.synthesize(truth, rec, shaft)
+        written = writes.write(out, lambda p: write_dataset(p, cols, side), "the dataset (OUT)")
+        if written is not None:
+            typer.echo(
+                f"wrote {written[0]} and {written[1]} "
+                f"(SYNTHETIC; hidden: {[e.label for e in truth.effects] or 'none'})"
+            )
+        writes.finish()

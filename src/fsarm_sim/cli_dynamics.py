@@ -17,6 +17,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from fsarm_sim.console import make_console
+from fsarm_sim.outputs import OutputPlan, SafeWriter, write_text
 
 if TYPE_CHECKING:  # the simulator is imported inside the command: `fsarm` starts quickly
     from fsarm_sim.dynamics_check import DynamicsReport
@@ -123,6 +124,7 @@ def register(app: typer.Typer) -> None:
         """Check MuJoCo's dynamics against Pinocchio; exit 1 if any check fails."""
         from fsarm_sim.dynamics_check import run_checks
 
+        OutputPlan().file("--json", json_file).check()
         report = run_checks(
             samples=samples,
             duration_s=duration,
@@ -140,12 +142,17 @@ def register(app: typer.Typer) -> None:
                 f"{report.trajectory.mujoco_euler_default_rad:.3e} rad",
                 markup=False,
             )
+        err = make_console(stderr=True)
+        writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
         if json_file is not None:
-            json_file.parent.mkdir(parents=True, exist_ok=True)
-            json_file.write_text(json.dumps(_json_safe(report.as_dict()), indent=2))
-            console.print(f"JSON: {json_file}", markup=False)
+            text = json.dumps(_json_safe(report.as_dict()), indent=2)
+            where = writes.write(json_file, lambda p: write_text(p, text), "the results (--json)")
+            if where is not None:
+                console.print(f"JSON: {where}", markup=False)
         if not report.passed:
             failed = ", ".join(c.key for c in report.checks if not c.passed)
             console.print(f"[bold red]dynamics check failed:[/] {escape(failed)}")
+        writes.finish()
+        if not report.passed:
             raise typer.Exit(code=1)
         console.print("[green]all dynamics checks passed[/]")

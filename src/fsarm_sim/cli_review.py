@@ -16,9 +16,46 @@ from rich.console import Console
 
 from fsarm_sim.console import make_console
 from fsarm_sim.errors import InvalidParameterError
+from fsarm_sim.outputs import OutputPlan, SafeWriter
 
 if TYPE_CHECKING:
     from fsarm_sim.simulation import RunResult
+
+
+def run_output_plan(
+    scenario: str,
+    fmt: str,
+    *,
+    out: Path,
+    json_file: Path | None,
+    rrd: Path | None,
+    spawn: bool,
+    figures: Path | None,
+) -> OutputPlan:
+    """The files ``fsarm run`` will write, checked (paths, collisions) before the run."""
+    from fsarm_sim import scenarios
+    from fsarm_sim.timeseries import FORMATS
+
+    if fmt not in FORMATS:
+        raise InvalidParameterError(f"--format must be one of {', '.join(FORMATS)}, got {fmt!r}")
+    name = scenarios.get(scenario).name
+    plan = OutputPlan().folder(
+        "--out",
+        out,
+        {f"{name}.{fmt}": "the time series", f"{name}.json": "the time series' sidecar"},
+    )
+    plan.file("--json", json_file)
+    if rrd is not None:
+        plan.file("--rrd", rrd)
+    elif spawn:
+        plan.file("--spawn's recording", out / f"{name}.rrd")
+    if figures is not None:
+        from fsarm_sim.figures import FIGURE_KINDS
+
+        plan.folder(
+            "--figures", figures, {f"{name}_{k}.png": f"the {k} figure" for k in FIGURE_KINDS}
+        )
+    return plan
 
 
 def check_review_options(rrd_rate: float | None) -> None:
@@ -38,21 +75,34 @@ def review_outputs(
     figures_dir: Path | None,
     out: Path,
     console: Console,
+    writes: SafeWriter | None = None,
 ) -> None:
-    """Write the recording / figures a ``run`` asked for and report where they are."""
+    """Write the recording / figures a ``run`` asked for and report where they are (through
+    ``writes``: a failed write goes to a rescue folder instead of being lost)."""
+    w = writes if writes is not None else SafeWriter()
     if rrd is not None or spawn:
         from fsarm_sim.recording import DEFAULT_RATE_HZ, record_run, spawn_viewer
 
-        path = rrd if rrd is not None else out / f"{result.scenario}.rrd"
-        record_run(result, path, DEFAULT_RATE_HZ if rrd_rate is None else rrd_rate)
-        console.print(f"rerun recording: {path}")
-        if spawn:
-            console.print(spawn_viewer(path), markup=False)
+        rate = DEFAULT_RATE_HZ if rrd_rate is None else rrd_rate
+        path = w.write(
+            rrd if rrd is not None else out / f"{result.scenario}.rrd",
+            lambda p: record_run(result, p, rate),
+            "the Rerun recording (--rrd)",
+        )
+        if path is not None:
+            console.print(f"rerun recording: {path}")
+            if spawn:
+                console.print(spawn_viewer(path), markup=False)
     if figures_dir is not None:
         from fsarm_sim.figures import run_figures
 
-        paths = run_figures(result, figures_dir)
-        console.print(f"figures: {', '.join(str(p) for p in paths)}", markup=False)
+        paths = w.write(
+            figures_dir, lambda d: run_figures(result, d), "the figures (--figures)", folder=True
+        )
+        if paths is not None:
+            console.print(f"figures: {', '.join(str(p) for p in paths)}", markup=False)
+    if writes is None:
+        w.finish()
 
 
 def register(app: typer.Typer) -> None:
@@ -79,7 +129,7 @@ def register(app: typer.Typer) -> None:
         """Run every scenario and write its figures: tracking (Fig. 14 style), torque vs twist
         (Fig. 6/7) and bending moment vs bend (Fig. 9), as <out>/<scenario>_<kind>.<format>."""
         from fsarm_sim import scenarios
-        from fsarm_sim.figures import all_scenario_figures
+        from fsarm_sim.figures import FIGURE_KINDS, all_scenario_figures, check_output
         from fsarm_sim.model import SimConfig
         from fsarm_sim.shaft import load_catalogue
 
@@ -89,16 +139,36 @@ def register(app: typer.Typer) -> None:
         names = scenario or list(scenarios.REGISTRY)
         for n in names:
             scenarios.get(n)  # unknown names fail before any run
+        formats = fmt or ["png"]
+        check_output(formats, dpi)
+        OutputPlan().folder(
+            "--out",
+            out,
+            {
+                f"{n}_{k}.{f}": f"the {k} figure of {n} ({f})"
+                for n in dict.fromkeys(names)
+                for k in FIGURE_KINDS
+                for f in formats
+            },
+        ).check()
         cfg = SimConfig(shaft=load_catalogue().shaft(diameter_mm, length_mm))
         console = make_console()
-        written = all_scenario_figures(
+        err = make_console(stderr=True)
+        writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
+        written = writes.write(
             out,
-            cfg,
-            scenarios=names,
-            duration_s=duration,
-            formats=fmt or ["png"],
-            dpi=dpi,
-            size_in=(width, height),
+            lambda d: all_scenario_figures(
+                d,
+                cfg,
+                scenarios=names,
+                duration_s=duration,
+                formats=formats,
+                dpi=dpi,
+                size_in=(width, height),
+            ),
+            "the figures (--out)",
+            folder=True,
         )
-        for name, paths in written.items():
+        for name, paths in (written or {}).items():
             console.print(f"{name}: {', '.join(str(p) for p in paths)}", markup=False)
+        writes.finish()

@@ -314,6 +314,9 @@ def register(app: typer.Typer) -> None:
         ] = None,
     ) -> None:
         """Time raw MuJoCo vs the Python and native callbacks, real-time factor, batch scaling."""
+        from fsarm_sim.outputs import OutputPlan, safe_write, write_text
+
+        OutputPlan().file("--json", json_file).check()
         report = (
             measure_speed(
                 reps=5, rtf_reps=2, rtf_duration_s=2.0, batch_reps=2, max_workers=max_workers
@@ -323,5 +326,6 @@ def register(app: typer.Typer) -> None:
         )
         typer.echo(format_report(report))
         if json_file is not None:
-            json_file.write_text(json.dumps(asdict(report), indent=2))
-            typer.echo(f"numbers: {json_file}")
+            text = json.dumps(asdict(report), indent=2)
+            where = safe_write(json_file, lambda p: write_text(p, text), "the numbers (--json)")
+            typer.echo(f"numbers: {where}")

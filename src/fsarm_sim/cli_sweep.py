@@ -14,6 +14,7 @@ from rich.table import Table
 
 from fsarm_sim.console import make_console
 from fsarm_sim.errors import FsarmError
+from fsarm_sim.outputs import OutputPlan, SafeWriter
 
 console = make_console()
 
@@ -100,6 +101,16 @@ def _print_comparisons(comparisons: Any, fits: Any) -> None:
             for n, r in zip(fits[eq].names, c.coefficient_rel_error, strict=True)
         )
         console.print(f"  {eq} coefficients (refit − catalogue)/catalogue: {parts}", markup=False)
+
+
+def _write_folder(out: Path, write: Any, what: str) -> None:
+    """``write(folder)`` into ``out``; a failed write goes to a rescue folder (named error)."""
+    err = make_console(stderr=True)
+    writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
+    where = writes.write(out, write, what, folder=True)
+    if where is not None:
+        console.print(f"table and figure in {where}", markup=False)
+    writes.finish()
 
 
 def register(app: typer.Typer) -> None:
@@ -247,6 +258,9 @@ def register(app: typer.Typer) -> None:
             return
         if store is None:
             raise FsarmError("--store FILE is required: every finished point is written there")
+        OutputPlan().file("--store", store).folder("--out", out).input(
+            "the sweep spec of --spec", spec
+        ).input("the coefficient file of --shaft-file", shaft_file).check()
         data = sw.load_spec_file(spec) if spec is not None else None
         the_spec = sw.build_spec(
             data,
@@ -259,12 +273,17 @@ def register(app: typer.Typer) -> None:
         )
         pts = sw.points(the_spec)
         if dry_run:
-            done = 0
+            done = failed = 0
             if store.exists():
                 with ResultStore(store) as rs:
-                    keys = rs.keys()
+                    keys, errors = rs.keys(), rs.errors()
                 done = sum(point_key(p) in keys for p in pts)
-            console.print(f"{the_spec.name}: {len(pts)} points valid, {done} already in {store}")
+                failed = sum(point_key(p) in errors for p in pts)
+            console.print(
+                f"{the_spec.name}: {len(pts)} points valid, {done} already in {store}"
+                + (f" ({failed} of them failed; --retry-failed reruns them)" if failed else ""),
+                markup=False,
+            )
             return
         report = sw.run_sweep(
             the_spec,
@@ -281,13 +300,23 @@ def register(app: typer.Typer) -> None:
             f"({report.points_per_s:.3g} points/s) -> {store}",
             markup=False,
         )
+        if report.failed_before:
+            console.print(
+                f"{report.failed_before} of the {report.already} stored point(s) had failed in an "
+                "earlier run and were not rerun",
+                markup=False,
+            )
         for e in report.errors[:5]:
             console.print(f"  failed: {e}", markup=False)
+        if len(report.errors) > 5:
+            console.print(f"  ... and {len(report.errors) - 5} more", markup=False)
         if out is not None:
             _report(store, out, the_spec.name)
-        if report.failed:
+        if report.failed or report.failed_before:
             raise FsarmError(
-                f"{report.failed} point(s) failed (stored with their error; --retry-failed reruns them)"
+                f"{report.failed + report.failed_before} point(s) of {report.name} failed "
+                f"({report.failed} in this run, {report.failed_before} stored by an earlier run); "
+                "they are stored with their error, --retry-failed reruns them"
             )
 
     def _report(store: Path, out: Path, sweep: str | None) -> None:
@@ -310,8 +339,12 @@ def register(app: typer.Typer) -> None:
         name: Annotated[str | None, typer.Option(help="only this sweep's points")] = None,
     ) -> None:
         """Re-fit eq. 3/4 to a stored sweep and plot its metrics (maps, 3-D surfaces)."""
+        from fsarm_sim.store import check_store_file
+
         if not store.is_file():
             raise FsarmError(f"results store not found: {store}")
+        check_store_file(store)
+        OutputPlan().folder("--out", out).input("the results store of --store", store).check()
         _report(store, out, name)
 
     bench_app = typer.Typer(
@@ -371,6 +404,9 @@ def register(app: typer.Typer) -> None:
         from fsarm_sim import campaign as cp
         from fsarm_sim.shaft import load_catalogue
 
+        OutputPlan().folder("--out", out).input(
+            "the coefficient file of --shaft-file", shaft_file
+        ).check()
         cat = load_catalogue(shaft_file)
         cat.shaft(diameter_mm, length_mm)
         s = _settings(
@@ -399,13 +435,17 @@ def register(app: typer.Typer) -> None:
                 markup=False,
             )
         if out is not None:
-            out.mkdir(parents=True, exist_ok=True)
-            cp._write_csv(out / f"series_table_{name}.csv", cp.series_table_rows(fits))
             loops = {f"φ_B = {t.split('/')[2]}°": lp for t, lp in result.loops.items()}
-            cp.plot_series_loops(
-                loops, f"{name}: series test (Fig. 6)", out / f"fig6_series_loops_{name}.png"
-            )
-            console.print(f"table and figure in {out}")
+
+            def write(d: Path) -> Path:
+                d.mkdir(parents=True, exist_ok=True)
+                cp._write_csv(d / f"series_table_{name}.csv", cp.series_table_rows(fits))
+                cp.plot_series_loops(
+                    loops, f"{name}: series test (Fig. 6)", d / f"fig6_series_loops_{name}.png"
+                )
+                return d
+
+            _write_folder(out, write, "the table and figure (--out)")
 
     @bench_app.command("parallel")
     def bench_parallel_cmd(
@@ -430,6 +470,9 @@ def register(app: typer.Typer) -> None:
         from fsarm_sim import campaign as cp
         from fsarm_sim.shaft import load_catalogue
 
+        OutputPlan().folder("--out", out).input(
+            "the coefficient file of --shaft-file", shaft_file
+        ).check()
         cat = load_catalogue(shaft_file)
         p = cat.shaft(diameter_mm, length_mm)
         s = _settings(
@@ -455,16 +498,20 @@ def register(app: typer.Typer) -> None:
             markup=False,
         )
         if out is not None:
-            out.mkdir(parents=True, exist_ok=True)
-            cp._write_csv(out / f"parallel_table_{name}.csv", [asdict(f) for f in fits])
             loops = {t.split("/")[2]: lp for t, lp in result.loops.items()}
-            cp.plot_parallel_loops(
-                loops,
-                fits,
-                f"{name}: parallel test (Fig. 9)",
-                out / f"fig9_parallel_loop_{name}.png",
-            )
-            console.print(f"table and figure in {out}")
+
+            def write(d: Path) -> Path:
+                d.mkdir(parents=True, exist_ok=True)
+                cp._write_csv(d / f"parallel_table_{name}.csv", [asdict(f) for f in fits])
+                cp.plot_parallel_loops(
+                    loops,
+                    fits,
+                    f"{name}: parallel test (Fig. 9)",
+                    d / f"fig9_parallel_loop_{name}.png",
+                )
+                return d
+
+            _write_folder(out, write, "the table and figure (--out)")
 
     @app.command("campaign")
     def campaign_cmd(
@@ -490,6 +537,9 @@ def register(app: typer.Typer) -> None:
         from fsarm_sim import campaign as cp
         from fsarm_sim.shaft import load_catalogue
 
+        OutputPlan().folder("--out", out).input(
+            "the coefficient file of --shaft-file", shaft_file
+        ).check()
         cat = load_catalogue(shaft_file)
         chosen = list(cat.shafts)
         if shafts:
@@ -536,7 +586,14 @@ def register(app: typer.Typer) -> None:
         finally:
             if bar is not None:
                 bar.stop()
-        files = cp.write_campaign(result, cat, out)
+        err = make_console(stderr=True)
+        writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
+        written = writes.write(
+            out,
+            lambda d: (d, cp.write_campaign(result, cat, d)),
+            "the campaign's files (--out)",
+            folder=True,
+        )
         proto = "MF09-450" if "MF09-450" in result.series else next(iter(result.series), None)
         if proto is not None:
             _print_series_table(proto, result.series[proto])
@@ -545,4 +602,10 @@ def register(app: typer.Typer) -> None:
         _print_comparisons(result.comparisons, result.fits)
         for e in result.errors:
             console.print(f"error: {e}", markup=False)
-        console.print(f"{len(files)} files in {out}")
+        if written is not None:
+            console.print(f"{len(written[1])} files in {written[0]}", markup=False)
+        writes.finish()
+        if result.errors:
+            raise FsarmError(
+                f"{len(result.errors)} bench run(s) of the campaign failed (listed above)"
+            )

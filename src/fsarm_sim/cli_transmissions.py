@@ -13,6 +13,7 @@ from rich.table import Table
 
 from fsarm_sim.console import make_console
 from fsarm_sim.errors import InvalidParameterError
+from fsarm_sim.outputs import OutputPlan, SafeWriter, safe_write, write_text
 
 console = make_console()
 
@@ -106,8 +107,18 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Tracking RMSE, peak torque, motor work, bandwidth and impedance across transmissions."""
         from fsarm_sim.comparison import COLUMNS, compare, fmt
-        from fsarm_sim.model import Gains, SimConfig
+        from fsarm_sim.model import PAYLOAD_MAX_KG, Gains, SimConfig
+        from fsarm_sim.simulation import check_duration
 
+        if duration is not None:
+            check_duration(duration)
+        if payload_kg is not None and not (
+            math.isfinite(payload_kg) and 0.0 <= payload_kg <= PAYLOAD_MAX_KG
+        ):
+            raise InvalidParameterError(
+                f"--payload-kg must be between 0 and {PAYLOAD_MAX_KG:g} kg, got {payload_kg!r}"
+            )
+        OutputPlan().file("--json", json_file).check()
         base = SimConfig(gains=Gains(**parse_gains(gain or [])))  # type: ignore[arg-type]
         rows = compare(
             only or None,
@@ -131,9 +142,17 @@ def register(app: typer.Typer) -> None:
         console.print(table)
         for note in notes:
             console.print(f"[red]failed[/] {escape(note)}")
+        err = make_console(stderr=True)
+        writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
         if json_file is not None:
-            json_file.write_text(json.dumps([r.as_dict() for r in rows], indent=2))
-            console.print(f"rows: {json_file}")
+            text = json.dumps([r.as_dict() for r in rows], indent=2)
+            where = writes.write(json_file, lambda p: write_text(p, text), "the rows (--json)")
+            if where is not None:
+                console.print(f"rows: {where}", markup=False)
+        writes.finish()
+        if notes:
+            err.print(f"{len(notes)} of {len(rows)} transmission(s) failed", markup=False)
+            raise typer.Exit(code=1)
 
     @app.command("transparency")
     def transparency_cmd(
@@ -152,6 +171,7 @@ def register(app: typer.Typer) -> None:
         from fsarm_sim.model import Gains, SimConfig
         from fsarm_sim.transparency import DEFAULT_BENDS_DEG, versus_bend
 
+        OutputPlan().file("--json", json_file).check()
         cfg = SimConfig(transmission=transmission, gains=Gains(gain_schedule=not fixed_gains))
         points = versus_bend(cfg, tuple(bend) if bend else DEFAULT_BENDS_DEG)
         mode = "fixed" if fixed_gains else "scheduled"
@@ -167,17 +187,17 @@ def register(app: typer.Typer) -> None:
             )
         console.print(table)
         if json_file is not None:
-            json_file.write_text(
-                json.dumps(
-                    [
-                        {
-                            "bend_deg": p.bend_deg,
-                            "bandwidth_hz": p.bandwidth.bandwidth_hz,
-                            "impedance_low_nm_per_rad": p.impedance.low_freq_nm_per_rad,
-                            "passive_stiffness_nm_per_rad": p.impedance.passive_nm_per_rad,
-                        }
-                        for p in points
-                    ],
-                    indent=2,
-                )
+            text = json.dumps(
+                [
+                    {
+                        "bend_deg": p.bend_deg,
+                        "bandwidth_hz": p.bandwidth.bandwidth_hz,
+                        "impedance_low_nm_per_rad": p.impedance.low_freq_nm_per_rad,
+                        "passive_stiffness_nm_per_rad": p.impedance.passive_nm_per_rad,
+                    }
+                    for p in points
+                ],
+                indent=2,
             )
+            where = safe_write(json_file, lambda q: write_text(q, text), "the results (--json)")
+            console.print(f"results: {where}", markup=False)

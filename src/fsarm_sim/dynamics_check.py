@@ -32,7 +32,7 @@ from fsarm_sim import pinocchio_model as pm
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
 from fsarm_sim.model import ArmStructure, SimConfig, build_model, read_structure
 from fsarm_sim.shaft import load_catalogue
-from fsarm_sim.simulation import initial_state, raise_on_warning
+from fsarm_sim.simulation import check_duration, initial_state, raise_on_warning
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -966,6 +966,7 @@ def check_trajectory(study: TrajectoryStudy) -> list[CheckResult]:
 
 DEFAULT_SAMPLES = 200
 DEFAULT_DURATION_S = 4.0  # one period of the Fig. 14 sine (0 -> 90 deg -> 0)
+MAX_TRAJECTORY_S = 60.0  # longer studies take hours (fine Pinocchio reference step)
 
 
 @dataclass(frozen=True)
@@ -1065,6 +1066,16 @@ def run_checks(
     """Every check of this module at the given size."""
     if samples < 1:
         raise InvalidParameterError(f"samples must be >= 1, got {samples}")
+    if trajectory and check_duration(duration_s) > MAX_TRAJECTORY_S:
+        raise InvalidParameterError(
+            f"trajectory duration must be at most {MAX_TRAJECTORY_S:g} s (the study steps "
+            f"Pinocchio at a fine reference step), got {duration_s!r}"
+        )
+    if not (math.isfinite(shaft_inertia_kgm2) and shaft_inertia_kgm2 >= 0.0):
+        raise InvalidParameterError(
+            f"shaft inertia must be a finite number of kg*m^2 >= 0 (0: skip), "
+            f"got {shaft_inertia_kgm2!r}"
+        )
     models = check_models(shaft_inertia_kgm2)
     pairs = [make_pair(cfg, hold_table(), name) for name, cfg in models]
     structure = elastic_structure(pairs[0])

@@ -57,3 +57,13 @@ class CallbackBypassError(FsarmError, RuntimeError):
 
 class CallbackConflictError(FsarmError, RuntimeError):
     """fsarm's process-global callbacks are held by another thread with the other backend."""
+
+
+class OutputPathError(FsarmError, ValueError):
+    """An output path cannot be used: a folder where a file is meant (or the reverse), a place
+    that cannot be written, two outputs on one file, or an output on one of the inputs."""
+
+
+class OutputWriteError(FsarmError, RuntimeError):
+    """Writing a result failed after the work was done; the results went to a fallback place,
+    which the message names."""

@@ -73,6 +73,8 @@ UNITS = {
 }
 MIN_SAMPLES = 200  # a few hundred samples: enough for one teaching/verifying split of 12 blocks
 TIME_JITTER = 0.01  # allowed deviation of one sample interval from the median, as a fraction
+# slowest sampling the fits can use (10 Hz); time in ms at 1 kHz (interval 1) is caught by it
+MAX_SAMPLE_INTERVAL_S = 0.1
 
 
 class MeasuredDataError(FsarmError, ValueError):
@@ -153,6 +155,20 @@ class Dataset:
 
 
 # ----------------------------------------------------------------------------------- paths
+
+
+def dataset_files(path: str | Path) -> tuple[Path, Path]:
+    """(table, sidecar) that :func:`load_dataset` reads for NAME, NAME.csv, NAME.parquet or
+    NAME.json; :class:`MeasuredDataError` when there is no table."""
+    return _paths(path)
+
+
+def output_files(path: str | Path) -> tuple[Path, Path]:
+    """(table, sidecar) that :func:`write_dataset` writes for ``path`` (no suffix: CSV)."""
+    p = Path(path)
+    if p.suffix.lower() not in (".csv", ".parquet"):
+        p = p.with_name(p.name + ".csv")
+    return p, p.with_suffix(".json")
 
 
 def _paths(path: str | Path) -> tuple[Path, Path]:
@@ -352,6 +368,13 @@ def validate_columns(
             f"(t[{i - 1}] = {t[i - 1]!r}, t[{i}] = {t[i]!r}); rows must be in time order"
         )
     med = float(np.median(dt))
+    if med > MAX_SAMPLE_INTERVAL_S * (1.0 + TIME_JITTER):
+        raise TimeAxisError(
+            f"{path}: column 't' has a median sample interval of {med:.6g} s (t from {t[0]:.6g} "
+            f"to {t[-1]:.6g}); at most {MAX_SAMPLE_INTERVAL_S:g} s is allowed (sample rate >= "
+            f"{1 / MAX_SAMPLE_INTERVAL_S:g} Hz). 't' must be in seconds: if it is in "
+            "milliseconds, divide it by 1000"
+        )
     uneven = np.flatnonzero(np.abs(dt - med) > TIME_JITTER * med)
     if uneven.size:
         i = int(uneven[0]) + 1
@@ -402,9 +425,7 @@ def write_dataset(
 
     The columns are validated against the sidecar's setup before anything is written.
     """
-    p = Path(path)
-    if p.suffix.lower() not in (".csv", ".parquet"):
-        p = p.with_name(p.name + ".csv")
+    p, side = output_files(path)
     setup = sidecar.get("setup")
     if setup not in SETUPS:
         raise SetupError(f"sidecar 'setup' must be one of {', '.join(SETUPS)}, got {setup!r}")
@@ -418,6 +439,5 @@ def write_dataset(
         frame.to_parquet(p, index=False)
     else:
         frame.to_csv(p, index=False, float_format="%.10g")
-    side = p.with_suffix(".json")
     side.write_text(json.dumps(dict(sidecar), indent=2) + "\n", "utf-8")
     return p, side

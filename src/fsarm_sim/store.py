@@ -51,6 +51,57 @@ class StoreError(FsarmError, RuntimeError):
     """The results store cannot be opened, is not an fsarm store, or a value cannot be stored."""
 
 
+class ForeignStoreError(StoreError):
+    """The file given as a results store is not one fsarm created (another program's SQLite
+    database, or not SQLite at all); it is left untouched."""
+
+
+SQLITE_HEADER = b"SQLite format 3\x00"
+
+
+def check_store_file(path: Path) -> None:
+    """Refuse, without writing a byte, a file that is not an fsarm results store.
+
+    Allowed: no file, an empty file, an SQLite database without tables, or an fsarm store
+    (tables ``meta`` and ``points``, ``meta`` holding ``schema_version``). Everything else raises
+    :class:`ForeignStoreError`. The check opens the database read-only.
+    """
+    if not path.exists() or path.stat().st_size == 0:
+        return
+    try:
+        with path.open("rb") as f:
+            head = f.read(len(SQLITE_HEADER))
+    except OSError as exc:
+        raise StoreError(f"results store {path} cannot be read ({exc.strerror})") from exc
+    if head != SQLITE_HEADER:
+        raise ForeignStoreError(
+            f"{path} is not a usable SQLite results store: it is not an SQLite file (left "
+            "untouched); give a new file name or an existing fsarm store"
+        )
+    try:
+        db = sqlite3.connect(f"{path.resolve().as_uri()}?mode=ro", uri=True, timeout=30.0)
+        try:
+            tables = {r[0] for r in db.execute("SELECT name FROM sqlite_master WHERE type='table'")}
+            marker = (
+                db.execute("SELECT value FROM meta WHERE key = 'schema_version'").fetchone()
+                if "meta" in tables
+                else None
+            )
+        finally:
+            db.close()
+    except sqlite3.DatabaseError as exc:
+        raise ForeignStoreError(
+            f"{path} is not a usable SQLite results store ({exc}); it was left untouched"
+        ) from exc
+    if tables and ({"meta", "points"} - tables or marker is None):
+        shown = ", ".join(sorted(tables)[:5]) + (", ..." if len(tables) > 5 else "")
+        raise ForeignStoreError(
+            f"{path} is an SQLite database that fsarm did not create (tables: {shown}; an fsarm "
+            "store has 'meta' with a schema_version and 'points'); it was left untouched - give "
+            "a new file name for the results store"
+        )
+
+
 def _finite(value: Any, where: str) -> Any:
     """Reject NaN/inf anywhere in a JSON-able value (canonical JSON has no NaN)."""
     if isinstance(value, float) and not math.isfinite(value):
@@ -112,24 +163,24 @@ class ResultStore:
         self.path = Path(path)
         if self.path.exists() and not self.path.is_file():
             raise StoreError(f"results store {self.path} exists and is not a file")
+        check_store_file(self.path)  # before anything is written to it
         if self.path.parent and not self.path.parent.exists():
             self.path.parent.mkdir(parents=True, exist_ok=True)
         try:
             self._db = sqlite3.connect(str(self.path), timeout=30.0, isolation_level=None)
             self._db.execute("PRAGMA journal_mode=WAL")
             self._db.execute("PRAGMA synchronous=NORMAL")  # WAL + NORMAL: a commit survives kill -9
-            self._db.executescript(_SCHEMA)
+            # tables and marker in one transaction: a store never exists without its marker
+            self._db.executescript(
+                f"BEGIN; {_SCHEMA} INSERT OR IGNORE INTO meta (key, value) VALUES "
+                f"('schema_version', '{SCHEMA_VERSION}'); COMMIT;"
+            )
             found = self._db.execute(
                 "SELECT value FROM meta WHERE key = 'schema_version'"
             ).fetchone()
         except sqlite3.DatabaseError as exc:
             raise StoreError(f"{self.path} is not a usable SQLite results store ({exc})") from exc
-        if found is None:
-            self._db.execute(
-                "INSERT OR IGNORE INTO meta (key, value) VALUES ('schema_version', ?)",
-                (str(SCHEMA_VERSION),),
-            )
-        elif int(found[0]) != SCHEMA_VERSION:
+        if int(found[0]) != SCHEMA_VERSION:
             raise StoreError(
                 f"{self.path} has store schema {found[0]}, this fsarm-sim writes {SCHEMA_VERSION}"
             )
@@ -198,6 +249,13 @@ class ResultStore:
 
     def keys(self) -> set[str]:
         return {r[0] for r in self._db.execute("SELECT key FROM points")}
+
+    def errors(self) -> dict[str, str]:
+        """Key -> error message of every failed point in the store."""
+        return {
+            r[0]: str(r[1] or "")
+            for r in self._db.execute("SELECT key, error FROM points WHERE status = 'error'")
+        }
 
     def count(self, status: str | None = None) -> int:
         if status is None:

@@ -423,7 +423,6 @@ def validate(spec: SweepSpec) -> None:
         raise SweepSpecError(f"shaft file: {exc}") from exc
     values = {k: spec.grid.get(k, (spec.fixed.get(k, known[k].default),)) for k in known}
     # ranges per field
-    bend_hi = math.degrees(max(abs(cat.bend_range[0]), abs(cat.bend_range[1])))
     for key, vals in values.items():
         info = known[key]
         for v in vals:
@@ -438,10 +437,10 @@ def validate(spec: SweepSpec) -> None:
                     f"{key} = {v:g} is above its maximum {info.maximum:g} {info.unit}"
                 )
     for b in values["bend_deg"]:
-        if abs(b) > bend_hi + 1e-9:
-            raise SweepSpecError(
-                f"bend_deg = {b:g} is outside the validity range [-{bend_hi:.0f}, {bend_hi:.0f}] deg"
-            )
+        try:  # the same check as the arm runs' (model.build_model) and the bench's
+            cat.check_bend(math.radians(b), f"bend_deg = {b:g}")
+        except ShaftRangeError as exc:
+            raise SweepSpecError(str(exc)) from exc
     for d in values["duration_s"]:
         if d is not None and d <= 0.0:
             raise SweepSpecError(f"duration_s must be > 0 s, got {d:g}")
@@ -649,6 +648,7 @@ class SweepReport:
     failed: int
     wall_s: float
     errors: list[str] = field(default_factory=list)
+    failed_before: int = 0  # points of this sweep stored as failed by an earlier run (not rerun)
 
     @property
     def points_per_s(self) -> float:
@@ -678,6 +678,12 @@ def run_sweep(
         done = store.keys()
         todo = [p for p in pts if point_key(p) not in done]
         report = SweepReport(spec.name, len(pts), len(pts) - len(todo), 0, 0, 0.0)
+        stored_errors = store.errors()
+        for p in pts:
+            err = stored_errors.get(point_key(p))
+            if err is not None:
+                report.failed_before += 1
+                report.errors.append(f"{canonical_json(p)}: {err} (stored by an earlier run)")
         tasks = [
             {
                 "point": p,

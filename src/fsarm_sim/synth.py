@@ -33,7 +33,7 @@ from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.discrepancy.benchmodel import BenchModel, EffectInstance, nominal_from_shaft
 from fsarm_sim.effects import registry, sensor_offset
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.measured import write_dataset
+from fsarm_sim.measured import MAX_SAMPLE_INTERVAL_S, write_dataset
 from fsarm_sim.shaft import ShaftParams, load_catalogue
 
 FloatArray = npt.NDArray[np.float64]
@@ -45,6 +45,9 @@ ENCODER_COUNTS = 131072
 # (models/bench/series_bench.xml); used at 80 %.
 SERIES_RATE_LIMIT = 1078.6 / 91.0
 PARALLEL_RATE_LIMIT = 6.0  # rad/s at the bend joint: estimate (Fig. 9 bends at 0.1-1 Hz)
+MAX_SAMPLES = 1_000_000  # recorded samples of one dataset (1000 Hz for 1000 s)
+WORK_ARRAYS = 12  # float64 arrays of the oversampled length alive at once (estimate)
+MIN_RATE_HZ = 1.0 / MAX_SAMPLE_INTERVAL_S  # the slowest rate fsarm diagnose accepts
 
 
 @lru_cache(maxsize=1)
@@ -147,10 +150,48 @@ class Recording:
             v = getattr(self, name)
             if not math.isfinite(v) or v <= 0:
                 raise InvalidParameterError(f"{name} must be > 0, got {v!r}")
+        if self.rate_hz < MIN_RATE_HZ:
+            raise InvalidParameterError(
+                f"rate_hz (--rate) must be >= {MIN_RATE_HZ:g} Hz, the slowest sampling fsarm "
+                f"diagnose accepts, got {self.rate_hz!r}"
+            )
         if not math.isfinite(self.noise) or self.noise < 0:
             raise InvalidParameterError(f"noise must be >= 0, got {self.noise!r}")
         if self.oversample < 1 or self.encoder_counts < 0:
             raise InvalidParameterError("oversample must be >= 1 and encoder_counts >= 0")
+        if self.amplitude is not None and not (
+            math.isfinite(self.amplitude) and self.amplitude > 0
+        ):
+            raise InvalidParameterError(
+                f"amplitude (--amplitude) must be a finite number of rad > 0, got {self.amplitude!r}"
+            )
+        if not math.isfinite(self.bend_rad):
+            raise InvalidParameterError(f"bend_rad must be finite, got {self.bend_rad!r}")
+        n = self.n_samples()
+        if n > MAX_SAMPLES:
+            raise InvalidParameterError(
+                f"rate_hz x duration_s (--rate x --duration) = {self.rate_hz:g} Hz x "
+                f"{self.duration_s:g} s gives {n:,} samples (about "
+                f"{self.memory_bytes() / 1e9:.3g} GB of working memory); at most "
+                f"{MAX_SAMPLES:,} samples are allowed: lower --rate or --duration"
+            )
+        from fsarm_sim.simulation import available_memory_bytes
+
+        if self.memory_bytes() > available_memory_bytes() // 2:
+            raise InvalidParameterError(
+                f"rate_hz x duration_s (--rate x --duration) needs about "
+                f"{self.memory_bytes() / 1e9:.3g} GB of working memory, more than half of what "
+                f"is available ({available_memory_bytes() / 1e9:.3g} GB): lower --rate or "
+                "--duration"
+            )
+
+    def n_samples(self) -> int:
+        """Recorded samples: duration x rate + 1."""
+        return round(self.duration_s * self.rate_hz) + 1
+
+    def memory_bytes(self) -> int:
+        """Estimated working memory of :func:`synthesize` (oversampled float64 arrays)."""
+        return WORK_ARRAYS * 8 * ((self.n_samples() - 1) * self.oversample + 1)
         if self.trajectory not in TRAJECTORIES:
             raise InvalidParameterError(
                 f"unknown trajectory {self.trajectory!r}; known: {', '.join(TRAJECTORIES)}"
@@ -275,6 +316,13 @@ def truth_model(
     ``load_inertia_kgm2`` is what the sidecar will state; ``true_inertia_kgm2`` what acts
     (default: the stated value).
     """
+    for name, v in (
+        ("load_inertia_kgm2 (--inertia)", load_inertia_kgm2),
+        ("true_inertia_kgm2 (--true-inertia)", true_inertia_kgm2),
+        ("stiffness_scale (--stiffness-scale)", stiffness_scale),
+    ):
+        if v is not None and not (math.isfinite(v) and v > 0):
+            raise InvalidParameterError(f"{name} must be a finite number > 0, got {v!r}")
     sh = shaft or load_catalogue().shaft()
     j_link = parallel_link_inertia() if setup == "parallel_bench" else 0.0
     m = nominal_from_shaft(setup, sh, load_inertia_kgm2, j_link=j_link)

@@ -30,6 +30,7 @@ from fsarm_sim.discrepancy.report import (
 )
 from fsarm_sim.discrepancy.residuals import bic, effective_n, nrmse
 from fsarm_sim.discrepancy.selection import BIC_THRESHOLD, MIN_EXPLAINED, MIN_GAIN
+from fsarm_sim.outputs import SafeWriter
 
 CHANNELS = ("q3", "theta_m", "q2", "twist")
 
@@ -228,8 +229,10 @@ def run_cli(
     report: Path | None,
     model_file: Path | None,
     max_effects: int,
+    writes: SafeWriter | None = None,
 ) -> A.ArmDiagnosis:
-    """``fsarm diagnose`` for an arm record: diagnose, print the steps, write what was asked."""
+    """``fsarm diagnose`` for an arm record: diagnose, print the steps, write what was asked
+    (through ``writes``: a failed write goes to a rescue folder instead of being lost)."""
     from rich.markup import escape
     from rich.table import Table
 
@@ -276,17 +279,28 @@ def run_cli(
         f"runtime {diag.runtime_s:.1f} s ({diag.extras.get('simulations')} closed-loop runs)",
         markup=False,
     )
+    w = writes if writes is not None else SafeWriter()
     written: Path | None = None
     if model_file is not None:
-        written = write_model(diag, model_file)
-        console.print(f"model: {written}", markup=False)
+        written = w.write(model_file, lambda p: write_model(diag, p), "the final model (--model)")
+        if written is not None:
+            console.print(f"model: {written}", markup=False)
     if report is not None:
-        files = write_report(diag, report)
-        written = written or files["model"]
-        console.print(f"report: {report} ({', '.join(p.name for p in files.values())})")
+        files = w.write(
+            report, lambda d: write_report(diag, d), "the report (--report)", folder=True
+        )
+        if files is not None:
+            written = written or files["model"]
+            where = files["result"].parent
+            console.print(
+                f"report: {where} ({', '.join(p.name for p in files.values())})", markup=False
+            )
     if json_file is not None:
-        write_json(diag, json_file, written)
-        console.print(f"result: {json_file}", markup=False)
+        res = w.write(json_file, lambda p: write_json(diag, p, written), "the result (--json)")
+        if res is not None:
+            console.print(f"result: {res}", markup=False)
+    if writes is None:
+        w.finish()
     if written is not None:
         console.print(
             "load the final model: fsarm_sim.discrepancy.arm_modelfile.load_arm_config(MODEL) -> SimConfig",

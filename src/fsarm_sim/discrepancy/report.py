@@ -366,6 +366,16 @@ def plot_bic_steps(steps: list[Step], path: Path) -> Path:
     return path
 
 
+REPORT_FILES = {  # the files write_report (and arm_report.write_report) may put in the folder
+    "result.json": "the result",
+    "model.json": "the final model",
+    "timeseries.png": "the time-series plot",
+    "loops.png": "the loop plot",
+    "nrmse.png": "the NRMSE plot",
+    "bic.png": "the BIC plot",
+}
+
+
 def write_report(diag: Diagnosis, folder: str | Path) -> dict[str, Path]:
     """Everything into one folder: result.json, model.json and the plots."""
     out = Path(folder)
