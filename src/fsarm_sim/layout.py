@@ -15,100 +15,165 @@ The indices are plain module-level ints so that Numba-compiled kernels can use t
 
 from __future__ import annotations
 
+from fsarm_sim.effects import backlash, bending, conduit_viscoelastic, payload_error
+from fsarm_sim.paramblocks import Decl, Layout
+
 PARAMS_NAME = "fsarm_params"
 REF_NAME = "fsarm_ref"
 MAGIC = 7013.0  # first parameter; marks an fsarm model so callbacks ignore foreign models
 REF_COLS = 9
 
-# --- structure (read from the compiled MJCF, never typed twice) ---
-# A qpos/dof index of -1 means "absent" (bench models): its angle and rate read as 0 (for the
-# bend joint: P_BEND_FIXED) and no force is applied to it.
-P_MAGIC = 0
-P_QADR_Q1 = 1
-P_QADR_Q2 = 2
-P_QADR_Q3 = 3
-P_QADR_ROT = 4
-P_DOF_Q1 = 5
-P_DOF_Q2 = 6
-P_DOF_Q3 = 7
-P_DOF_ROT = 8
-P_COEF_M = 9  # theta_m = COEF_M * rotor angle   (1 / i_G1)
-P_COEF_S = 10  # theta_s = COEF_S * q3           (i_G2)
-P_ACT_BR1 = 11
-P_ACT_BR2 = 12
-P_ACT_SLIP1 = 13  # three consecutive slip elements (other transmissions: their state slots)
-P_CTRL_J1 = 14
-P_CTRL_J2 = 15
-P_CTRL_J3 = 16
-P_MADR_Q1 = 17  # index of the diagonal of the joint-space inertia in data.M (CSR)
-P_MADR_Q2 = 18
-P_MADR_Q3 = 19
-# --- the shaft's parallel (bending) side; its series side is the transmission block P_TR ---
-# (slots 20-25, 32-34, 38 and 58-61 held the flexible shaft's own copy before 0.3.0: free)
-P_KB = 26
-P_BETA = 27
-P_BR_K1 = 28
-P_BR_TAU1 = 29
-P_BR_K2 = 30
-P_BR_TAU2 = 31
-# --- effect switches (1.0 on, 0.0 off) ---
-P_EN_SERIES = 35
-P_EN_BEND = 36
-P_EN_CONDUIT = 37
-P_EN_COUPLING = 39
-P_EN_CONTROL = 40
-# --- control ---
-P_CTRL_DT = 41
-P_N_TICKS = 42
-P_WN1 = 43
-P_ZETA1 = 44
-P_WN2 = 45
-P_ZETA2 = 46
-P_WN3 = 47
-P_ZETA3 = 48
-P_TAU_BW = 49  # torque PID: loop bandwidth w_t, rad/s (gains scheduled on eq. 8 stiffness)
-P_TAU_WI = 50  # integral corner w_i, rad/s
-P_TAU_KDN = 51  # normalized derivative gain (dimensionless)
-P_SPD_KP = 52  # EPOS-like speed loop, motor side: N*m per rad/s
-P_SPD_KI = 53
-P_OMEGA_MAX = 54  # motor speed limit, rad/s (motor side)
-P_TAU_MOT_MAX = 55  # motor torque (current) limit, N*m (motor side)
-P_TAU1_MAX = 56
-P_TAU2_MAX = 57
-P_CM_KB = 62  # the controller's model of the bending moment (eq. 4); its shaft model is P_TRC
-P_CM_BETA = 63
-P_CM_BEND_COMP = 64  # 1: joint-2 controller adds the modeled elastic bending moment
-P_SPEED_FF = 65  # 1: torque PID adds the measured shaft-output speed as feedforward
-P_BEND_FIXED = 66  # bend angle used when there is no bend joint (P_QADR_Q2 < 0), rad
-P_SETUP = 67  # 0: arm, 1: series bench, 2: parallel bench
-P_RK4 = 68  # 1 when the model integrates with RK4 (see physics.control)
-# --- joint-3 transmission (fsarm_sim.transmissions): which one, the plant's parameter block and
-# the controller's copy (virtual torque sensor, gain scheduling); the flexible shaft (kind 0)
-# included, like every other.
-P_TRANS = 69
-P_TR = 70  # N_TR consecutive parameters (transmissions.base.N_TR)
-P_TRC = 94  # N_TR consecutive parameters: the controller's model of the transmission
-P_TR_K0 = 118  # controller's stiffness at zero twist, straight (floor of the gain scheduler)
-# --- arm effects the discrepancy workflow can switch on (0: off) ---
-P_PAY_DM = 119  # payload mass error, kg: the plant carries it, the controllers do not know it
-P_PAY_L2 = 120  # joint 2 -> joint 3 distance, m (from the compiled MJCF)
-P_PAY_L3 = 121  # joint 3 -> payload centre of mass, m (from the compiled MJCF)
-P_GRAVITY = 122  # |g|, m/s^2 (from the compiled MJCF)
-P_BL_WIDTH = 123  # backlash (dead band) on the transmission twist, total width, rad
-P_BL_CENTER = 124  # middle of the dead band, rad
-P_GAIN_SCHED = 125  # 1: torque-PID gains scheduled on the model stiffness; 0: fixed at P_TR_K0
-# --- the control clock (physics.control): ticks come from a step count, never from data.time
-# alone, which drifts by rounding (1e-4 s after an hour at 10 us); see physics.control ---
-P_TIMESTEP = 126  # physics timestep h the model was built with, s
-P_STEPS_PER_TICK = 127  # control period / timestep (a whole number >= 1)
-N_PARAMS = 128
-N_TR = 24
+N_TR = 24  # parameters of one transmission block (the largest law's PARAMS fit)
+# Joint-3 transmissions, in registry order: the kernels dispatch on the integer id (the index
+# here), fsarm_sim.transmissions maps names to these modules, and tests/test_layout.py checks that
+# every id reaches its own module's kernels.
+TRANSMISSION_MODULES = ("flexible_shaft", "rtca", "qa_joint", "magnetic_spring", "tendon_sheath")
+TR_FLEXIBLE_SHAFT = TRANSMISSION_MODULES.index("flexible_shaft")
+TR_RTCA = TRANSMISSION_MODULES.index("rtca")
+TR_QA_JOINT = TRANSMISSION_MODULES.index("qa_joint")
+TR_MAGNETIC_SPRING = TRANSMISSION_MODULES.index("magnetic_spring")
+TR_TENDON_SHEATH = TRANSMISSION_MODULES.index("tendon_sheath")
 
-TR_FLEXIBLE_SHAFT = 0.0
-TR_RTCA = 1.0
-TR_QA_JOINT = 2.0
-TR_MAGNETIC_SPRING = 3.0
-TR_TENDON_SHEATH = 4.0
+# --- the parameter vector, block by block (offsets computed here, in this order) ---
+LAYOUT = Layout()
+_ = LAYOUT
+P_MAGIC = _.one("magic", "magic", "-", "marks an fsarm model (MAGIC)", MAGIC)
+
+# structure, read from the compiled MJCF (never typed twice). A qpos/dof index of -1 means
+# "absent" (bench models): its angle and rate read as 0 (for the bend joint: P_BEND_FIXED) and no
+# force is applied to it.
+_s = _.block(
+    "structure",
+    (
+        Decl("qadr_q1", "index", 0.0, "qpos address of q1"),
+        Decl("qadr_q2", "index", 0.0, "qpos address of q2 (the bend joint)"),
+        Decl("qadr_q3", "index", 0.0, "qpos address of q3"),
+        Decl("qadr_rot", "index", 0.0, "qpos address of joint 3's motor rotor"),
+        Decl("dof_q1", "index", 0.0, "dof address of q1"),
+        Decl("dof_q2", "index", 0.0, "dof address of q2"),
+        Decl("dof_q3", "index", 0.0, "dof address of q3"),
+        Decl("dof_rot", "index", 0.0, "dof address of the rotor"),
+        Decl("coef_m", "-", 0.0, "theta_m = coef_m * rotor angle (1 / i_G1, shaft_twist tendon)"),
+        Decl("coef_s", "-", 0.0, "theta_s = coef_s * q3 (i_G2, shaft_twist tendon)"),
+        Decl("act_br1", "index", 0.0, "act address of conduit branch 1"),
+        Decl("act_br2", "index", 0.0, "act address of conduit branch 2"),
+        Decl("act_slip1", "index", 0.0, "act address of the transmission's first state slot"),
+        Decl("ctrl_j1", "index", 0.0, "ctrl address of joint 1's motor"),
+        Decl("ctrl_j2", "index", 0.0, "ctrl address of joint 2's motor"),
+        Decl("ctrl_j3", "index", 0.0, "ctrl address of joint 3's motor (rotor torque)"),
+        Decl("madr_q1", "index", 0.0, "data.M address of q1's inertia diagonal (CSR)"),
+        Decl("madr_q2", "index", 0.0, "data.M address of q2's inertia diagonal"),
+        Decl("madr_q3", "index", 0.0, "data.M address of q3's inertia diagonal"),
+    ),
+)
+P_QADR_Q1, P_QADR_Q2, P_QADR_Q3, P_QADR_ROT = (
+    _s[k] for k in ("qadr_q1", "qadr_q2", "qadr_q3", "qadr_rot")
+)
+P_DOF_Q1, P_DOF_Q2, P_DOF_Q3, P_DOF_ROT = (_s[k] for k in ("dof_q1", "dof_q2", "dof_q3", "dof_rot"))
+P_COEF_M, P_COEF_S = _s["coef_m"], _s["coef_s"]
+P_ACT_BR1, P_ACT_BR2, P_ACT_SLIP1 = _s["act_br1"], _s["act_br2"], _s["act_slip1"]
+P_CTRL_J1, P_CTRL_J2, P_CTRL_J3 = _s["ctrl_j1"], _s["ctrl_j2"], _s["ctrl_j3"]
+P_MADR_Q1, P_MADR_Q2, P_MADR_Q3 = _s["madr_q1"], _s["madr_q2"], _s["madr_q3"]
+
+# the shaft's parallel (bending) side: each law declares its own block
+_b = _.block("bending", bending.KERNEL_PARAMS)
+P_KB, P_BETA = _b["kb"], _b["beta"]
+_c = _.block("conduit", conduit_viscoelastic.KERNEL_PARAMS)
+P_BR_K1, P_BR_TAU1, P_BR_K2, P_BR_TAU2 = _c["k1"], _c["tau1"], _c["k2"], _c["tau2"]
+
+# plant switches (1.0 on, 0.0 off)
+_e = _.block(
+    "switches",
+    (
+        Decl("series", "on/off", 1.0, "joint 3's transmission carries torque (Effects.series)"),
+        Decl("bend", "on/off", 1.0, "eq. 2/4 bending moment on joint 2 (Effects.bending)"),
+        Decl("conduit", "on/off", 1.0, "conduit visco-elastic branches (Effects.conduit)"),
+        Decl(
+            "coupling",
+            "on/off",
+            1.0,
+            "-dV/dphi_B of the transmission on joint 2 (Effects.coupling)",
+        ),
+        Decl("control", "on/off", 1.0, "the controllers and their clock run (Effects.control)"),
+    ),
+)
+P_EN_SERIES, P_EN_BEND, P_EN_CONDUIT = _e["series"], _e["bend"], _e["conduit"]
+P_EN_COUPLING, P_EN_CONTROL = _e["coupling"], _e["control"]
+
+# controllers (model.Gains, controllers/): clock, position loops, joint-3 cascade, limits
+_g = _.block(
+    "control",
+    (
+        Decl("ctrl_dt", "s", 0.001, "control period (Gains.ctrl_dt_s)"),
+        Decl("n_ticks", "-", 1.0, "rows of the reference table fsarm_ref"),
+        Decl("wn1", "rad/s", 20.0, "joint 1 position loop natural frequency"),
+        Decl("zeta1", "-", 1.0, "joint 1 position loop damping ratio"),
+        Decl("wn2", "rad/s", 20.0, "joint 2 position loop natural frequency"),
+        Decl("zeta2", "-", 1.0, "joint 2 position loop damping ratio"),
+        Decl("wn3", "rad/s", 25.0, "joint 3 outer position loop natural frequency"),
+        Decl("zeta3", "-", 1.0, "joint 3 outer position loop damping ratio"),
+        Decl("tau_bw", "rad/s", 60.0, "torque PID loop bandwidth w_t (gains scheduled on K)"),
+        Decl("tau_wi", "rad/s", 10.0, "torque PID integral corner w_i"),
+        Decl("tau_kdn", "-", 0.0, "torque PID normalized derivative gain"),
+        Decl("spd_kp", "N*m*s/rad", 0.009, "EPOS-like speed loop proportional gain, motor side"),
+        Decl("spd_ki", "N*m/rad", 0.3, "speed loop integral gain, motor side"),
+        Decl("omega_max", "rad/s", 0.0, "motor speed limit, motor side (MJCF)"),
+        Decl("tau_mot_max", "N*m", 0.0, "motor torque (current) limit, motor side (MJCF)"),
+        Decl("tau1_max", "N*m", 0.0, "joint 1 torque limit (MJCF)"),
+        Decl("tau2_max", "N*m", 0.0, "joint 2 torque limit (MJCF)"),
+        Decl("cm_kb", "N*m/rad", 0.0, "the controller's model of K_b (eq. 4)"),
+        Decl("cm_beta", "1/rad^2", 0.0, "the controller's model of beta (eq. 2)"),
+        Decl("cm_bend_comp", "on/off", 1.0, "joint 2 loop adds the modeled bending moment"),
+        Decl("speed_ff", "on/off", 1.0, "torque PID adds the measured output speed as feedforward"),
+        Decl(
+            "gain_sched", "on/off", 1.0, "torque-PID gains follow the model stiffness (else fixed)"
+        ),
+        Decl("tr_k0", "N*m/rad", 0.0, "controller's stiffness at its operating point, straight"),
+        Decl("timestep", "s", 0.001, "physics timestep h the model was built with (the clock)"),
+        Decl("steps_per_tick", "-", 1.0, "control period / timestep, a whole number >= 1"),
+        Decl("rk4", "on/off", 0.0, "1 when the model integrates with RK4 (physics.control)"),
+    ),
+)
+P_CTRL_DT, P_N_TICKS = _g["ctrl_dt"], _g["n_ticks"]
+P_WN1, P_ZETA1, P_WN2, P_ZETA2, P_WN3, P_ZETA3 = (
+    _g[k] for k in ("wn1", "zeta1", "wn2", "zeta2", "wn3", "zeta3")
+)
+P_TAU_BW, P_TAU_WI, P_TAU_KDN = _g["tau_bw"], _g["tau_wi"], _g["tau_kdn"]
+P_SPD_KP, P_SPD_KI, P_OMEGA_MAX = _g["spd_kp"], _g["spd_ki"], _g["omega_max"]
+P_TAU_MOT_MAX, P_TAU1_MAX, P_TAU2_MAX = _g["tau_mot_max"], _g["tau1_max"], _g["tau2_max"]
+P_CM_KB, P_CM_BETA, P_CM_BEND_COMP = _g["cm_kb"], _g["cm_beta"], _g["cm_bend_comp"]
+P_SPEED_FF, P_GAIN_SCHED, P_TR_K0 = _g["speed_ff"], _g["gain_sched"], _g["tr_k0"]
+# the control clock (physics.control): ticks come from a step count, never from data.time alone,
+# which drifts by rounding (1e-4 s after an hour at 10 us)
+P_TIMESTEP, P_STEPS_PER_TICK, P_RK4 = _g["timestep"], _g["steps_per_tick"], _g["rk4"]
+
+# setups: the arm or a bench, and the bend a bench imposes without a joint
+_u = _.block(
+    "setup",
+    (
+        Decl("setup", "id", 0.0, "0: arm, 1: series bench, 2: parallel bench (SETUP_*)"),
+        Decl("bend_fixed", "rad", 0.0, "bend angle used when there is no bend joint"),
+    ),
+)
+P_SETUP, P_BEND_FIXED = _u["setup"], _u["bend_fixed"]
+
+# joint-3 transmission (fsarm_sim.transmissions): which one, the plant's block and the
+# controller's copy (virtual torque sensor, gain scheduling); the flexible shaft included
+P_TRANS = _.one("transmission", "kind", "id", "transmission id (TRANSMISSION_MODULES index)")
+P_TR = _.array("plant_transmission", N_TR, "per PARAMS", "the plant's transmission block")
+P_TRC = _.array(
+    "controller_transmission", N_TR, "per PARAMS", "the controller's model of the transmission"
+)
+
+# arm effects the discrepancy workflow can switch on (0: off); the controllers do not know them
+_p = _.block("payload_error", payload_error.KERNEL_PARAMS)
+P_PAY_DM, P_PAY_L2, P_PAY_L3, P_GRAVITY = _p["dm"], _p["l2"], _p["l3"], _p["gravity"]
+_k = _.block("backlash", backlash.KERNEL_PARAMS)
+P_BL_WIDTH, P_BL_CENTER = _k["width"], _k["center"]
+
+N_PARAMS = LAYOUT.size
+del _, _s, _b, _c, _e, _g, _u, _p, _k
+
 STIFFNESS_FLOOR = 0.1  # gain scheduler: stiffness floored at this fraction of P_TR_K0
 
 SETUP_ARM = 0.0

@@ -121,6 +121,10 @@ from fsarm_sim.layout import (
     P_ZETA3,
     REF_COLS,
     STIFFNESS_FLOOR,
+    TR_FLEXIBLE_SHAFT,
+    TR_MAGNETIC_SPRING,
+    TR_QA_JOINT,
+    TR_RTCA,
     U_ACC,
     U_ACC_PRE,
     U_LOG,
@@ -190,44 +194,49 @@ def transmitted_twist(prm: FloatArray, x: float, rate: float) -> tuple[float, fl
     return x, rate
 
 
-# Dispatch on the transmission id (layout.TR_*): one branch per registered transmission.
+# Dispatch on the integer transmission id (layout.TR_*, the index in
+# layout.TRANSMISSION_MODULES): one branch per registered transmission; the last is the fallback,
+# and tests/test_layout.py checks that every id reaches its own module.
 def tr_torque(
     kind: float, tr: FloatArray, x: float, rate: float, bend: float, act: FloatArray, a0: int
 ) -> float:
     """True torque of transmission ``kind``."""
-    if kind < 0.5:
+    k = int(kind)
+    if k == TR_FLEXIBLE_SHAFT:
         return flexible_shaft.torque_nm(tr, x, rate, bend, act, a0)
-    if kind < 1.5:
+    if k == TR_RTCA:
         return rtca.torque_nm(tr, x, rate, bend, act, a0)
-    if kind < 2.5:
+    if k == TR_QA_JOINT:
         return qa_joint.torque_nm(tr, x, rate, bend, act, a0)
-    if kind < 3.5:
+    if k == TR_MAGNETIC_SPRING:
         return magnetic_spring.torque_nm(tr, x, rate, bend, act, a0)
     return tendon_sheath.torque_nm(tr, x, rate, bend, act, a0)
 
 
 def tr_sensor_torque(kind: float, tr: FloatArray, x: float, bend: float) -> float:
     """Virtual torque sensor of transmission ``kind``: its elastic law on the encoder twist."""
-    if kind < 0.5:
+    k = int(kind)
+    if k == TR_FLEXIBLE_SHAFT:
         return flexible_shaft.sensor_torque_nm(tr, x, bend)
-    if kind < 1.5:
+    if k == TR_RTCA:
         return rtca.sensor_torque_nm(tr, x, bend)
-    if kind < 2.5:
+    if k == TR_QA_JOINT:
         return qa_joint.sensor_torque_nm(tr, x, bend)
-    if kind < 3.5:
+    if k == TR_MAGNETIC_SPRING:
         return magnetic_spring.sensor_torque_nm(tr, x, bend)
     return tendon_sheath.sensor_torque_nm(tr, x, bend)
 
 
 def tr_stiffness(kind: float, tr: FloatArray, x: float, bend: float) -> float:
     """d(sensor torque)/d(twist) of transmission ``kind``."""
-    if kind < 0.5:
+    k = int(kind)
+    if k == TR_FLEXIBLE_SHAFT:
         return flexible_shaft.stiffness_nm_per_rad(tr, x, bend)
-    if kind < 1.5:
+    if k == TR_RTCA:
         return rtca.stiffness_nm_per_rad(tr, x, bend)
-    if kind < 2.5:
+    if k == TR_QA_JOINT:
         return qa_joint.stiffness_nm_per_rad(tr, x, bend)
-    if kind < 3.5:
+    if k == TR_MAGNETIC_SPRING:
         return magnetic_spring.stiffness_nm_per_rad(tr, x, bend)
     return tendon_sheath.stiffness_nm_per_rad(tr, x, bend)
 
@@ -243,13 +252,14 @@ def tr_state_rate(
     i: int,
 ) -> float:
     """d(act[a0 + i])/dt of transmission ``kind``."""
-    if kind < 0.5:
+    k = int(kind)
+    if k == TR_FLEXIBLE_SHAFT:
         return flexible_shaft.state_rate(tr, x, rate, bend, act, a0, i)
-    if kind < 1.5:
+    if k == TR_RTCA:
         return rtca.state_rate(tr, x, rate, bend, act, a0, i)
-    if kind < 2.5:
+    if k == TR_QA_JOINT:
         return qa_joint.state_rate(tr, x, rate, bend, act, a0, i)
-    if kind < 3.5:
+    if k == TR_MAGNETIC_SPRING:
         return magnetic_spring.state_rate(tr, x, rate, bend, act, a0, i)
     return tendon_sheath.state_rate(tr, x, rate, bend, act, a0, i)
 
@@ -258,13 +268,14 @@ def tr_potential(
     kind: float, tr: FloatArray, x: float, bend: float, act: FloatArray, a0: int
 ) -> float:
     """Stored energy of transmission ``kind``."""
-    if kind < 0.5:
+    k = int(kind)
+    if k == TR_FLEXIBLE_SHAFT:
         return flexible_shaft.potential_j(tr, x, bend, act, a0)
-    if kind < 1.5:
+    if k == TR_RTCA:
         return rtca.potential_j(tr, x, bend, act, a0)
-    if kind < 2.5:
+    if k == TR_QA_JOINT:
         return qa_joint.potential_j(tr, x, bend, act, a0)
-    if kind < 3.5:
+    if k == TR_MAGNETIC_SPRING:
         return magnetic_spring.potential_j(tr, x, bend, act, a0)
     return tendon_sheath.potential_j(tr, x, bend, act, a0)
 
@@ -272,7 +283,7 @@ def tr_potential(
 def tr_output_torque(kind: float, tr: FloatArray, theta_s: float, theta_s_dot: float) -> float:
     """Torque on transmission ``kind``'s output side against the frame (bearing friction,
     eccentric mass: seed 003 model F), N*m at theta_s; 0 for the others."""
-    if 2.5 < kind < 3.5:
+    if int(kind) == TR_MAGNETIC_SPRING:
         return magnetic_spring.output_side_torque_nm(tr, theta_s, theta_s_dot)
     return 0.0
 
@@ -297,13 +308,14 @@ def tr_bend_torque(
     kind: float, tr: FloatArray, x: float, bend: float, act: FloatArray, a0: int
 ) -> float:
     """-dV/dphi_B of transmission ``kind`` (its ``bend_torque_nm``)."""
-    if kind < 0.5:
+    k = int(kind)
+    if k == TR_FLEXIBLE_SHAFT:
         return flexible_shaft.bend_torque_nm(tr, x, bend, act, a0)
-    if kind < 1.5:
+    if k == TR_RTCA:
         return rtca.bend_torque_nm(tr, x, bend, act, a0)
-    if kind < 2.5:
+    if k == TR_QA_JOINT:
         return qa_joint.bend_torque_nm(tr, x, bend, act, a0)
-    if kind < 3.5:
+    if k == TR_MAGNETIC_SPRING:
         return magnetic_spring.bend_torque_nm(tr, x, bend, act, a0)
     return tendon_sheath.bend_torque_nm(tr, x, bend, act, a0)
 

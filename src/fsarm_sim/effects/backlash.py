@@ -18,6 +18,14 @@ dead band for a tendon-sheath transmission.
 
 from __future__ import annotations
 
+from fsarm_sim.paramblocks import Decl
+
+# the parameters this law takes in the kernels (layout allocates their slots); 0 width: off
+KERNEL_PARAMS = (
+    Decl("width", "rad", 0.0, "total play on the transmission twist (Effects.backlash_width_rad)"),
+    Decl("center", "rad", 0.0, "middle of the dead band (Effects.backlash_center_rad)"),
+)
+
 
 def transmitted_deflection_rad(x_rad: float, width_rad: float, center_rad: float) -> float:
     """Deflection reaching the elastic element through the play (the dead-zone law above)."""

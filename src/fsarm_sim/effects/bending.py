@@ -9,6 +9,16 @@ linear and stiffens at large bends:
 
 from __future__ import annotations
 
+from fsarm_sim.paramblocks import Decl
+
+# the parameters this law takes in the kernels (layout allocates their slots)
+KERNEL_PARAMS = (
+    Decl(
+        "kb", "N*m/rad", 0.0, "eq. 2/4 bending stiffness K_b of the shaft (catalogue, per D and L)"
+    ),
+    Decl("beta", "1/rad^2", 0.0, "eq. 2 cubic hardening beta of the bending moment (catalogue)"),
+)
+
 
 def eq4_stiffness_nm_per_rad(q: tuple[float, ...], diameter_mm: float, length_mm: float) -> float:
     """Seed 000 eq. 4: K_b(D, L) = q0 + q1 D + q2 L + q3 D^2 + q4 D L."""

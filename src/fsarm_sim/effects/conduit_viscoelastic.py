@@ -11,6 +11,16 @@ loop area is positive and depends on the bending rate (it vanishes for slow or s
 
 from __future__ import annotations
 
+from fsarm_sim.paramblocks import Decl
+
+# the parameters this law takes in the kernels (layout allocates their slots)
+KERNEL_PARAMS = (
+    Decl("k1", "N*m/rad", 0.0, "branch 1 stiffness (catalogue conduit.k_fraction x K_b)"),
+    Decl("tau1", "s", 0.0, "branch 1 relaxation time (catalogue conduit.tau_s)"),
+    Decl("k2", "N*m/rad", 0.0, "branch 2 stiffness (catalogue conduit.k_fraction x K_b)"),
+    Decl("tau2", "s", 0.0, "branch 2 relaxation time (catalogue conduit.tau_s)"),
+)
+
 
 def branch_moment_nm(bend_rad: float, z_rad: float, k_branch: float) -> float:
     """Moment carried by one branch (positive resists positive bend)."""

@@ -15,6 +15,16 @@ from __future__ import annotations
 
 import math
 
+from fsarm_sim.paramblocks import Decl
+
+# the parameters this law takes in the kernels (layout allocates their slots); 0 mass: off
+KERNEL_PARAMS = (
+    Decl("dm", "kg", 0.0, "payload mass the controllers do not know (Effects.payload_error_kg)"),
+    Decl("l2", "m", 0.0, "joint 2 -> joint 3 distance (read from the compiled MJCF)"),
+    Decl("l3", "m", 0.0, "joint 3 -> payload centre of mass (read from the compiled MJCF)"),
+    Decl("gravity", "m/s^2", 0.0, "|g| (read from the compiled MJCF)"),
+)
+
 
 def gravity_torques_nm(
     dm_kg: float, q2_rad: float, q3_rad: float, l2_m: float, l3_m: float, g_m_s2: float
