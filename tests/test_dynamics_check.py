@@ -16,6 +16,7 @@ from typer.testing import CliRunner
 
 from fsarm_sim import dynamics_check as C
 from fsarm_sim import layout as L
+from fsarm_sim import transmissions
 from fsarm_sim.cli import app
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.model import SimConfig
@@ -184,6 +185,9 @@ def test_cli_prints_table_writes_json_and_exits_zero(tmp_path: Path) -> None:
         assert key in data
     assert data["passed"] is True
     assert [row["dt_s"] for row in data["convergence"]] == list(C.TRAJECTORY_DTS)
+    drift = data["energy_drift_j"]  # per transmission, the free bent arm without dissipation
+    assert set(drift) == set(transmissions.names())
+    assert max(drift.values()) <= 1e-6
 
 
 def test_cli_exits_non_zero_when_a_check_fails(monkeypatch: pytest.MonkeyPatch) -> None:

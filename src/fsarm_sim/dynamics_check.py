@@ -12,6 +12,8 @@ the measured value (``CheckResult``); ``run_checks`` runs them all (``fsarm chec
 5. controller       the bias and inertia diagonal ``physics.control`` reads vs Pinocchio's
 6. trajectory       MuJoCo RK4 on ``fig14-sine`` vs an independent RK4 of the same closed loop
                     on Pinocchio ABA, with convergence orders in the time step
+7. energy           per transmission, the free arm bent 45 deg with every dissipation off keeps
+                    its total energy (``energy_drift_j``, :mod:`fsarm_sim.energy_check`)
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim import callbacks, physics, scenarios
+from fsarm_sim import callbacks, energy_check, physics, scenarios, transmissions
 from fsarm_sim import layout as L
 from fsarm_sim import pinocchio_model as pm
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
@@ -1015,6 +1017,9 @@ class DynamicsReport:
             "stiffness_x_unwinding": self.structure.k_sea_neg.tolist(),
             "checks": [c.as_dict() for c in self.checks],
         }
+        energy = next((c for c in self.checks if c.key == "energy"), None)
+        if energy is not None:
+            out["energy_drift_j"] = dict(energy.extra)
         if self.trajectory is not None:
             t = self.trajectory
             out.update(
@@ -1062,6 +1067,7 @@ def run_checks(
     dts: tuple[float, ...] = TRAJECTORY_DTS,
     shaft_inertia_kgm2: float = 0.0,
     trajectory: bool = True,
+    energy: bool = True,
 ) -> DynamicsReport:
     """Every check of this module at the given size."""
     if samples < 1:
@@ -1089,4 +1095,27 @@ def run_checks(
     study = trajectory_study(duration_s, dts) if trajectory else None
     if study is not None:
         checks += check_trajectory(study)
+    if energy:
+        checks.append(check_energy())
     return DynamicsReport(tuple(checks), structure, study, samples, tuple(n for n, _ in models))
+
+
+ENERGY_DRIFT_TOLERANCE_J = 1e-6
+
+
+def check_energy() -> CheckResult:
+    """6. Energy: for every transmission, the free arm bent 45 deg with every dissipation off
+    keeps its total energy over 2 s (RK4, 50 us) - the -dV/dphi_B torque of each routed,
+    bend-dependent law included (:mod:`fsarm_sim.energy_check`)."""
+    drifts = {n: energy_check.free_arm_energy_drift(n) for n in transmissions.names()}
+    worst = max(drifts, key=lambda n: drifts[n].drift_j)
+    return CheckResult(
+        key="energy",
+        name="energy of the free, undamped, bent arm (every transmission)",
+        measured=max(r.drift_j for r in drifts.values()),
+        tolerance=ENERGY_DRIFT_TOLERANCE_J,
+        unit="J",
+        detail=f"largest drift: {worst} ({drifts[worst].drift_j:.3g} J of "
+        f"{drifts[worst].energy_j:.3g} J, bent {drifts[worst].bend_rad:.3g} rad)",
+        extra={n: r.drift_j for n, r in drifts.items()},
+    )
