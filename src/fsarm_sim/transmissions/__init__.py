@@ -1,15 +1,25 @@
 """Joint-3 transmissions: the registry (name -> kernel module and the id the kernels dispatch on).
 
-Add a transmission: write its module against :mod:`fsarm_sim.transmissions.base`, give it the
-next ``layout.TR_*`` id, list it here and add its branch to ``physics``' dispatch functions.
+Add a transmission: write its module against :class:`~fsarm_sim.transmissions.base.
+TransmissionModule` (mypy checks it through :data:`MODULES`), append its module name to
+``layout.TRANSMISSION_MODULES`` (its integer id), list it here and add its branch to ``physics``'
+dispatch functions (tests/test_layout.py fails until every id reaches its own module).
 """
 
 from __future__ import annotations
 
-import importlib
-
 from fsarm_sim import layout as L
-from fsarm_sim.transmissions.base import Transmission, TransmissionError
+from fsarm_sim.transmissions import flexible_shaft, magnetic_spring, qa_joint, rtca, tendon_sheath
+from fsarm_sim.transmissions.base import Transmission, TransmissionError, TransmissionModule
+
+# every registered module, typed as the interface: mypy checks each one against it
+MODULES: dict[str, TransmissionModule] = {
+    "flexible_shaft": flexible_shaft,
+    "rtca": rtca,
+    "qa_joint": qa_joint,
+    "magnetic_spring": magnetic_spring,
+    "tendon_sheath": tendon_sheath,
+}
 
 DEFAULT = "flexible-shaft"
 # name -> (kernel id, module)
@@ -32,8 +42,7 @@ def get(name: str) -> Transmission:
     if name not in _TABLE:
         raise TransmissionError(f"unknown transmission {name!r}; known: {', '.join(names())}")
     kind, module = _TABLE[name]
-    mod = importlib.import_module(f"fsarm_sim.transmissions.{module}")
-    return Transmission(name=name, kind=int(kind), module=mod)
+    return Transmission(name=name, kind=int(kind), module=MODULES[module])
 
 
 def by_kind(kind: float) -> Transmission:

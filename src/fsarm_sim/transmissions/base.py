@@ -51,8 +51,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from types import ModuleType
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 import numpy.typing as npt
@@ -204,13 +203,54 @@ def fill_block(
     return out
 
 
+class TransmissionModule(Protocol):
+    """What a transmission module must provide (see the module docstring): checked by mypy on
+    every registered module (``transmissions/__init__.py`` assigns each to this type)."""
+
+    NAME: str
+    TITLE: str
+    SOURCE: str
+    PARAMS: tuple[Param, ...]
+    STATES: tuple[str, ...]
+    ROUTED_OVER_JOINT2: bool
+    TWIST_RANGE_RAD: float
+    CONSERVATIVE: dict[str, float]
+
+    def torque_nm(
+        self, tr: FloatArray, x: float, xdot: float, bend: float, act: FloatArray, a0: int
+    ) -> float: ...
+
+    def sensor_torque_nm(self, tr: FloatArray, x: float, bend: float) -> float: ...
+
+    def stiffness_nm_per_rad(self, tr: FloatArray, x: float, bend: float) -> float: ...
+
+    def state_rate(
+        self,
+        tr: FloatArray,
+        x: float,
+        xdot: float,
+        bend: float,
+        act: FloatArray,
+        a0: int,
+        i: int,
+    ) -> float: ...
+
+    def potential_j(
+        self, tr: FloatArray, x: float, bend: float, act: FloatArray, a0: int
+    ) -> float: ...
+
+    def bend_torque_nm(
+        self, tr: FloatArray, x: float, bend: float, act: FloatArray, a0: int
+    ) -> float: ...
+
+
 @dataclass(frozen=True)
 class Transmission:
     """A registered transmission: its kernel module and Python-side data."""
 
     name: str
     kind: int  # the id the kernels dispatch on (layout.P_TRANS)
-    module: ModuleType
+    module: TransmissionModule
 
     @property
     def title(self) -> str:
