@@ -92,14 +92,14 @@ BAD_FILES: dict[str, tuple[Callable[[str], str], tuple[str, ...]]] = {
     ),
     # wrong types: the string "false" switched hysteresis ON
     "string false": (
-        _edit("enabled = false", 'enabled = "false"'),
+        _edit("enabled = true", 'enabled = "false"'),
         ("series.maxwell_slip.enabled", "'false'", "boolean"),
     ),
     "string true": (
-        _edit("enabled = false", 'enabled = "true"'),
+        _edit("enabled = true", 'enabled = "true"'),
         ("series.maxwell_slip.enabled", "boolean"),
     ),
-    "integer flag": (_edit("enabled = false", "enabled = 1"), ("series.maxwell_slip.enabled",)),
+    "integer flag": (_edit("enabled = true", "enabled = 1"), ("series.maxwell_slip.enabled",)),
     "number as string": (
         _edit("stiffening_per_rad2 = 0.1", 'stiffening_per_rad2 = "0.1"'),
         ("bending.stiffening_per_rad2", "finite number"),
@@ -154,15 +154,15 @@ BAD_FILES: dict[str, tuple[Callable[[str], str], tuple[str, ...]]] = {
     # Maxwell-slip settings that would have no effect
     "enabled without elements": (
         _edit(
-            "enabled = false\nstiffness_fraction = [0.8, 0.4, 0.2]",
+            "enabled = true\nstiffness_fraction = [0.8, 0.4, 0.2]",
             "enabled = true\nstiffness_fraction = [0.0, 0.0, 0.0]",
         ),
         ("series.maxwell_slip.enabled", "stiffness_fraction"),
     ),
     "element without slip torque": (
         _edit(
-            "slip_torque_fraction = [0.013064, 0.019596, 0.03266]",
-            "slip_torque_fraction = [0.013064, 0.0, 0.03266]",
+            "slip_torque_fraction = [0.0196, 0.0294, 0.049]",
+            "slip_torque_fraction = [0.0196, 0.0, 0.049]",
         ),
         ("element 2", "slip_torque_fraction"),
     ),
@@ -224,19 +224,20 @@ def test_the_files_maxwell_slip_flag_takes_effect(tmp_path: Path) -> None:
     """``enabled = true`` switches the elements on wherever the caller does not decide
     (series_hysteresis=None: sweeps, campaigns, the CLI without --[no-]series-hysteresis); an
     explicit True/False from the caller wins."""
-    off = load_catalogue()
-    on = load_catalogue(_write(tmp_path, _edit("enabled = false", "enabled = true")(DEFAULT_TOML)))
+    on = load_catalogue()  # the built-in file switches them on (seed 000's series hysteresis)
+    off = load_catalogue(_write(tmp_path, _edit("enabled = true", "enabled = false")(DEFAULT_TOML)))
     assert not off.slip_enabled and on.slip_enabled
     assert off.shaft().slip_k == (0.0, 0.0, 0.0)
     assert min(on.shaft().slip_k) > 0.0
     assert on.shaft(series_hysteresis=False).slip_k == (0.0, 0.0, 0.0)
     assert off.shaft(series_hysteresis=True).slip_k == on.shaft().slip_k
-    assert on.shaft().source == str(tmp_path / "mine.toml")
+    assert off.shaft().source == str(tmp_path / "mine.toml")
 
 
 def test_the_built_in_file_still_loads() -> None:
     cat = load_catalogue()
-    assert len(cat.shafts) == 9 and not cat.slip_enabled
+    assert len(cat.shafts) == 9 and cat.slip_enabled
+    assert 0.0 < cat.slip_unwinding_ratio < 1.0 and cat.bend_friction_per_rad > 0.0
     assert cat.bend_limit_rad == pytest.approx(2.0 * math.pi / 3.0)
 
 

@@ -14,7 +14,7 @@ import pytest
 
 from fsarm_sim import bench
 from fsarm_sim import layout as L
-from fsarm_sim.effects import maxwell_slip, series_stiffness
+from fsarm_sim.effects import bend_friction, maxwell_slip, series_stiffness
 from fsarm_sim.errors import InvalidParameterError, ShaftRangeError
 from fsarm_sim.model import Effects
 from fsarm_sim.shaft import ShaftParams, load_catalogue
@@ -94,17 +94,22 @@ def test_blocked_series_bench_static_stiffness_is_eq8_per_side(
 def test_maxwell_slip_loop_dissipates_the_elasto_slip_energy_independent_of_rate(
     slip_shaft: ShaftParams,
 ) -> None:
-    """Per cycle of twist amplitude A each element i dissipates 4 f_i (A - f_i/k_i)."""
+    """Per cycle of twist amplitude A each element i dissipates (f_p + f_n)(2A - (f_p + f_n)/k_i):
+    its slip torques on the two sides at this bend (f_n = r_n f_p, both grown by the bend
+    friction factor) times the twist travel less the element's band."""
     amp = 0.3
-    expected = sum(
-        4.0 * f * (amp - maxwell_slip.slip_limit_rad(k, f))
-        for k, f in zip(slip_shaft.slip_k, slip_shaft.slip_f, strict=True)
-    )
+    bend = math.radians(45)
+    g = bend_friction.factor(bend, slip_shaft.bend_friction_per_rad)
+    assert g > 1.0 and slip_shaft.slip_unwinding_ratio < 1.0  # the default shaft's asymmetry
+    expected = 0.0
+    for k, f0 in zip(slip_shaft.slip_k, slip_shaft.slip_f, strict=True):
+        band = f0 * g * (1.0 + slip_shaft.slip_unwinding_ratio)  # f_p + f_n
+        expected += band * (2.0 * amp - band / k)
     areas = []
     for freq in (1.0, 4.0):
         t = np.linspace(0.0, 2.0 / freq, 2001)
         cols = bench.simulate_series_bench(
-            amp * np.sin(2 * np.pi * freq * t), t, slip_shaft, "blocked", math.radians(45)
+            amp * np.sin(2 * np.pi * freq * t), t, slip_shaft, "blocked", bend
         )
         second = t >= 1.0 / freq - 1e-12  # the second cycle: the first starts from relaxed
         twist = cols["theta_m"] - cols["theta_s"]

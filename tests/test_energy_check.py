@@ -99,3 +99,41 @@ def test_every_transmission_states_minus_dv_dbend(name: str) -> None:
         v_down = tr.module.potential_j(block, x, bend - h, act, 0)
         got = tr.module.bend_torque_nm(block, x, bend, act, 0)
         assert got == pytest.approx(-(v_up - v_down) / (2 * h), rel=1e-5, abs=1e-9), (x, bend)
+
+
+def _stuck_elements_drift(unwinding_ratio: float, timestep_s: float):  # type: ignore[no-untyped-def]
+    import dataclasses
+
+    import fsarm_sim.energy_check as E
+    from fsarm_sim.shaft import load_catalogue
+
+    sh = load_catalogue().shaft(series_hysteresis=True)
+    assert sh.bend_friction_per_rad > 0.0
+    stuck = dataclasses.replace(
+        sh, slip_f=tuple(100.0 * f for f in sh.slip_f), slip_unwinding_ratio=unwinding_ratio
+    )
+    original = E.conservative_config
+
+    def with_stuck_elements(name: str, dt: float = E.DEFAULT_TIMESTEP_S):  # type: ignore[no-untyped-def]
+        cfg = original(name, dt)
+        return cfg.with_(shaft=stuck, effects=dataclasses.replace(cfg.effects, slip=True))
+
+    E.conservative_config = with_stuck_elements  # type: ignore[assignment]
+    try:
+        return E.free_arm_energy_drift("flexible-shaft", timestep_s=timestep_s)
+    finally:
+        E.conservative_config = original  # type: ignore[assignment]
+
+
+def test_stuck_slip_elements_whose_friction_grows_with_the_bend_conserve_energy() -> None:
+    """The shaft's Maxwell-slip elements, their slip torques growing with the bend, never slipping
+    (slip torques x100): a stuck element is a spring whose energy changes with the bend, and the
+    -dV/dphi_B its law states keeps the free arm's energy constant. With the two sides' slip
+    torques different, an element's rate jumps where its deflection changes sign: RK4 then
+    converges at order 2 only, but it converges (the model itself is energy-consistent)."""
+    r = _stuck_elements_drift(1.0, 5e-5)
+    assert r.coupling_work_j > 1e-3
+    assert r.drift_j <= MAX_DRIFT_J, r
+    coarse = _stuck_elements_drift(0.6, 5e-5).drift_j
+    fine = _stuck_elements_drift(0.6, 2.5e-5).drift_j
+    assert fine < coarse / 3.0 and coarse < 1e-5

@@ -40,7 +40,7 @@ import numpy.typing as npt
 from fsarm_sim import callbacks, physics
 from fsarm_sim import layout as L
 from fsarm_sim.controllers.joint3_torque import scheduled_gains, speed_loop, torque_pid
-from fsarm_sim.effects import maxwell_slip, series_stiffness
+from fsarm_sim.effects import series_stiffness
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
 from fsarm_sim.model import (
     ArmStructure,
@@ -232,10 +232,9 @@ def _spec(name: str, shaft: ShaftParams) -> mujoco.MjSpec:
         act_name = f"shaft_slip{i + 1}"
         if act_name not in names:
             continue
-        limit = maxwell_slip.slip_limit_rad(shaft.slip_k[i], shaft.slip_f[i])
-        act = spec.actuator(act_name)
+        act = spec.actuator(act_name)  # normalized element deflections (flexible_shaft)
         act.actlimited = mujoco.mjtLimited.mjLIMITED_TRUE
-        act.actrange = [-max(limit, 1e-12), max(limit, 1e-12)]
+        act.actrange = list(flexible_shaft.state_limits(None)[i] or (-1.0, 1.0))
     spec.add_numeric(name=L.PARAMS_NAME, size=L.N_PARAMS, data=np.zeros(L.N_PARAMS))
     spec.add_numeric(name=L.REF_NAME, size=L.REF_COLS, data=np.zeros(L.REF_COLS))
     spec.nuserdata = L.N_USERDATA

@@ -198,6 +198,8 @@ def _shaft_block(sh: ShaftParams) -> npt.NDArray[np.float64]:
     )
     out[flexible_shaft.I_SLIP_K : flexible_shaft.I_SLIP_K + n] = sh.slip_k
     out[flexible_shaft.I_SLIP_F : flexible_shaft.I_SLIP_F + n] = sh.slip_f
+    out[flexible_shaft.I_SLIP_RN] = sh.slip_unwinding_ratio
+    out[flexible_shaft.I_BEND_MU] = sh.bend_friction_per_rad
     return out
 
 

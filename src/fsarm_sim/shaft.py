@@ -64,7 +64,9 @@ class ShaftParams:
     damping_pos: float = 0.0  # eq. 1 B_p
     damping_neg: float = 0.0  # eq. 1 B_n
     slip_k: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    slip_f: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    slip_f: tuple[float, float, float] = (0.0, 0.0, 0.0)  # straight, winding side
+    slip_unwinding_ratio: float = 1.0  # unwinding-side / winding-side slip torque
+    bend_friction_per_rad: float = 0.0  # capstan-like growth of the slip torques with |phi_B|
     rating_nm: float = 0.0
     bend_limit_rad: float = 2.0 * math.pi / 3.0
     # where the numbers come from (named in errors); not part of equality
@@ -113,7 +115,9 @@ class Catalogue:
     damping_neg: float
     slip_enabled: bool
     slip_k_fraction: tuple[float, float, float]  # of the straight K_sp
-    slip_f_fraction: tuple[float, float, float]  # of the torque rating
+    slip_f_fraction: tuple[float, float, float]  # of the torque rating (straight, winding side)
+    slip_unwinding_ratio: float = 1.0  # unwinding-side / winding-side slip torque
+    bend_friction_per_rad: float = 0.0  # effects.bend_friction mu_b
     shafts: tuple[CatalogueShaft, ...] = field(default=())
 
     @property
@@ -191,6 +195,8 @@ class Catalogue:
             damping_neg=self.damping_neg,
             slip_k=_scaled(self.slip_k_fraction, k_pos) if slip_on else (0.0, 0.0, 0.0),
             slip_f=_scaled(self.slip_f_fraction, self.rating_nm(diameter_mm)),
+            slip_unwinding_ratio=self.slip_unwinding_ratio,
+            bend_friction_per_rad=self.bend_friction_per_rad,
             rating_nm=self.rating_nm(diameter_mm),
             bend_limit_rad=bend_max,
             source=self.source,
@@ -232,7 +238,13 @@ SCHEMA: dict[str, tuple[str, ...]] = {
     "series.positive": ("p",),
     "series.negative": ("p",),
     "series.dynamic": ("inertia_kgm2", "damping_pos_nms", "damping_neg_nms"),
-    "series.maxwell_slip": ("enabled", "stiffness_fraction", "slip_torque_fraction"),
+    "series.maxwell_slip": (
+        "enabled",
+        "stiffness_fraction",
+        "slip_torque_fraction",
+        "unwinding_ratio",
+        "bend_friction_per_rad",
+    ),
     "bending": ("q", "stiffening_per_rad2", "conduit"),
     "bending.conduit": ("branch_stiffness_fraction", "branch_time_constant_s"),
     "rating": ("coefficient_nm_per_mm3",),
@@ -485,6 +497,14 @@ def parse_catalogue(data: dict[str, Any], source: str) -> Catalogue:
             "stiffness_fraction > 0, so series hysteresis would have no effect; give "
             "stiffness_fraction and slip_torque_fraction (3 numbers each)"
         )
+    unwinding = _float(
+        slip.get("unwinding_ratio", 1.0), "series.maxwell_slip.unwinding_ratio", source, minimum=0.0
+    )
+    if unwinding <= 0.0:
+        raise CoefficientFileError(
+            f"{source}: 'series.maxwell_slip.unwinding_ratio' must be > 0 (unwinding-side slip "
+            f"torque / winding-side), got {unwinding:g}"
+        )
     shafts: list[CatalogueShaft] = []
     for i, entry in enumerate(data.get("shafts", [])):
         name = _string(entry.get("name", f"shaft{i}"), f"shafts[{i}].name", source)
@@ -525,6 +545,13 @@ def parse_catalogue(data: dict[str, Any], source: str) -> Catalogue:
         slip_enabled=slip_enabled,
         slip_k_fraction=(slip_k[0], slip_k[1], slip_k[2]),
         slip_f_fraction=(slip_f[0], slip_f[1], slip_f[2]),
+        slip_unwinding_ratio=unwinding,
+        bend_friction_per_rad=_float(
+            slip.get("bend_friction_per_rad", 0.0),
+            "series.maxwell_slip.bend_friction_per_rad",
+            source,
+            minimum=0.0,
+        ),
         shafts=tuple(shafts),
     )
 

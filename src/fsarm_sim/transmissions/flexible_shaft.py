@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from fsarm_sim.effects import maxwell_slip, series_stiffness
+from fsarm_sim.effects import bend_friction, maxwell_slip, series_stiffness
 from fsarm_sim.shaft import load_catalogue
 from fsarm_sim.transmissions.base import (
     FloatArray,
@@ -42,7 +42,9 @@ CONSERVATIVE: dict[str, float] = {
 }
 N_SLIP = 3
 I_SLIP_K = 7  # block index of the first element stiffness (then the three slip torques)
-I_SLIP_F = I_SLIP_K + N_SLIP
+I_SLIP_F = I_SLIP_K + N_SLIP  # straight, winding-side slip torques
+I_SLIP_RN = I_SLIP_F + N_SLIP  # unwinding-side slip torque / winding-side
+I_BEND_MU = I_SLIP_RN + 1  # bend-friction coefficient mu_b of the route (effects.bend_friction)
 
 
 _K_WHY = (
@@ -100,10 +102,25 @@ def _params() -> tuple[Param, ...]:
                 f"slip_f{i + 1}",
                 sh.slip_f[i],
                 "N*m",
-                f"Maxwell-slip element {i + 1} slip torque; {src}",
+                f"Maxwell-slip element {i + 1} slip torque, straight, winding side; {src}",
                 non_negative("a slip torque: >= 0; > 0 wherever the element's k > 0"),
             )
             for i in range(N_SLIP)
+        ),
+        Param(
+            "slip_unwinding_ratio",
+            sh.slip_unwinding_ratio,
+            "-",
+            f"unwinding-side / winding-side slip torque (seed 000: more internal friction on the "
+            f"winding side); {src}",
+            positive("a ratio of two slip torques: > 0"),
+        ),
+        Param(
+            "bend_friction_per_rad",
+            sh.bend_friction_per_rad,
+            "1/rad",
+            f"capstan-like growth of the slip torques with |phi_B| (effects.bend_friction); {src}",
+            non_negative("a friction coefficient: >= 0 (0: no growth with the bend)"),
         ),
     )
 
@@ -144,26 +161,35 @@ def stiffness_nm_per_rad(tr: Any, x: float, bend: float) -> float:
     return series_stiffness.stiffness_nm_per_rad(x, bend, tr[0], tr[1], tr[2], tr[3])
 
 
+def _slip_torque(tr: Any, i: int, w: float, bend: float) -> float:
+    """Element i's slip torque on the side of w at this bend (maxwell_slip, bend_friction)."""
+    return maxwell_slip.side_slip_torque_nm(
+        tr[I_SLIP_F + i], w, tr[I_SLIP_RN], bend_friction.factor(bend, tr[I_BEND_MU])
+    )
+
+
 def torque_nm(tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int) -> float:
     tau = sensor_torque_nm(tr, x, bend) + series_stiffness.damping_torque_nm(x, xdot, tr[4], tr[5])
     for i in range(N_SLIP):
         if tr[I_SLIP_K + i] > 0.0:
-            tau += maxwell_slip.element_torque_nm(act[a0 + i], tr[I_SLIP_K + i])
+            w = act[a0 + i]
+            tau += maxwell_slip.normalized_torque_nm(w, _slip_torque(tr, i, w, bend))
     return tau
 
 
 def state_rate(tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int, i: int) -> float:
-    return maxwell_slip.element_rate(xdot)
+    """dw_i/dt of element i's normalized deflection (0 for an element that is off)."""
+    k = tr[I_SLIP_K + i]
+    if k <= 0.0:
+        return 0.0
+    w = act[a0 + i]
+    side = w if w != 0.0 else xdot  # leaving zero: the side the twist moves to
+    return maxwell_slip.normalized_rate(xdot, k, _slip_torque(tr, i, side, bend))
 
 
 def state_limits(tr: Any) -> list[tuple[float, float] | None]:
-    """Each element's deflection stays within +-f/k: beyond, it slips (MuJoCo clamps ``act``)."""
-    out: list[tuple[float, float] | None] = []
-    for i in range(N_SLIP):
-        k, f = float(tr[I_SLIP_K + i]), float(tr[I_SLIP_F + i])
-        lim = f / k if k > 0.0 else 1e-12  # an element that is off stays at zero
-        out.append((-lim, lim))
-    return out
+    """Normalized deflections stay within [-1, 1]: beyond, the element slips (MuJoCo clamps)."""
+    return [(-1.0, 1.0) for _ in range(N_SLIP)]
 
 
 def twist_for_torque(tr: Any, tau: float, bend: float) -> float:
@@ -180,8 +206,17 @@ def twist_for_torque(tr: Any, tau: float, bend: float) -> float:
 
 
 def bend_torque_nm(tr: Any, x: float, bend: float, act: Any, a0: int) -> float:
-    """-dV/dphi_B: eq. 3's stiffness falls with |phi_B| (the slip elements do not read it)."""
-    return series_stiffness.bend_coupling_torque_nm(x, bend, tr[1], tr[3])
+    """-dV/dphi_B: eq. 3's stiffness falls with |phi_B|, the slip torques grow with it."""
+    tau = series_stiffness.bend_coupling_torque_nm(x, bend, tr[1], tr[3])
+    slope = bend_friction.factor_slope(bend, tr[I_BEND_MU])
+    for i in range(N_SLIP):
+        k = tr[I_SLIP_K + i]
+        if k > 0.0 and slope != 0.0:
+            w = act[a0 + i]
+            f = _slip_torque(tr, i, w, bend)
+            df = tr[I_SLIP_F + i] * (1.0 if w >= 0.0 else tr[I_SLIP_RN]) * slope
+            tau += maxwell_slip.normalized_bend_torque_nm(w, k, f, df)
+    return tau
 
 
 def max_stiffness(tr: Any) -> float:
@@ -196,6 +231,8 @@ def rating_nm(tr: Any) -> float:
 def potential_j(tr: Any, x: float, bend: float, act: Any, a0: int) -> float:
     v = series_stiffness.potential_j(x, bend, tr[0], tr[1], tr[2], tr[3])
     for i in range(N_SLIP):
-        if tr[I_SLIP_K + i] > 0.0:
-            v += maxwell_slip.element_potential_j(act[a0 + i], tr[I_SLIP_K + i])
+        k = tr[I_SLIP_K + i]
+        if k > 0.0:
+            w = act[a0 + i]
+            v += maxwell_slip.normalized_potential_j(w, k, _slip_torque(tr, i, w, bend))
     return v
