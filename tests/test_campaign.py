@@ -15,7 +15,9 @@ from fsarm_sim.shaft import load_catalogue
 from conftest import run_fsarm
 
 CAT = load_catalogue()
-FAST = cp.BenchSettings(chirp_s=1.5, bend_period_s=1.0, bend_cycles=2)
+# the elastic law measured back exactly: series hysteresis off (it is on in the catalogue, and a
+# linear fit of its loops is biased; test_series_hysteresis_shows_in_the_fit_residual)
+FAST = cp.BenchSettings(chirp_s=1.5, bend_period_s=1.0, bend_cycles=2, series_hysteresis=False)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -75,7 +77,7 @@ def test_surface_fit_recovers_coefficients_and_refuses_rank_deficient_data() -> 
 
 
 def test_series_test_measures_eq3_and_the_bend_trend() -> None:
-    shaft = CAT.shaft(9.0, 450.0)
+    shaft = CAT.shaft(9.0, 450.0, series_hysteresis=False)
     fits = []
     for bend in (0.0, 90.0):
         cols = cp.series_test(shaft, math.radians(bend), FAST)
@@ -140,6 +142,7 @@ def test_campaign_refit_on_a_subset_recovers_eq3(
         "--workers",
         "1",
         "--no-progress",
+        "--no-series-hysteresis",
     )
     assert code == 0
     assert "re-fit vs the catalogue" in capsys.readouterr().out

@@ -17,6 +17,7 @@ from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.effects import delay
 from fsarm_sim.measured import (
     MissingColumnError,
+    SidecarError,
     TimeAxisError,
     load_dataset,
     write_dataset,
@@ -165,9 +166,10 @@ def _minimal_arm(tmp: Path, **side_changes: object) -> Path:
         "payload_kg": 0.0,
         "ctrl_dt_s": 1e-3,
     }
+    table, json_file = write_dataset(tmp / "arm.csv", cols, side)
     side.update(side_changes)
     side = {k: v for k, v in side.items() if v is not None}
-    table, _ = write_dataset(tmp / "arm.csv", cols, side)
+    json_file.write_text(json.dumps(side))  # as written by hand: no writer's checks
     return table
 
 
@@ -178,18 +180,22 @@ def _minimal_arm(tmp: Path, **side_changes: object) -> Path:
         ({"payload_kg": 20.0}, "payload_kg"),
         ({"ctrl_dt_s": None}, "needs 'ctrl_dt_s'"),
         ({"ctrl_dt_s": -1.0}, "ctrl_dt_s"),
-        ({"gains": {"wn": 3}}, "unknown gain"),
+        ({"gains": {"wn": 3}}, "unknown key 'gains.wn'"),
         ({"gains": {"zeta": [1.0, 1.0]}}, "list of 3 numbers"),
-        ({"transmission": "harmonic-drive"}, "flexible shaft only"),
+        ({"transmission": "harmonic-drive"}, "unknown transmission 'harmonic-drive'"),
+        ({"transmission": {"name": "rtca", "params": {"scale": -1.0}}}, "transmission"),
         ({"payload_tolerance_kg": -1.0}, "payload_tolerance_kg"),
     ],
 )
 def test_bad_arm_sidecar_is_a_named_error(
     tmp_path: Path, change: dict[str, object], match: str
 ) -> None:
-    ds = load_dataset(_minimal_arm(tmp_path, **change))
-    with pytest.raises(A.ArmSidecarError, match=match):
-        A.arm_run(ds)
+    """Reading (the schema: keys, types) or rebuilding the run (ranges, names) says which file
+    and which key."""
+    table = _minimal_arm(tmp_path, **change)
+    with pytest.raises(SidecarError, match=match) as info:
+        A.arm_run(load_dataset(table))
+    assert "arm.json" in str(info.value)
 
 
 def test_bad_arm_table_is_a_named_error(tmp_path: Path) -> None:

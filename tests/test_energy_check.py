@@ -125,15 +125,11 @@ def _stuck_elements_drift(unwinding_ratio: float, timestep_s: float):  # type: i
         E.conservative_config = original  # type: ignore[assignment]
 
 
-def test_stuck_slip_elements_whose_friction_grows_with_the_bend_conserve_energy() -> None:
-    """The shaft's Maxwell-slip elements, their slip torques growing with the bend, never slipping
-    (slip torques x100): a stuck element is a spring whose energy changes with the bend, and the
-    -dV/dphi_B its law states keeps the free arm's energy constant. With the two sides' slip
-    torques different, an element's rate jumps where its deflection changes sign: RK4 then
-    converges at order 2 only, but it converges (the model itself is energy-consistent)."""
-    r = _stuck_elements_drift(1.0, 5e-5)
-    assert r.coupling_work_j > 1e-3
-    assert r.drift_j <= MAX_DRIFT_J, r
-    coarse = _stuck_elements_drift(0.6, 5e-5).drift_j
-    fine = _stuck_elements_drift(0.6, 2.5e-5).drift_j
-    assert fine < coarse / 3.0 and coarse < 1e-5
+def test_stuck_slip_elements_conserve_energy_whatever_the_bend() -> None:
+    """The shaft's Maxwell-slip elements (band growing with the bend, asymmetric), never slipping
+    (slip torques x100): stuck elements are springs whose energy does not depend on the bend, so
+    the free arm keeps its energy with them as without them."""
+    for ratio in (1.0, 0.6):
+        r = _stuck_elements_drift(ratio, 5e-5)
+        assert r.coupling_work_j > 1e-3  # eq. 3's own -dV/dphi_B is exercised
+        assert r.drift_j <= MAX_DRIFT_J, r

@@ -284,7 +284,7 @@ def test_compiled_callbacks_are_cached() -> None:
 
 def test_speed_benchmark_runs_and_reports() -> None:
     """Smoke test of the benchmark's plumbing (tiny sizes; the numbers are not checked)."""
-    from fsarm_sim.cli_speed import format_report, measure_speed
+    from fsarm_sim.speed import format_report, measure_speed
 
     r = measure_speed(
         reps=1,

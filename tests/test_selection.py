@@ -7,7 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from fsarm_sim.selection import (
+from fsarm_sim.shaft import load_catalogue
+from fsarm_sim.shaft_selection import (
     SelectionRequest,
     ShaftSelectionError,
     algorithm1,
@@ -15,7 +16,6 @@ from fsarm_sim.selection import (
     select_shaft,
     stiffness,
 )
-from fsarm_sim.shaft import load_catalogue
 
 from conftest import run_fsarm
 
@@ -177,3 +177,26 @@ def test_cli_select_shaft(
         )
         == 0
     )
+
+
+def test_old_module_name_is_a_deprecated_alias() -> None:
+    """fsarm_sim.selection (renamed fsarm_sim.shaft_selection) still works for one release."""
+    import ast
+    import inspect
+
+    import fsarm_sim.selection as old
+    import fsarm_sim.shaft_selection as new
+
+    tree = ast.parse(inspect.getsource(new))
+    defined = {n.name for n in tree.body if isinstance(n, ast.FunctionDef | ast.ClassDef)}
+    defined |= {
+        t.id
+        for n in tree.body
+        if isinstance(n, ast.Assign | ast.AnnAssign)
+        for t in (n.targets if isinstance(n, ast.Assign) else [n.target])
+        if isinstance(t, ast.Name)
+    }
+    assert set(old.__all__) == {n for n in defined if not n.startswith("_")}
+    for name in old.__all__:
+        assert getattr(old, name) is getattr(new, name), name
+    assert "deprecated" in (old.__doc__ or "").lower()

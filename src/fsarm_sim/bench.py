@@ -48,6 +48,7 @@ from fsarm_sim.model import (
     SimConfig,
     _fixed_tendon,
     model_path,
+    shaft_block,
     write_params,
 )
 from fsarm_sim.shaft import ShaftParams, load_catalogue
@@ -234,7 +235,8 @@ def _spec(name: str, shaft: ShaftParams) -> mujoco.MjSpec:
             continue
         act = spec.actuator(act_name)  # normalized element deflections (flexible_shaft)
         act.actlimited = mujoco.mjtLimited.mjLIMITED_TRUE
-        act.actrange = list(flexible_shaft.state_limits(None)[i] or (-1.0, 1.0))
+        lim = flexible_shaft.state_limits(shaft_block(shaft))[i] or (-1e-12, 1e-12)
+        act.actrange = [lim[0], lim[1]]
     spec.add_numeric(name=L.PARAMS_NAME, size=L.N_PARAMS, data=np.zeros(L.N_PARAMS))
     spec.add_numeric(name=L.REF_NAME, size=L.REF_COLS, data=np.zeros(L.REF_COLS))
     spec.nuserdata = L.N_USERDATA

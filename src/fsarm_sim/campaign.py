@@ -666,6 +666,49 @@ def run_campaign(
 # writing: tables, JSON, figures
 
 
+def run_one_shaft(
+    catalogue: Catalogue,
+    diameter_mm: float,
+    length_mm: float,
+    shaft_file: str | Path | None,
+    settings: BenchSettings,
+    make_tasks: Callable[[CatalogueShaft, str | None], list[dict[str, Any]]],
+    workers: int | None = None,
+) -> tuple[str, CampaignResult]:
+    """One shaft's bench tasks (``make_tasks(shaft, coefficient_text)``, e.g. :func:`series_tasks`)
+    run and collected; the shaft's name and the result. The first failure is a CampaignError."""
+    name = f"D{diameter_mm:g}-L{length_mm:g}"
+    sh = CatalogueShaft(name, diameter_mm, length_mm)
+    result = CampaignResult(settings=settings, catalogue_source=catalogue.source, shafts=[sh])
+    collect(result, run_bench_tasks(make_tasks(sh, _catalogue_text(shaft_file)), workers=workers))
+    if result.errors:
+        raise CampaignError("; ".join(result.errors))
+    return name, result
+
+
+def write_series_test(result: CampaignResult, name: str, folder: Path) -> Path:
+    """One shaft's series test into ``folder``: its table (CSV) and its Fig. 6 loops."""
+    folder.mkdir(parents=True, exist_ok=True)
+    write_csv(folder / f"series_table_{name}.csv", series_table_rows(result.series[name]))
+    loops = {f"φ_B = {t.split('/')[2]}°": lp for t, lp in result.loops.items()}
+    plot_series_loops(
+        loops, f"{name}: series test (Fig. 6)", folder / f"fig6_series_loops_{name}.png"
+    )
+    return folder
+
+
+def write_parallel_test(result: CampaignResult, name: str, folder: Path) -> Path:
+    """One shaft's parallel test into ``folder``: its table (CSV) and its Fig. 9 loop."""
+    fits = result.parallel[name]
+    folder.mkdir(parents=True, exist_ok=True)
+    write_csv(folder / f"parallel_table_{name}.csv", [asdict(f) for f in fits])
+    loops = {t.split("/")[2]: lp for t, lp in result.loops.items()}
+    plot_parallel_loops(
+        loops, fits, f"{name}: parallel test (Fig. 9)", folder / f"fig9_parallel_loop_{name}.png"
+    )
+    return folder
+
+
 def series_table_rows(fits: Sequence[SeriesFit]) -> list[dict[str, float]]:
     """Table I-like rows: bend, K_sp, K_sn, RMSE_p, RMSE_n (eq. 8) and the eq. 1 terms."""
     return [
@@ -685,7 +728,8 @@ def series_table_rows(fits: Sequence[SeriesFit]) -> list[dict[str, float]]:
     ]
 
 
-def _write_csv(path: Path, rows: Sequence[Mapping[str, Any]]) -> Path:
+def write_csv(path: Path, rows: Sequence[Mapping[str, Any]]) -> Path:
+    """``rows`` as a CSV table (columns: the first row's keys); no rows: an empty file."""
     with path.open("w", newline="", encoding="utf-8") as fh:
         if rows:
             w = csv.DictWriter(fh, fieldnames=list(rows[0]))
@@ -701,14 +745,14 @@ def write_campaign(result: CampaignResult, catalogue: Catalogue, out_dir: str | 
     files: list[Path] = []
     by_name = {s.name: s for s in result.shafts}
     for name, fits in result.series.items():
-        files.append(_write_csv(out / f"series_table_{name}.csv", series_table_rows(fits)))
+        files.append(write_csv(out / f"series_table_{name}.csv", series_table_rows(fits)))
     prows = [
         {"shaft": n, "D_mm": by_name[n].diameter_mm, "L_mm": by_name[n].length_mm, **asdict(f)}
         for n, fits in result.parallel.items()
         for f in fits
     ]
     if prows:
-        files.append(_write_csv(out / "parallel_table.csv", prows))
+        files.append(write_csv(out / "parallel_table.csv", prows))
     crow = []
     for eq, c in result.comparisons.items():
         for nm, cat_v, fit_v, rel in zip(
@@ -724,7 +768,7 @@ def write_campaign(result: CampaignResult, catalogue: Catalogue, out_dir: str | 
                 }
             )
     if crow:
-        files.append(_write_csv(out / "refit_coefficients.csv", crow))
+        files.append(write_csv(out / "refit_coefficients.csv", crow))
     doc = {
         "catalogue": result.catalogue_source,
         "settings": asdict(result.settings),
@@ -744,7 +788,8 @@ def write_campaign(result: CampaignResult, catalogue: Catalogue, out_dir: str | 
     return files
 
 
-def _figure(size: tuple[float, float] = (7.0, 4.5)) -> Any:
+def new_figure(size: tuple[float, float] = (7.0, 4.5)) -> Any:
+    """A matplotlib figure on its own Agg canvas (headless, no pyplot state); ``size`` in inches."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -757,7 +802,7 @@ def plot_series_loops(
     loops: Mapping[str, Mapping[str, Sequence[float]]], title: str, path: Path
 ) -> Path:
     """Fig. 6-like: torque vs twist, one loop per bend angle."""
-    fig = _figure()
+    fig = new_figure()
     ax = fig.add_subplot(1, 1, 1)
     for label, lp in loops.items():
         ax.plot(np.degrees(lp["twist"]), lp["tau_s"], lw=0.8, label=label)
@@ -778,7 +823,7 @@ def plot_parallel_loops(
     path: Path,
 ) -> Path:
     """Fig. 9-like: bending moment vs bend angle, with and without torsion, and the linear fit."""
-    fig = _figure()
+    fig = new_figure()
     ax = fig.add_subplot(1, 1, 1)
     for label, lp in loops.items():
         ax.plot(np.degrees(lp["phi_b"]), lp["m_b"], lw=1.0, label=label)
@@ -809,7 +854,7 @@ def plot_eq3_surfaces(
     path: Path,
 ) -> Path:
     """Fig. 8-like: refit eq. 3 surfaces K(D, L) at 0 and 90 deg per sign, with the data."""
-    fig = _figure((11.0, 8.0))
+    fig = new_figure((11.0, 8.0))
     d = np.linspace(*catalogue.diameter_range, 30)
     ell = np.linspace(*catalogue.length_range, 30)
     D, Lg = np.meshgrid(d, ell, indexing="ij")
@@ -838,7 +883,7 @@ def plot_eq4_surface(
     fit: SurfaceFit | None, points: Array, catalogue: Catalogue, path: Path
 ) -> Path:
     """Fig. 10-like: refit eq. 4 surface K_b(D, L) with the per-shaft fits."""
-    fig = _figure((7.0, 5.5))
+    fig = new_figure((7.0, 5.5))
     ax = fig.add_subplot(1, 1, 1, projection="3d")
     d = np.linspace(*catalogue.diameter_range, 30)
     ell = np.linspace(*catalogue.length_range, 30)
@@ -872,7 +917,7 @@ def plot_error_maps(result: CampaignResult, catalogue: Catalogue, path: Path) ->
             panels.append(
                 (eq, eq4_design(D.ravel(), Lg.ravel()), catalogue.q_bend, result.fits[eq])
             )
-    fig = _figure((4.0 * max(1, min(3, len(panels))), 3.4 * math.ceil(max(1, len(panels)) / 3)))
+    fig = new_figure((4.0 * max(1, min(3, len(panels))), 3.4 * math.ceil(max(1, len(panels)) / 3)))
     cols = max(1, min(3, len(panels)))
     rows = math.ceil(max(1, len(panels)) / cols)
     for i, (title, X, ref, fit) in enumerate(panels):

@@ -35,7 +35,10 @@ def register(app: typer.Typer) -> None:
         ] = None,
         max_effects: Annotated[int, typer.Option(help="most effects to add")] = 4,
     ) -> None:
-        """Replay the nominal model on a bench record, name the missing effects, fit them."""
+        """Replay the nominal model on a record, name the missing effects, fit them.
+
+        Bench records and arm records (measured, synthetic, or written by `fsarm run` as they
+        are); columns the diagnosis does not read are listed, not refused."""
         from rich.table import Table
 
         from fsarm_sim.discrepancy import diagnose
@@ -100,6 +103,8 @@ def register(app: typer.Typer) -> None:
             markup=False,
         )
         console.print(diag.verdict, markup=False)
+        for line in ds.column_notes():
+            console.print(line, markup=False)
         console.print(f"runtime {diag.runtime_s:.1f} s", markup=False)
         written: Path | None = None
         if model_file is not None:
@@ -208,7 +213,8 @@ def register(app: typer.Typer) -> None:
             arm_rec = arm_synth.ArmRecording(
                 scenario=scenario, duration_s=duration, noise_rad=noise_rad, seed=seed
             )
-            arm_shaft = load_catalogue().shaft(diameter_mm, length_mm)
+            # the stated eq. 8 shaft; series hysteresis is an effect the truth lists
+            arm_shaft = load_catalogue().shaft(diameter_mm, length_mm, series_hysteresis=False)
             arm_cols, arm_side = arm_synth.synthesize_arm(arm_truth, arm_rec, arm_shaft)
             arm_written = writes.write(
                 out, lambda p: write_dataset(p, arm_cols, arm_side), "the dataset (OUT)"
@@ -226,7 +232,7 @@ def register(app: typer.Typer) -> None:
             )
         if load not in ("blocked", "inertia"):
             raise InvalidParameterError(f"--load must be blocked or inertia, got {load!r}")
-        shaft = load_catalogue().shaft(diameter_mm, length_mm)
+        shaft = load_catalogue().shaft(diameter_mm, length_mm, series_hysteresis=False)
         rec = synth.Recording(
             duration_s=30.0 if duration is None else duration,
             rate_hz=rate,

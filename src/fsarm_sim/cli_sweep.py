@@ -1,5 +1,5 @@
 """CLI commands: ``select-shaft``, ``sweep``, ``sweep-report``, ``bench series|parallel``,
-``campaign``. Thin: parse, call :mod:`fsarm_sim.selection`, :mod:`fsarm_sim.sweep`,
+``campaign``. Thin: parse, call :mod:`fsarm_sim.shaft_selection`, :mod:`fsarm_sim.sweep`,
 :mod:`fsarm_sim.campaign`, print tables."""
 
 from __future__ import annotations
@@ -142,8 +142,8 @@ def register(app: typer.Typer) -> None:
         shaft_file: Annotated[Path | None, typer.Option(help="coefficient file (TOML)")] = None,
     ) -> None:
         """Choose a shaft for a desired stiffness: Algorithm 1 (seed 000) and the closed-form selector."""
-        from fsarm_sim.selection import SelectionRequest, algorithm1, select_shaft
         from fsarm_sim.shaft import load_catalogue
+        from fsarm_sim.shaft_selection import SelectionRequest, algorithm1, select_shaft
 
         cat = load_catalogue(shaft_file)
         lrange = None
@@ -352,29 +352,6 @@ def register(app: typer.Typer) -> None:
     )
     app.add_typer(bench_app, name="bench")
 
-    def _run_one_shaft(
-        cat: Any,
-        diameter_mm: float,
-        length_mm: float,
-        shaft_file: Path | None,
-        settings: Any,
-        make_tasks: Any,
-        workers: int | None,
-    ) -> tuple[str, Any]:
-        """Run one shaft's bench tasks (``make_tasks(shaft, coefficient_text)``) and collect them;
-        the first failure is a named error."""
-        from fsarm_sim import campaign as cp
-        from fsarm_sim.shaft import CatalogueShaft
-
-        name = f"D{diameter_mm:g}-L{length_mm:g}"
-        sh = CatalogueShaft(name, diameter_mm, length_mm)
-        text = shaft_file.read_text("utf-8") if shaft_file is not None else None
-        result = cp.CampaignResult(settings=settings, catalogue_source=cat.source, shafts=[sh])
-        cp.collect(result, cp.run_bench_tasks(make_tasks(sh, text), workers=workers))
-        if result.errors:
-            raise FsarmError("; ".join(result.errors))
-        return name, result
-
     def _settings(**kw: Any) -> Any:
         from fsarm_sim.campaign import BenchSettings
 
@@ -416,7 +393,7 @@ def register(app: typer.Typer) -> None:
         )
         s.validate()
         bend_list = cp.check_bends(_floats(bends, "--bends") or (), cat)
-        name, result = _run_one_shaft(
+        name, result = cp.run_one_shaft(
             cat,
             diameter_mm,
             length_mm,
@@ -435,17 +412,11 @@ def register(app: typer.Typer) -> None:
                 markup=False,
             )
         if out is not None:
-            loops = {f"φ_B = {t.split('/')[2]}°": lp for t, lp in result.loops.items()}
-
-            def write(d: Path) -> Path:
-                d.mkdir(parents=True, exist_ok=True)
-                cp._write_csv(d / f"series_table_{name}.csv", cp.series_table_rows(fits))
-                cp.plot_series_loops(
-                    loops, f"{name}: series test (Fig. 6)", d / f"fig6_series_loops_{name}.png"
-                )
-                return d
-
-            _write_folder(out, write, "the table and figure (--out)")
+            _write_folder(
+                out,
+                lambda d: cp.write_series_test(result, name, d),
+                "the table and figure (--out)",
+            )
 
     @bench_app.command("parallel")
     def bench_parallel_cmd(
@@ -465,8 +436,6 @@ def register(app: typer.Typer) -> None:
         shaft_file: Annotated[Path | None, typer.Option(help="coefficient file (TOML)")] = None,
     ) -> None:
         """Parallel test: bend both ways with and without torsion; eq. 2 K_b fits of the moment loop."""
-        from dataclasses import asdict
-
         from fsarm_sim import campaign as cp
         from fsarm_sim.shaft import load_catalogue
 
@@ -481,7 +450,7 @@ def register(app: typer.Typer) -> None:
             torsion_fraction=torsion_fraction,
         )
         s.validate()
-        name, result = _run_one_shaft(
+        name, result = cp.run_one_shaft(
             cat,
             diameter_mm,
             length_mm,
@@ -498,20 +467,11 @@ def register(app: typer.Typer) -> None:
             markup=False,
         )
         if out is not None:
-            loops = {t.split("/")[2]: lp for t, lp in result.loops.items()}
-
-            def write(d: Path) -> Path:
-                d.mkdir(parents=True, exist_ok=True)
-                cp._write_csv(d / f"parallel_table_{name}.csv", [asdict(f) for f in fits])
-                cp.plot_parallel_loops(
-                    loops,
-                    fits,
-                    f"{name}: parallel test (Fig. 9)",
-                    d / f"fig9_parallel_loop_{name}.png",
-                )
-                return d
-
-            _write_folder(out, write, "the table and figure (--out)")
+            _write_folder(
+                out,
+                lambda d: cp.write_parallel_test(result, name, d),
+                "the table and figure (--out)",
+            )
 
     @app.command("campaign")
     def campaign_cmd(

@@ -8,14 +8,21 @@ file, which column and which row, and what is allowed:
 :class:`SidecarError`         sidecar missing, not JSON, or a key malformed
 :class:`SetupError`           unknown ``setup``, or the columns belong to another setup
 :class:`MissingColumnError`   a required column is absent
-:class:`ExtraColumnError`     a column the setup does not define (declare it in
-                              ``"extra_columns"`` to keep it)
+:class:`ExtraColumnError`     only from :func:`write_dataset`: a column neither the setup
+                              nor the sidecar defines (reading lists such columns in
+                              ``Dataset.undeclared_columns`` instead of refusing them)
 :class:`NonNumericError`      a cell that is not a number
 :class:`NonFiniteError`       NaN or inf
 :class:`TimeAxisError`        time not strictly increasing, or not evenly sampled
 :class:`TooFewSamplesError`   fewer than :data:`MIN_SAMPLES` rows
 :class:`UnknownShaftError`    shaft not in the catalogue / outside its validity range
 ============================  ==========================================================
+
+The sidecar's schema (keys, types, legacy shapes, the columns each setup defines) is
+:mod:`fsarm_sim.records`; reading is strict (unknown keys and wrong types are named errors).
+Columns beyond the setup's are not refused: ``Dataset.unused_columns`` lists what the diagnosis
+does not read, ``Dataset.undeclared_columns`` what neither the setup nor the sidecar
+(``extra_columns``, ``columns``, a record of ``fsarm run``) defines.
 
 Setup ``arm`` (this project's definition, in the same spirit as the benches): columns ``t, q1,
 q2, q3, theta_m, q1_ref, q2_ref, q3_ref`` (rad), optional ``qd1_ref..qd3_ref`` (rad/s),
@@ -37,56 +44,33 @@ import numpy as np
 import numpy.typing as npt
 
 from fsarm_sim.errors import FsarmError, ShaftRangeError
+from fsarm_sim.records import (
+    OPTIONAL,
+    READ,
+    REQUIRED,
+    UNITS,
+    MeasuredDataError,
+    SetupError,
+    ShaftRef,
+    Sidecar,
+    SidecarError,
+    as_record,
+    read_sidecar,
+    shaft_params_of,
+)
+from fsarm_sim.records import (
+    SETUPS as SETUPS,
+)
 from fsarm_sim.shaft import Catalogue, ShaftParams, load_catalogue
 
 FloatArray = npt.NDArray[np.float64]
 
-SETUPS = ("series_bench", "parallel_bench", "arm")
-REQUIRED: dict[str, tuple[str, ...]] = {
-    "series_bench": ("t", "theta_m", "theta_s", "phi_b", "tau_s"),
-    "parallel_bench": ("t", "phi_b", "m_b"),
-    "arm": ("t", "q1", "q2", "q3", "theta_m", "q1_ref", "q2_ref", "q3_ref"),
-}
-OPTIONAL: dict[str, tuple[str, ...]] = {
-    "series_bench": (),
-    "parallel_bench": (),
-    "arm": (
-        "qd1_ref",
-        "qd2_ref",
-        "qd3_ref",
-        "qdd1_ref",
-        "qdd2_ref",
-        "qdd3_ref",
-        "tau_m",
-    ),
-}
 INPUT_COLUMN = {"series_bench": "theta_m", "parallel_bench": "phi_b", "arm": "q3_ref"}
 OUTPUT_COLUMN = {"series_bench": "tau_s", "parallel_bench": "m_b", "arm": "q3"}
-UNITS = {
-    "t": "s",
-    "theta_m": "rad",
-    "theta_s": "rad",
-    "phi_b": "rad",
-    "tau_s": "N*m",
-    "m_b": "N*m",
-    "tau_m": "N*m",
-}
 MIN_SAMPLES = 200  # a few hundred samples: enough for one teaching/verifying split of 12 blocks
 TIME_JITTER = 0.01  # allowed deviation of one sample interval from the median, as a fraction
 # slowest sampling the fits can use (10 Hz); time in ms at 1 kHz (interval 1) is caught by it
 MAX_SAMPLE_INTERVAL_S = 0.1
-
-
-class MeasuredDataError(FsarmError, ValueError):
-    """Base of every problem with a measured dataset."""
-
-
-class SidecarError(MeasuredDataError):
-    """The JSON sidecar is missing, not JSON, or has a malformed key."""
-
-
-class SetupError(MeasuredDataError):
-    """Unknown setup, or a table whose columns belong to another setup."""
 
 
 class MissingColumnError(MeasuredDataError):
@@ -94,7 +78,8 @@ class MissingColumnError(MeasuredDataError):
 
 
 class ExtraColumnError(MeasuredDataError):
-    """A column the setup does not define (and the sidecar does not declare)."""
+    """A column the setup does not define and the sidecar does not declare (raised by writers:
+    :func:`write_dataset`; readers list such columns instead)."""
 
 
 class NonNumericError(MeasuredDataError):
@@ -128,6 +113,38 @@ class Dataset:
     shaft: ShaftParams
     load_inertia_kgm2: float | None = None  # series bench: None = blocked output
     extra_columns: tuple[str, ...] = field(default=())
+    record: Sidecar | None = None  # the typed sidecar (fsarm_sim.records)
+    declared_columns: tuple[str, ...] = field(default=())  # beyond the setup's
+
+    @property
+    def unused_columns(self) -> tuple[str, ...]:
+        """Columns of the table the diagnosis does not read (:data:`fsarm_sim.records.READ`)."""
+        read = set(READ.get(self.setup, ()))
+        return tuple(c for c in self.columns if c not in read)
+
+    @property
+    def undeclared_columns(self) -> tuple[str, ...]:
+        """Columns neither the setup nor the sidecar defines (a misspelt name shows here)."""
+        known = set(REQUIRED.get(self.setup, ())) | set(OPTIONAL.get(self.setup, ()))
+        known |= set(self.declared_columns) | set(self.extra_columns)
+        return tuple(c for c in self.columns if c not in known)
+
+    def column_notes(self) -> list[str]:
+        """Report lines on the columns the diagnosis leaves alone (none when it reads all)."""
+        out = []
+        if self.unused_columns:
+            out.append(
+                f"columns not used by the diagnosis ({len(self.unused_columns)}): "
+                + ", ".join(self.unused_columns)
+            )
+        if self.undeclared_columns:
+            out.append(
+                f"columns neither setup '{self.setup}' nor the sidecar defines "
+                f"({len(self.undeclared_columns)}): "
+                + ", ".join(repr(c) for c in self.undeclared_columns)
+                + ' - check their spelling, or list them in the sidecar\'s "extra_columns"'
+            )
+        return out
 
     @property
     def t(self) -> FloatArray:
@@ -190,21 +207,6 @@ def _paths(path: str | Path) -> tuple[Path, Path]:
 # ----------------------------------------------------------------------------------- sidecar
 
 
-def _read_sidecar(path: Path) -> dict[str, Any]:
-    if not path.is_file():
-        raise SidecarError(
-            f"sidecar {path} not found: every table needs NAME.json beside it "
-            '(at least {"setup": ..., "shaft": {"diameter_mm": ..., "length_mm": ...}})'
-        )
-    try:
-        data = json.loads(path.read_text("utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise SidecarError(f"{path}: not a readable JSON file ({exc})") from exc
-    if not isinstance(data, dict):
-        raise SidecarError(f"{path}: the sidecar must be a JSON object, got {type(data).__name__}")
-    return data
-
-
 def _number(value: Any, key: str, where: Path, *, positive: bool = False) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
         raise SidecarError(f"{where}: '{key}' must be a finite number, got {value!r}")
@@ -213,20 +215,38 @@ def _number(value: Any, key: str, where: Path, *, positive: bool = False) -> flo
     return float(value)
 
 
-def resolve_shaft(sidecar: Mapping[str, Any], where: Path) -> ShaftParams:
+def resolve_shaft(sidecar: Mapping[str, Any] | Sidecar, where: Path) -> ShaftParams:
     """The shaft the sidecar names: ``{"name": ...}`` from the catalogue, or D and L (mm).
 
     Optional keys: ``"coefficient_file"`` (TOML like the default catalogue, relative to the
     sidecar), ``"extrapolate": true`` (allow D/L outside the catalogue's validity range).
+    A record of ``fsarm run`` carries the run's exact shaft in ``shaft_params``: that is used
+    (its D and L must agree with ``shaft``).
     """
-    shaft = sidecar.get("shaft")
-    if not isinstance(shaft, dict):
+    if isinstance(sidecar, Sidecar):
+        ref = sidecar.shaft
+        exact = shaft_params_of(sidecar, where)
+        if exact is not None:
+            return exact
+    else:
+        raw = sidecar.get("shaft")
+        if not isinstance(raw, dict):
+            raise UnknownShaftError(
+                f"{where}: 'shaft' must be an object with 'diameter_mm' and 'length_mm' (or "
+                f"'name'), got {raw!r}"
+            )
+        ref = as_record({"setup": "arm", "shaft": raw}, where).shaft
+    if ref is None:
         raise UnknownShaftError(
-            f"{where}: 'shaft' must be an object with 'diameter_mm' and 'length_mm' (or 'name'), "
-            f"got {shaft!r}"
+            f"{where}: the sidecar needs 'shaft', an object with 'diameter_mm' and 'length_mm' "
+            "(or 'name')"
         )
+    return _catalogue_shaft(ref, where)
+
+
+def _catalogue_shaft(shaft: ShaftRef, where: Path) -> ShaftParams:
     cat: Catalogue
-    coef = shaft.get("coefficient_file")
+    coef = shaft.coefficient_file
     try:
         if coef is not None:
             cpath = Path(str(coef))
@@ -235,40 +255,41 @@ def resolve_shaft(sidecar: Mapping[str, Any], where: Path) -> ShaftParams:
             cat = load_catalogue()
     except FsarmError as exc:
         raise UnknownShaftError(f"{where}: shaft coefficient file: {exc}") from exc
-    if "name" in shaft and "diameter_mm" not in shaft:
+    if shaft.name is not None and shaft.diameter_mm is None:
         names = {s.name: s for s in cat.shafts}
-        entry = names.get(str(shaft["name"]))
+        entry = names.get(shaft.name)
         if entry is None:
             raise UnknownShaftError(
-                f"{where}: shaft name {shaft['name']!r} is not in {cat.source}; known: "
+                f"{where}: shaft name {shaft.name!r} is not in {cat.source}; known: "
                 f"{', '.join(sorted(names))} (or give diameter_mm and length_mm)"
             )
         d_mm, l_mm = entry.diameter_mm, entry.length_mm
     else:
-        if "diameter_mm" not in shaft or "length_mm" not in shaft:
+        if shaft.diameter_mm is None or shaft.length_mm is None:
             raise UnknownShaftError(
                 f"{where}: 'shaft' needs 'diameter_mm' and 'length_mm' (or a catalogue 'name')"
             )
-        d_mm = _number(shaft["diameter_mm"], "shaft.diameter_mm", where, positive=True)
-        l_mm = _number(shaft["length_mm"], "shaft.length_mm", where, positive=True)
+        d_mm = _number(shaft.diameter_mm, "shaft.diameter_mm", where, positive=True)
+        l_mm = _number(shaft.length_mm, "shaft.length_mm", where, positive=True)
     try:
-        return cat.shaft(d_mm, l_mm, extrapolate=bool(shaft.get("extrapolate", False)))
+        # the stated shaft's eq. 3/4 law; series hysteresis is for the diagnosis to find
+        return cat.shaft(d_mm, l_mm, extrapolate=bool(shaft.extrapolate), series_hysteresis=False)
     except ShaftRangeError as exc:
         raise UnknownShaftError(f"{where}: {exc}") from exc
 
 
-def _load_inertia(sidecar: Mapping[str, Any], where: Path) -> float | None:
-    load = sidecar.get("load", {"type": "blocked"})
-    if not isinstance(load, dict) or load.get("type") not in ("blocked", "inertia"):
+def _load_inertia(record: Sidecar, where: Path) -> float | None:
+    load = record.load
+    if load is None or load.type == "blocked":
+        return None
+    if load.type != "inertia":
         raise SidecarError(
             f'{where}: \'load\' must be {{"type": "blocked"}} or '
-            f'{{"type": "inertia", "inertia_kgm2": J}}, got {load!r}'
+            f'{{"type": "inertia", "inertia_kgm2": J}}, got type {load.type!r}'
         )
-    if load["type"] == "blocked":
-        return None
-    if "inertia_kgm2" not in load:
+    if load.inertia_kgm2 is None:
         raise SidecarError(f"{where}: an inertia load needs 'inertia_kgm2' (kg*m^2)")
-    return _number(load["inertia_kgm2"], "load.inertia_kgm2", where, positive=True)
+    return _number(load.inertia_kgm2, "load.inertia_kgm2", where, positive=True)
 
 
 # ----------------------------------------------------------------------------------- table
@@ -324,8 +345,13 @@ def validate_columns(
     columns: Mapping[str, FloatArray],
     path: Path,
     extra_allowed: tuple[str, ...] = (),
+    *,
+    strict: bool = False,
 ) -> None:
-    """Check one setup's columns: presence, finiteness, time axis, length. Raises named errors."""
+    """Check one setup's columns: presence, finiteness, time axis, length. Raises named errors.
+
+    A column neither the setup defines nor ``extra_allowed`` names is accepted (and listed by
+    :class:`Dataset`) unless ``strict`` (writers): then :class:`ExtraColumnError`."""
     names = list(columns)
     missing = [c for c in REQUIRED[setup] if c not in columns]
     if missing:
@@ -338,7 +364,7 @@ def validate_columns(
         )
     known = set(REQUIRED[setup]) | set(OPTIONAL[setup]) | set(extra_allowed)
     extra = [c for c in names if c not in known]
-    if extra:
+    if extra and strict:
         raise ExtraColumnError(
             f"{path}: column(s) {', '.join(repr(c) for c in extra)} are not defined for setup "
             f"'{setup}' (allowed: {', '.join(REQUIRED[setup] + OPTIONAL[setup])}); remove them "
@@ -390,23 +416,20 @@ def load_dataset(path: str | Path, *, expect_setup: str | None = None) -> Datase
     table, side = _paths(path)
     if not table.is_file():
         raise MeasuredDataError(f"table {table} not found")
-    sidecar = _read_sidecar(side)
-    setup = sidecar.get("setup")
-    if setup not in SETUPS:
-        raise SetupError(f"{side}: 'setup' must be one of {', '.join(SETUPS)}, got {setup!r}")
+    record, sidecar = read_sidecar(side)
+    setup = record.setup
     if expect_setup is not None and setup != expect_setup:
         raise SetupError(f"{side}: expected a '{expect_setup}' dataset, got setup '{setup}'")
-    extra = sidecar.get("extra_columns", [])
-    if not isinstance(extra, list) or not all(isinstance(c, str) for c in extra):
-        raise SidecarError(f"{side}: 'extra_columns' must be a list of column names, got {extra!r}")
     names, raw = _read_table(table)
     if len(set(names)) != len(names):
         dup = sorted({c for c in names if names.count(c) > 1})
         raise SetupError(f"{table}: duplicate column name(s) {dup}")
     columns = {name: _to_float(raw[name], name, table) for name in names}
-    validate_columns(setup, columns, table, tuple(extra))
-    shaft = resolve_shaft(sidecar, side)
-    inertia = _load_inertia(sidecar, side) if setup == "series_bench" else None
+    declared = record.declared_columns()
+    validate_columns(setup, columns, table, declared)
+    _check_units(record, side)
+    shaft = resolve_shaft(record, side)
+    inertia = _load_inertia(record, side) if setup == "series_bench" else None
     return Dataset(
         path=table,
         setup=setup,
@@ -414,23 +437,36 @@ def load_dataset(path: str | Path, *, expect_setup: str | None = None) -> Datase
         sidecar=sidecar,
         shaft=shaft,
         load_inertia_kgm2=inertia,
-        extra_columns=tuple(extra),
+        extra_columns=record.extra_columns,
+        record=record,
+        declared_columns=declared,
     )
 
 
+def _check_units(record: Sidecar, where: Path) -> None:
+    """A unit the sidecar's ``columns`` states for a column the project names must be the
+    project's (SI) unit."""
+    for name, unit in (record.columns or {}).items():
+        want = UNITS.get(name)
+        if want is not None and unit != want:
+            raise SidecarError(
+                f"{where}: 'columns.{name}' says {unit!r}; column '{name}' is in {want} "
+                "(measured data are in SI units: convert the column)"
+            )
+
+
 def write_dataset(
-    path: str | Path, columns: Mapping[str, Any], sidecar: Mapping[str, Any]
+    path: str | Path, columns: Mapping[str, Any], sidecar: Mapping[str, Any] | Sidecar
 ) -> tuple[Path, Path]:
     """Write ``NAME.csv`` or ``NAME.parquet`` (by suffix; none: CSV) and ``NAME.json``.
 
-    The columns are validated against the sidecar's setup before anything is written.
+    The sidecar is checked against the schema (:mod:`fsarm_sim.records`) and the columns
+    against its setup (strictly: every column defined or declared) before anything is written.
     """
     p, side = output_files(path)
-    setup = sidecar.get("setup")
-    if setup not in SETUPS:
-        raise SetupError(f"sidecar 'setup' must be one of {', '.join(SETUPS)}, got {setup!r}")
+    record = as_record(sidecar, "sidecar to write for " + str(p))
     cols = {k: np.asarray(v, dtype=np.float64) for k, v in columns.items()}
-    validate_columns(str(setup), cols, p, tuple(sidecar.get("extra_columns", [])))
+    validate_columns(record.setup, cols, p, record.declared_columns(), strict=True)
     p.parent.mkdir(parents=True, exist_ok=True)
     import pandas as pd
 
@@ -439,5 +475,5 @@ def write_dataset(
         frame.to_parquet(p, index=False)
     else:
         frame.to_csv(p, index=False, float_format="%.10g")
-    side.write_text(json.dumps(dict(sidecar), indent=2) + "\n", "utf-8")
+    side.write_text(json.dumps(record.to_json(), indent=2) + "\n", "utf-8")
     return p, side

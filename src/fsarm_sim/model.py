@@ -174,16 +174,16 @@ class SimConfig:
         """(plant, controller) parameter blocks of joint 3's transmission."""
         tr = self.transmission_model()
         if tr.name == transmissions.DEFAULT:
-            plant = _shaft_block(self.shaft)
+            plant = shaft_block(self.shaft)
             if not self.effects.slip:  # Maxwell-slip elements switched off on the plant
                 plant[flexible_shaft.I_SLIP_K : flexible_shaft.I_SLIP_F] = 0.0
-            return plant, _shaft_block(self.controller_shaft or self.shaft)
+            return plant, shaft_block(self.controller_shaft or self.shaft)
         plant = tr.block(dict(self.transmission_params))
         ctrl = tr.block(dict(self.controller_transmission_params or self.transmission_params))
         return plant, ctrl
 
 
-def _shaft_block(sh: ShaftParams) -> npt.NDArray[np.float64]:
+def shaft_block(sh: ShaftParams) -> npt.NDArray[np.float64]:
     """The flexible shaft's block (transmissions.flexible_shaft order) from a catalogue shaft."""
     out = np.zeros(L.N_TR)
     n = flexible_shaft.N_SLIP

@@ -8,7 +8,8 @@ A scenario may also script the outside world and an outer control loop (both use
 * ``disturbance`` - an external force on the arm (a hit, a hand on the flange), see
   :class:`Disturbance`;
 * ``outer_loop`` - a factory ``Simulation -> (tick k -> None)`` that may rewrite the reference
-  rows from tick ``k`` on before the controller reads them (hand guiding, collision reaction).
+  rows from tick ``k`` on before the controller reads them (hand guiding, collision reaction;
+  :mod:`fsarm_sim.outer_loops`, which, like this module, sits below the runner).
 """
 
 from __future__ import annotations
@@ -16,21 +17,18 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 import numpy.typing as npt
 
 from fsarm_sim import references as R
 from fsarm_sim.errors import ScenarioNotFoundError
-
-if TYPE_CHECKING:
-    from fsarm_sim.simulation import Simulation
+from fsarm_sim.outer_loops import OuterLoop as OuterLoop
+from fsarm_sim.outer_loops import TickHook as TickHook
+from fsarm_sim.outer_loops import hand_guiding_loop, reaction_loop
 
 Array = npt.NDArray[np.float64]
 DEG = math.pi / 180.0
-TickHook = Callable[[int], None]  # called before control tick k, may write data / reference rows
-OuterLoop = Callable[["Simulation"], TickHook]
 
 
 @dataclass(frozen=True)
@@ -171,19 +169,13 @@ def _hit_force(t: float) -> tuple[float, float, float]:
     return (-HIT_PEAK_N * f, 0.0, 0.0)
 
 
-def _collision_reaction(sim: Simulation) -> TickHook:
-    from fsarm_sim.collision import reaction_loop
-
-    return reaction_loop(sim)
-
-
 @register(
     "collision-hit",
     "Joint 3 sweeps 0-90 deg as in fig14-sine and is hit on the flange at t = 1.2 s (100 N, "
     "50 ms); sensorless detection from the two encoders stops it (seed 004 Algorithm 1)",
     duration_s=3.0,
     disturbance=Disturbance("flange", _hit_force, (HIT_START_S, HIT_START_S + HIT_DURATION_S)),
-    outer_loop=_collision_reaction,
+    outer_loop=reaction_loop,
 )
 def _collision_hit(t: Array) -> Array:
     return _fig14(t)
@@ -201,19 +193,13 @@ def _hand_force(t: float) -> tuple[float, float, float]:
     return (f, 0.0, 0.0)
 
 
-def _hand_guiding(sim: Simulation) -> TickHook:
-    from fsarm_sim.collision import hand_guiding_loop
-
-    return hand_guiding_loop(sim)
-
-
 @register(
     "hand-guide",
     "Hand guiding of joint 3 (seed 004 Algorithm 2): the arm holds a pose, a hand pushes the "
     "flange with 25 N for 1 s, lets go, pushes back, lets go; joint 3 yields and then holds",
     duration_s=4.5,
     disturbance=Disturbance("flange", _hand_force, (HAND_PUSHES[0][0], HAND_PUSHES[-1][1])),
-    outer_loop=_hand_guiding,
+    outer_loop=hand_guiding_loop,
 )
 def _hand_guide(t: Array) -> Array:
     return R.stack((R.hold(t, 0.0), R.hold(t, FIG14_POSE_Q2), R.hold(t, 30.0 * DEG)))

@@ -428,6 +428,8 @@ class Simulation:
             cols[f"qd{j + 1}"] = qvel[:, st.dof[j]]
         for j in range(3):
             cols[f"qd{j + 1}_ref"] = ref[k, 3 + j]
+        for j in range(3):  # the whole reference: a replay of the record needs no differences
+            cols[f"qdd{j + 1}_ref"] = ref[k, 6 + j]
         cols.update(
             theta_m=theta_m,
             theta_s=theta_s,

@@ -879,14 +879,14 @@ def _varied(df: Any) -> list[str]:
 
 
 def _plots(df: Any, res: SweepAnalysis, catalogue: Catalogue | None, out: Path) -> list[Path]:
-    from fsarm_sim.campaign import _figure, plot_eq3_surfaces, plot_eq4_surface
+    from fsarm_sim.campaign import new_figure, plot_eq3_surfaces, plot_eq4_surface
 
     files: list[Path] = []
     axes = _varied(df)
     for metric in PLOT_METRICS:
         if metric not in df or df[metric].isna().all():
             continue
-        fig = _figure((6.4, 4.6))
+        fig = new_figure((6.4, 4.6))
         ax = fig.add_subplot(1, 1, 1)
         if len(axes) >= 2:
             x, y = axes[0], axes[1]

@@ -29,6 +29,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy.signal import butter, sosfiltfilt
 
+from fsarm_sim import records
 from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.discrepancy.benchmodel import BenchModel, EffectInstance, nominal_from_shaft
 from fsarm_sim.effects import registry, sensor_offset
@@ -222,8 +223,11 @@ def synthesize(
 ) -> tuple[dict[str, FloatArray], dict[str, Any]]:
     """(columns, sidecar) of one synthetic dataset of ``truth`` recorded as ``rec`` says."""
     rec.validate()
+    # the bench's nominal is eq. 8 (series hysteresis is an effect a truth lists)
     sh = shaft or load_catalogue().shaft(
-        truth.shaft.get("diameter_mm", 9.0), truth.shaft.get("length_mm", 450.0)
+        truth.shaft.get("diameter_mm", 9.0),
+        truth.shaft.get("length_mm", 450.0),
+        series_hysteresis=False,
     )
     rng = np.random.default_rng(rec.seed + 7919)
     h = 1.0 / rec.rate_hz
@@ -271,34 +275,52 @@ def synthesize(
     span = float(np.ptp(y))
     sigma = rec.noise * span
     cols[out_name] = y + sigma * rng.standard_normal(n)
+    return cols, synthetic_record(truth, rec, sh, amp, sigma, list(cols)).to_json()
+
+
+def synthetic_record(
+    truth: BenchModel,
+    rec: Recording,
+    sh: ShaftParams,
+    amp: float,
+    sigma: float,
+    columns: list[str],
+) -> records.Sidecar:
+    """The typed sidecar of a synthetic bench dataset (:mod:`fsarm_sim.records`)."""
     hidden = [e.label for e in truth.effects]
-    sidecar: dict[str, Any] = {
-        "setup": truth.setup,
-        "shaft": {"diameter_mm": sh.diameter_mm, "length_mm": sh.length_mm},
-    }
+    load = None
     if truth.setup == "series_bench":
-        sidecar["load"] = (
-            {"type": "inertia", "inertia_kgm2": truth.load_inertia_kgm2}
+        load = (
+            records.LoadRef("inertia", truth.load_inertia_kgm2)
             if truth.inertia_load
-            else {"type": "blocked"}
+            else records.LoadRef("blocked")
         )
-    sidecar["notes"] = (
-        f"SYNTHETIC data from fsarm synth (not a measurement): trajectory {rec.trajectory}, "
-        f"{rec.duration_s:g} s at {rec.rate_hz:g} Hz, torque noise {100 * rec.noise:g} % of range, "
-        f"hidden effects: {', '.join(hidden) if hidden else 'none'}"
+    return records.Sidecar(
+        schema=records.SCHEMA,
+        writer=records.WRITER_SYNTH,
+        setup=truth.setup,
+        shaft=records.ShaftRef(diameter_mm=sh.diameter_mm, length_mm=sh.length_mm),
+        load=load,
+        columns={c: records.UNITS[c] for c in columns},
+        notes=(
+            f"SYNTHETIC data from fsarm synth (not a measurement): trajectory {rec.trajectory}, "
+            f"{rec.duration_s:g} s at {rec.rate_hz:g} Hz, torque noise {100 * rec.noise:g} % of "
+            f"range, hidden effects: {', '.join(hidden) if hidden else 'none'}"
+        ),
+        synthetic=records.jsonable(
+            {
+                "truth": truth.as_dict(),
+                "trajectory": rec.trajectory,
+                "amplitude": amp,
+                "noise_fraction": rec.noise,
+                "noise_std": sigma,
+                "seed": rec.seed,
+                "bend_rad": rec.bend_rad,
+                "oversample": rec.oversample,
+                "encoder_counts": rec.encoder_counts,
+            }
+        ),
     )
-    sidecar["synthetic"] = {
-        "truth": truth.as_dict(),
-        "trajectory": rec.trajectory,
-        "amplitude": amp,
-        "noise_fraction": rec.noise,
-        "noise_std": sigma,
-        "seed": rec.seed,
-        "bend_rad": rec.bend_rad,
-        "oversample": rec.oversample,
-        "encoder_counts": rec.encoder_counts,
-    }
-    return cols, sidecar
 
 
 def truth_model(
@@ -323,7 +345,7 @@ def truth_model(
     ):
         if v is not None and not (math.isfinite(v) and v > 0):
             raise InvalidParameterError(f"{name} must be a finite number > 0, got {v!r}")
-    sh = shaft or load_catalogue().shaft()
+    sh = shaft or load_catalogue().shaft(series_hysteresis=False)
     j_link = parallel_link_inertia() if setup == "parallel_bench" else 0.0
     m = nominal_from_shaft(setup, sh, load_inertia_kgm2, j_link=j_link)
     for key in ("k_pos", "s_pos", "k_neg", "s_neg", "kb"):

@@ -2,14 +2,14 @@
 
 The time series of an arm run is written in the measured-data format of
 ``../shared/specs/measured-data.md``, setup ``arm`` (documented in the README): SI columns, one row
-per logged control tick, and a sidecar with what is needed to replay the run.
+per logged control tick, and a sidecar with what is needed to replay the run. The sidecar is a
+:class:`fsarm_sim.records.Sidecar` (``writer`` "fsarm run", every column with its unit).
 """
 
 from __future__ import annotations
 
 import json
 import math
-from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
@@ -17,6 +17,7 @@ import numpy as np
 import pandas as pd
 
 from fsarm_sim import __version__
+from fsarm_sim import records as rec
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.simulation import RunResult
 
@@ -35,35 +36,43 @@ def _clean(x: Any) -> Any:
     return x
 
 
-def run_metadata(result: RunResult) -> dict[str, Any]:
-    """Sidecar of an arm run: setup, transmission, shaft, payload, gains, effects, version."""
+def run_record(result: RunResult) -> rec.Sidecar:
+    """The typed sidecar of an arm run: setup, transmission, shaft, payload, gains, effects,
+    columns with their units, version."""
     cfg = result.config
     sh = cfg.shaft
     tr = cfg.transmission_model()
     plant, ctrl = cfg.transmission_blocks()
     names = tr.param_names()
-    return _clean(
-        {
-            "setup": "arm",
-            "scenario": result.scenario,
-            "duration_s": result.duration_s,
-            "interrupted": result.interrupted,
-            "shaft": {"diameter_mm": sh.diameter_mm, "length_mm": sh.length_mm},
-            "shaft_params": asdict(sh),
-            "transmission": {
-                "name": tr.name,
-                "source": tr.source,
-                "params": dict(zip(names, plant[: len(names)].tolist(), strict=True)),
-                "controller_params": dict(zip(names, ctrl[: len(names)].tolist(), strict=True)),
-            },
-            "payload_kg": cfg.payload_kg,
-            "gains": asdict(cfg.gains),
-            "effects": asdict(cfg.effects),
-            "timestep_s": cfg.timestep_s,
-            "integrator": cfg.integrator,
-            "fsarm_sim_version": __version__,
-        }
+    return rec.Sidecar(
+        schema=rec.SCHEMA,
+        writer=rec.WRITER_RUN,
+        setup="arm",
+        scenario=result.scenario,
+        duration_s=float(result.duration_s),
+        interrupted=bool(result.interrupted),
+        shaft=rec.ShaftRef(diameter_mm=sh.diameter_mm, length_mm=sh.length_mm),
+        shaft_params=rec.shaft_params_entry(sh),
+        transmission=rec.TransmissionRef(
+            name=tr.name,
+            source=tr.source,
+            params=dict(zip(names, plant[: len(names)].tolist(), strict=True)),
+            controller_params=dict(zip(names, ctrl[: len(names)].tolist(), strict=True)),
+        ),
+        payload_kg=float(cfg.payload_kg),
+        ctrl_dt_s=float(cfg.gains.ctrl_dt_s),
+        gains=rec.gains_entry(cfg.gains),
+        effects=rec.effects_entry(cfg.effects),
+        timestep_s=cfg.timestep_s,
+        integrator=cfg.integrator,
+        fsarm_sim_version=__version__,
+        columns={c: rec.UNITS.get(c, "") for c in result.columns},
     )
+
+
+def run_metadata(result: RunResult) -> dict[str, Any]:
+    """Sidecar of an arm run as JSON (:func:`run_record`'s ``to_json``)."""
+    return run_record(result).to_json()
 
 
 def write_timeseries(result: RunResult, out_dir: Path, fmt: str = "csv") -> Path:
@@ -77,7 +86,7 @@ def write_timeseries(result: RunResult, out_dir: Path, fmt: str = "csv") -> Path
         df.to_csv(path, index=False, float_format="%.10g")
     else:
         df.to_parquet(path, index=False)
-    path.with_suffix(".json").write_text(json.dumps(run_metadata(result), indent=2) + "\n", "utf-8")
+    rec.write_sidecar(path.with_suffix(".json"), run_record(result))
     return path
 
 

@@ -1,7 +1,9 @@
 """The discrepancy workflow on the arm: replay a recorded run closed loop, name what is missing.
 
-**Replay.** An ``arm`` record (:mod:`fsarm_sim.measured`) is rebuilt from its sidecar - shaft,
-stated payload, controller gains, control period - into a :class:`~fsarm_sim.model.SimConfig`,
+**Replay.** An ``arm`` record (:mod:`fsarm_sim.measured`; sidecar schema :mod:`fsarm_sim.records`)
+is rebuilt from its sidecar - shaft (a run's exact ``shaft_params`` when recorded), stated
+payload, controller gains, control period, timestep, integrator and joint 3's transmission with
+its plant and controller parameters - into a :class:`~fsarm_sim.model.SimConfig`,
 and the run is simulated by the project's own simulator (MuJoCo + the native callbacks) with the
 *recorded* references ``q*_ref`` (``qd*_ref``/``qdd*_ref`` if recorded, else central differences,
 see :func:`reference_table`) driving the *run's* controller. The controller always keeps the
@@ -20,7 +22,9 @@ fitted as a compliance scale (the twist that carries a torque is linear in it), 
 stiffness ``K_b`` (a scale, fitted when joint 2 bends the shaft by more than 5 deg) and, when the
 sidecar states the payload loosely (``payload_tolerance_kg > 0``), the payload within that
 tolerance (``payload_error`` is then no candidate). Scales stay within 4x of the catalogue. An
-effect is missing only when no such refit removes the disagreement.
+effect is missing only when no such refit removes the disagreement. With a transmission other
+than the flexible shaft the series-stiffness scales (eq. 8's) and ``hysteresis[maxwell_slip]``
+(the shaft's slip elements) do not apply and are left out.
 
 **Candidates** (grey-box: every parameter acts inside the re-simulated closed loop):
 
@@ -82,6 +86,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy.optimize import lsq_linear
 
+from fsarm_sim import transmissions
 from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.discrepancy.benchmodel import EffectInstance
 from fsarm_sim.discrepancy.residuals import (
@@ -111,6 +116,7 @@ from fsarm_sim.measured import (
     SidecarError,
 )
 from fsarm_sim.model import PAYLOAD_MAX_KG, Effects, Gains, SimConfig
+from fsarm_sim.records import Sidecar, as_record
 from fsarm_sim.shaft import ShaftParams
 from fsarm_sim.simulation import Simulation
 
@@ -169,10 +175,23 @@ class ArmRun:
     t: FloatArray  # record times relative to the first sample, s
     h: float  # record sample interval, s
     ref_note: str
+    # joint 3's transmission (SimConfig's fields); the flexible shaft takes ``shaft``
+    transmission: str = transmissions.DEFAULT
+    transmission_params: tuple[tuple[str, float], ...] = ()
+    controller_transmission_params: tuple[tuple[str, float], ...] | None = None
+    integrator: str | None = None  # None: the MJCF's
+    # ``shaft`` is the run's exact shaft (a record of ``fsarm run``: ``shaft_params``): its slip
+    # elements are part of the stated plant; otherwise series hysteresis is for the diagnosis
+    exact_shaft: bool = False
 
     @property
     def ctrl_dt(self) -> float:
         return self.gains.ctrl_dt_s
+
+    @property
+    def flexible_shaft(self) -> bool:
+        """Joint 3 is driven by the flexible shaft (eq. 8 stiffness refit, slip hysteresis)."""
+        return self.transmission == transmissions.DEFAULT
 
 
 def _num(side: Mapping[str, Any], key: str, where: Path, default: float | None = None) -> float:
@@ -187,7 +206,9 @@ def _num(side: Mapping[str, Any], key: str, where: Path, default: float | None =
 def parse_gains(side: Mapping[str, Any], where: Path) -> Gains:
     """The controller settings of the run: sidecar ``gains`` (Gains fields) and ``ctrl_dt_s``."""
     raw = side.get("gains", {})
-    if not isinstance(raw, dict):
+    if raw is None:
+        raw = {}
+    if not isinstance(raw, Mapping):
         raise ArmSidecarError(f"{where}: 'gains' must be an object of Gains fields, got {raw!r}")
     fields = {f.name: f for f in dataclasses.fields(Gains)}
     unknown = sorted(set(raw) - set(fields))
@@ -203,13 +224,13 @@ def parse_gains(side: Mapping[str, Any], where: Path) -> Gains:
                 raise ArmSidecarError(f"{where}: gains.{k} must be true or false, got {v!r}")
             kw[k] = v
         elif isinstance(default, tuple):
-            ok = isinstance(v, list) and len(v) == 3
+            ok = isinstance(v, list | tuple) and len(v) == 3
             if not ok or not all(isinstance(a, int | float) and not isinstance(a, bool) for a in v):
                 raise ArmSidecarError(f"{where}: gains.{k} must be a list of 3 numbers, got {v!r}")
             kw[k] = tuple(float(a) for a in v)
         else:
             kw[k] = _num(raw, k, where)
-    if "ctrl_dt_s" in side:
+    if side.get("ctrl_dt_s") is not None:
         dt = _num(side, "ctrl_dt_s", where)
         if "ctrl_dt_s" in kw and abs(kw["ctrl_dt_s"] - dt) > 1e-12:
             raise ArmSidecarError(f"{where}: 'ctrl_dt_s' and 'gains.ctrl_dt_s' disagree")
@@ -275,17 +296,46 @@ def reference_table(ds: Dataset, ctrl_dt: float) -> tuple[FloatArray, str]:
     return np.ascontiguousarray(table, dtype=np.float64), "; ".join(notes)
 
 
+def stated_transmission(
+    rec: Sidecar, where: Path
+) -> tuple[str, tuple[tuple[str, float], ...], tuple[tuple[str, float], ...] | None]:
+    """(name, plant parameters, controller parameters or None) of the record's transmission;
+    the flexible shaft takes its numbers from the shaft (its recorded block is not read)."""
+    tr = rec.transmission
+    if tr is None or tr.name == transmissions.DEFAULT:
+        return transmissions.DEFAULT, (), None
+    try:
+        model = transmissions.get(tr.name)
+        plant = tuple(tr.params.items())
+        ctrl = tuple(tr.controller_params.items()) or None
+        model.block(dict(plant))
+        if ctrl is not None:
+            model.block(dict(ctrl))
+    except (transmissions.TransmissionError, InvalidParameterError) as exc:
+        raise ArmSidecarError(f"{where}: 'transmission': {exc}") from exc
+    if ctrl is not None and dict(ctrl) == dict(plant):
+        ctrl = None
+    return tr.name, plant, ctrl
+
+
 def arm_run(ds: Dataset) -> ArmRun:
-    """Rebuild the run's setup from an ``arm`` dataset (sidecar keys checked here)."""
-    side = ds.sidecar
+    """Rebuild the run's setup from an ``arm`` dataset (sidecar keys checked here; the schema
+    of the sidecar is :mod:`fsarm_sim.records`)."""
     where = ds.path.with_suffix(".json")
     if ds.setup != "arm":
         raise ArmSidecarError(f"{where}: expected an 'arm' dataset, got '{ds.setup}'")
-    tr = side.get("transmission", "flexible-shaft")
-    if tr != "flexible-shaft":
-        raise ArmSidecarError(
-            f"{where}: the arm replay supports the flexible shaft only, got transmission {tr!r}"
+    rec = ds.record if ds.record is not None else as_record(ds.sidecar, where)
+    side = {
+        k: v
+        for k, v in (
+            ("payload_kg", rec.payload_kg),
+            ("payload_tolerance_kg", rec.payload_tolerance_kg),
+            ("ctrl_dt_s", rec.ctrl_dt_s),
+            ("gains", rec.gains),
         )
+        if v is not None
+    }
+    tr_name, tr_params, tr_ctrl = stated_transmission(rec, where)
     payload = _num(side, "payload_kg", where)
     if not 0.0 <= payload <= PAYLOAD_MAX_KG:
         raise ArmSidecarError(
@@ -296,8 +346,7 @@ def arm_run(ds: Dataset) -> ArmRun:
         raise ArmSidecarError(
             f"{where}: 'payload_tolerance_kg' must be within 0..{PAYLOAD_MAX_KG:g}, got {tol!r}"
         )
-    ts = side.get("timestep_s")
-    timestep = None if ts is None else _num(side, "timestep_s", where)
+    timestep = rec.timestep_s
     if timestep is not None and timestep <= 0.0:
         raise ArmSidecarError(f"{where}: 'timestep_s' must be > 0, got {timestep!r}")
     gains = parse_gains(side, where)
@@ -312,6 +361,11 @@ def arm_run(ds: Dataset) -> ArmRun:
         t=ds.t - ds.t[0],
         h=ds.dt,
         ref_note=note,
+        transmission=tr_name,
+        transmission_params=tr_params,
+        controller_transmission_params=tr_ctrl,
+        integrator=rec.integrator,
+        exact_shaft=rec.shaft_params is not None,
     )
 
 
@@ -430,6 +484,8 @@ def to_config(run: ArmRun, m: ArmModel) -> SimConfig:
     sp, sn, kb = 1.0 / (c * m.v("c_scale_pos")), 1.0 / (c * m.v("c_scale_neg")), m.v("kb_scale")
     slip_k = [0.0, 0.0, 0.0]
     slip_f = [0.0, 0.0, 0.0]
+    if run.exact_shaft and not m.slip_delta:  # the run's own slip elements
+        slip_k, slip_f = list(sh.slip_k), list(sh.slip_f)
     for i, d in enumerate(m.slip_delta[:3]):
         k = m.v(f"hysteresis.k{i}")
         slip_k[i], slip_f[i] = k, k * d
@@ -457,6 +513,10 @@ def to_config(run: ArmRun, m: ArmModel) -> SimConfig:
         effects=fx,
         controller_shaft=sh,
         timestep_s=run.timestep_s,
+        integrator=run.integrator,
+        transmission=run.transmission,
+        transmission_params=run.transmission_params,
+        controller_transmission_params=run.controller_transmission_params,
     )
 
 
@@ -621,7 +681,9 @@ def make_context(ds: Dataset, run: ArmRun) -> ArmContext:
 
 def nominal_keys(ctx: ArmContext) -> list[str]:
     keys = []
-    if all(ctx.sides):
+    if not ctx.run.flexible_shaft:
+        pass  # the series stiffness refit is eq. 8's: the flexible shaft's own parameters
+    elif all(ctx.sides):
         keys += ["c_scale_pos", "c_scale_neg"]
     else:  # a side visited rarely follows the other (a shaft rarely errs one way only)
         keys.append("c_scale")
@@ -791,6 +853,8 @@ def candidate_pairs(ctx: ArmContext) -> list[tuple[str, str]]:
     pairs = list(PLANT_CANDIDATES) + list(MEASUREMENT_CANDIDATES)
     if ctx.run.payload_tolerance_kg > 0.0:  # the payload is already refit as a nominal parameter
         pairs.remove(("payload_error", "mass"))
+    if not ctx.run.flexible_shaft:  # slip elements are the flexible shaft's states
+        pairs.remove(("hysteresis", "maxwell_slip"))
     return pairs
 
 

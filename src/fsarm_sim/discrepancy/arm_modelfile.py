@@ -1,8 +1,9 @@
 """The arm's final-model file: what ``fsarm diagnose`` writes for an arm record, and loading it
 back as a :class:`~fsarm_sim.model.SimConfig` the simulator runs (``load_arm_config``).
 
-Format ``fsarm-arm-model`` (JSON): the stated setup (shaft, payload, control period, gains), the
-nominal refit (stiffness scales, K_b scale, payload), the named effects with their fitted
+Format ``fsarm-arm-model`` (JSON): the stated setup (shaft - D/L and, for the model of a record
+of ``fsarm run``, its exact ``shaft_params`` -, payload, control period, gains;
+``transmission`` and ``integrator`` when not the defaults), the nominal refit (stiffness scales, K_b scale, payload), the named effects with their fitted
 parameters, and - for reading by eye - the resulting plant. Recording effects (channel offsets,
 delays) are kept in the file; :func:`fsarm_sim.discrepancy.arm.apply_measurement` adds them to
 a run's columns.
@@ -18,25 +19,40 @@ from typing import Any
 
 import numpy as np
 
+from fsarm_sim import transmissions
 from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.measured import resolve_shaft
 from fsarm_sim.model import SimConfig
+from fsarm_sim.records import as_record, shaft_params_entry
 
 
 def model_dict(run: A.ArmRun, m: A.ArmModel) -> dict[str, Any]:
     """The model file: stated setup, nominal refit, named effects, and the resulting plant."""
     cfg = A.to_config(run, m)
     g = dataclasses.asdict(run.gains)
+    stated: dict[str, Any] = {}
+    if not run.flexible_shaft:
+        stated["transmission"] = {
+            "name": run.transmission,
+            "params": dict(run.transmission_params),
+            "controller_params": dict(
+                run.controller_transmission_params or run.transmission_params
+            ),
+        }
+    if run.integrator is not None:
+        stated["integrator"] = run.integrator
     return {
         "format": A.MODEL_FORMAT,
         "version": A.MODEL_VERSION,
         "setup": "arm",
         "shaft": {"diameter_mm": run.shaft.diameter_mm, "length_mm": run.shaft.length_mm},
+        **({"shaft_params": shaft_params_entry(run.shaft)} if run.exact_shaft else {}),
         "payload_kg": run.payload_kg,
         "ctrl_dt_s": run.ctrl_dt,
         "gains": {k: list(v) if isinstance(v, tuple) else v for k, v in g.items()},
         "timestep_s": run.timestep_s,
+        **stated,
         "nominal": m.nominal(),
         "effects": [e.as_dict() for e in m.effects()],
         "plant": {
@@ -63,7 +79,11 @@ def model_from_dict(d: Mapping[str, Any], where: str = "arm model") -> tuple[A.A
             f"{where}: not an arm model file (format {A.MODEL_FORMAT!r}, setup 'arm')"
         )
     try:
-        shaft = resolve_shaft({"shaft": d["shaft"]}, Path(where))
+        stated = {"setup": "arm", "shaft": d["shaft"]}
+        exact = d.get("shaft_params") is not None
+        if exact:  # the run's exact shaft (the model of a record of fsarm run)
+            stated["shaft_params"] = d["shaft_params"]
+        shaft = resolve_shaft(as_record(stated, where), Path(where))
         side = {"gains": d.get("gains", {}), "ctrl_dt_s": d["ctrl_dt_s"]}
         gains = A.parse_gains(side, Path(where))
         m = A.ArmModel()
@@ -78,6 +98,15 @@ def model_from_dict(d: Mapping[str, Any], where: str = "arm model") -> tuple[A.A
                 raise ArmModelFileError(f"{where}: unknown nominal parameter {k!r}")
         for e in d.get("effects", []):
             add_effect(m, str(e["name"]), str(e["variant"]), dict(e["params"]), where)
+        tr = d.get("transmission")
+        if tr is not None:
+            rec = as_record({"setup": "arm", "transmission": tr}, where)
+            tr_name, tr_params, tr_ctrl = A.stated_transmission(rec, Path(where))
+        else:
+            tr_name, tr_params, tr_ctrl = transmissions.DEFAULT, (), None
+        integrator = d.get("integrator")
+        if integrator is not None and not isinstance(integrator, str):
+            raise ArmModelFileError(f"{where}: 'integrator' must be a string, got {integrator!r}")
         run = A.ArmRun(
             shaft=shaft,
             payload_kg=float(d.get("payload_kg", 0.0)),
@@ -88,6 +117,11 @@ def model_from_dict(d: Mapping[str, Any], where: str = "arm model") -> tuple[A.A
             t=np.zeros(1),
             h=float(d["ctrl_dt_s"]),
             ref_note="",
+            transmission=tr_name,
+            transmission_params=tr_params,
+            controller_transmission_params=tr_ctrl,
+            integrator=integrator,
+            exact_shaft=exact,
         )
     except (KeyError, TypeError, ValueError) as exc:
         if isinstance(exc, ArmModelFileError):

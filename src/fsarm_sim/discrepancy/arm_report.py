@@ -5,7 +5,9 @@ JSON keys as for the benches (:mod:`.report`): ``named_effects``, ``gap_before``
 ``nothing_missing``, ``verdict``, ``confidence`` (per added effect: runner-up, held-out BIC
 margin, probability, look-alike flag), ``steps`` (every candidate's scores; ``mse_teach`` /
 ``mse_held`` are the weighted MSEs, noise-variance units), ``fitted_parameters``,
-``nominal_refit``, ``noise_floor`` (per channel), ``nrmse`` (per channel q3, theta_m, q2, twist:
+``nominal_refit``, ``unused_columns`` (columns of the record the diagnosis does not read),
+``undeclared_columns`` (of those, the ones neither the setup nor the sidecar defines),
+``transmission`` (joint 3's, from the sidecar), ``noise_floor`` (per channel), ``nrmse`` (per channel q3, theta_m, q2, twist:
 catalogue / nominal / final), ``gap_over_noise`` (held-out residual RMS in noise-floor units,
 channel average, before / after), ``bic``, ``signatures`` (q3 and twist residuals, before /
 after), ``runtime_s``, ``simulations``, ``model_file``, ``method``.
@@ -74,6 +76,9 @@ def result_dict(diag: A.ArmDiagnosis, model_file: Path | None = None) -> dict[st
         "rate_hz": 1.0 / ctx.run.h,
         "duration_s": float(ctx.run.t[-1]),
         "main_channel": A.MAIN,
+        "transmission": ctx.run.transmission,
+        "unused_columns": list(ds.unused_columns),
+        "undeclared_columns": list(ds.undeclared_columns),
         "named_effects": list(diag.named),
         "gap_before": diag.gap_before,
         "gap_after": diag.gap_after,
@@ -275,6 +280,8 @@ def run_cli(
         markup=False,
     )
     console.print(diag.verdict, markup=False)
+    for line in ds.column_notes():
+        console.print(line, markup=False)
     console.print(
         f"runtime {diag.runtime_s:.1f} s ({diag.extras.get('simulations')} closed-loop runs)",
         markup=False,

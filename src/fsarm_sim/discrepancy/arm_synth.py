@@ -9,7 +9,6 @@ goes into the sidecar under ``"synthetic"`` (never read by ``fsarm diagnose``).
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -18,7 +17,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim import scenarios
+from fsarm_sim import records, scenarios
 from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_modelfile as MF
 from fsarm_sim.errors import InvalidParameterError
@@ -120,7 +119,7 @@ def synthesize_arm(
     truth's delays and offsets, Gaussian angle noise and encoder quantisation."""
     rec.validate()
     sc = scenarios.get(rec.scenario)
-    sh = shaft or load_catalogue().shaft()
+    sh = shaft or load_catalogue().shaft(series_hysteresis=False)  # the stated eq. 8 shaft
     gains = Gains()
     duration = float(sc.duration_s if rec.duration_s is None else rec.duration_s)
     payload = float(sc.payload_kg if rec.payload_kg is None else rec.payload_kg)
@@ -143,28 +142,32 @@ def synthesize_arm(
         for j in range(3):
             cols[f"qdd{j + 1}_ref"] = table[:n, 6 + j]
     hidden = truth.labels
-    g = dataclasses.asdict(gains)
-    side: dict[str, Any] = {
-        "setup": "arm",
-        "shaft": {"diameter_mm": sh.diameter_mm, "length_mm": sh.length_mm},
-        "payload_kg": payload,
-        "ctrl_dt_s": gains.ctrl_dt_s,
-        "scenario": rec.scenario,
-        "gains": {k: list(v) if isinstance(v, tuple) else v for k, v in g.items()},
-        "notes": (
+    side = records.Sidecar(
+        schema=records.SCHEMA,
+        writer=records.WRITER_SYNTH,
+        setup="arm",
+        shaft=records.ShaftRef(diameter_mm=sh.diameter_mm, length_mm=sh.length_mm),
+        payload_kg=payload,
+        ctrl_dt_s=gains.ctrl_dt_s,
+        scenario=rec.scenario,
+        gains=records.gains_entry(gains),
+        notes=(
             f"SYNTHETIC data from fsarm synth --setup arm (not a measurement): scenario "
             f"{rec.scenario}, {duration:g} s at {1 / gains.ctrl_dt_s:g} Hz, angle noise "
             f"{rec.noise_rad:g} rad, {rec.encoder_counts} counts/rev, hidden effects: "
             f"{', '.join(hidden) if hidden else 'none'}"
         ),
-        "synthetic": {
-            "truth": MF.jsonable(MF.model_dict(run, truth)),
-            "noise_rad": rec.noise_rad,
-            "encoder_counts": rec.encoder_counts,
-            "seed": rec.seed,
-        },
-    }
-    return cols, side
+        columns={c: records.UNITS[c] for c in cols},
+        synthetic=records.jsonable(
+            {
+                "truth": MF.model_dict(run, truth),
+                "noise_rad": rec.noise_rad,
+                "encoder_counts": rec.encoder_counts,
+                "seed": rec.seed,
+            }
+        ),
+    )
+    return cols, side.to_json()
 
 
 def write_arm_synthetic(

@@ -168,7 +168,7 @@ def _dataset(truth: BenchModel, case: Case, noise: float) -> Dataset:
     )
     cols, side = synth.synthesize(truth, rec)
     validate_columns(truth.setup, cols, synth.Path(case.name))
-    sh = load_catalogue().shaft()
+    sh = load_catalogue().shaft(series_hysteresis=False)
     return Dataset(
         path=synth.Path(case.name),
         setup=truth.setup,

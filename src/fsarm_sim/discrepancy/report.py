@@ -136,6 +136,8 @@ def result_dict(diag: Diagnosis, model_file: Path | None = None) -> dict[str, An
         "rate_hz": 1.0 / inp.h,
         "duration_s": float(inp.t[-1] - inp.t[0]),
         "main_channel": ds.output_column,
+        "unused_columns": list(ds.unused_columns),
+        "undeclared_columns": list(ds.undeclared_columns),
         "named_effects": list(diag.named),
         "gap_before": diag.gap_before,
         "gap_after": diag.gap_after,

@@ -32,39 +32,32 @@ def element_potential_j(z_rad: float, k_element: float) -> float:
     return 0.5 * k_element * z_rad * z_rad
 
 
-# --- normalized elements with a slip torque that depends on the twist side and the bend ---------
-# The shaft's elements (seed 000: "the positive side has more internal friction", "hysteresis
-# increases with the bending angle"): element i has pre-sliding stiffness k_i and slip torque
-#     f_i(phi_B, side) = f_i0 * (1 on the winding side, r_n < 1 unwinding) * g(phi_B),
-# g the route's bend-friction factor (fsarm_sim.effects.bend_friction). Its state is the
-# normalized deflection w_i = k_i z_i / f_i in [-1, 1] (a fixed actrange, so MuJoCo's clamp is
-# the exact slip however f_i changes):
-#     tau_i = f_i w_i,   dw_i/dt = (k_i / f_i) d(twist)/dt,   V_i = f_i^2 w_i^2 / (2 k_i).
-# At fixed bend this is the elasto-slip element above; a stuck element's torque scales with its
-# slip torque when the bend changes, and V_i's bend dependence gives the -dV/dphi_B reaction on
-# joint 2 (energy-consistent, tests/test_energy_check.py).
+# --- the shaft's elements: side- and bend-dependent slip (seed 000: "the positive side has more
+# internal friction", "hysteresis increases with the bending angle") ---------------------------
+# Element i keeps its spring k_i (the shaft's small-signal stiffness, eq. 3 + sum k_i, still
+# falls with the bend as seed 000 measured) while the friction that holds it grows with the bend
+# like a rope on a capstan: its deflection band is
+#     -r_n g(phi_B) f_i/k_i <= z_i <= g(phi_B) f_i/k_i
+# (g: fsarm_sim.effects.bend_friction; r_n < 1: the unwinding side slips earlier). Inside the band
+# z_i follows the twist exactly (no drift however long the run); at an edge it slides; if the band
+# shrinks under it (the bend falls) it slips back to the new edge within SLIP_RELAX_S - a slip,
+# which dissipates. The stored energy k_i z_i^2 / 2 does not depend on the bend.
+
+SLIP_RELAX_S = 1e-3  # how fast an element left outside its shrunk band slips back to its edge (s)
 
 
-def side_slip_torque_nm(
-    f0_nm: float, w: float, unwinding_ratio: float, bend_factor: float
-) -> float:
-    """f_i(phi_B, side): the slip torque on the side of the element's deflection."""
-    return f0_nm * bend_factor * (1.0 if w >= 0.0 else unwinding_ratio)
+def band_rad(k: float, f: float, unwinding_ratio: float, bend_factor: float) -> tuple[float, float]:
+    """(lower, upper) edge of element deflection at this bend; a tiny band when it is off."""
+    if k <= 0.0:
+        return (-1e-12, 1e-12)
+    hi = bend_factor * f / k
+    return (-unwinding_ratio * hi, hi)
 
 
-def normalized_torque_nm(w: float, f_nm: float) -> float:
-    return f_nm * w
-
-
-def normalized_rate(twist_rate: float, k_element: float, f_nm: float) -> float:
-    """dw/dt before MuJoCo's clamp to [-1, 1]: the element sticks to the twist."""
-    return twist_rate * k_element / f_nm if f_nm > 0.0 else 0.0
-
-
-def normalized_potential_j(w: float, k_element: float, f_nm: float) -> float:
-    return 0.5 * f_nm * f_nm * w * w / k_element if k_element > 0.0 else 0.0
-
-
-def normalized_bend_torque_nm(w: float, k_element: float, f_nm: float, df_dbend: float) -> float:
-    """-dV_i/dphi_B at fixed w (f's dependence on the bend)."""
-    return -f_nm * df_dbend * w * w / k_element if k_element > 0.0 else 0.0
+def banded_rate(z: float, twist_rate: float, lower: float, upper: float) -> float:
+    """dz/dt of an element in its band: stick inside, slide at an edge, slip back from outside."""
+    if z >= upper:
+        return min(twist_rate, 0.0) - (z - upper) / SLIP_RELAX_S
+    if z <= lower:
+        return max(twist_rate, 0.0) - (z - lower) / SLIP_RELAX_S
+    return twist_rate

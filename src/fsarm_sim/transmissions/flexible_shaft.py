@@ -161,35 +161,33 @@ def stiffness_nm_per_rad(tr: Any, x: float, bend: float) -> float:
     return series_stiffness.stiffness_nm_per_rad(x, bend, tr[0], tr[1], tr[2], tr[3])
 
 
-def _slip_torque(tr: Any, i: int, w: float, bend: float) -> float:
-    """Element i's slip torque on the side of w at this bend (maxwell_slip, bend_friction)."""
-    return maxwell_slip.side_slip_torque_nm(
-        tr[I_SLIP_F + i], w, tr[I_SLIP_RN], bend_friction.factor(bend, tr[I_BEND_MU])
-    )
-
-
 def torque_nm(tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int) -> float:
     tau = sensor_torque_nm(tr, x, bend) + series_stiffness.damping_torque_nm(x, xdot, tr[4], tr[5])
     for i in range(N_SLIP):
         if tr[I_SLIP_K + i] > 0.0:
-            w = act[a0 + i]
-            tau += maxwell_slip.normalized_torque_nm(w, _slip_torque(tr, i, w, bend))
+            tau += maxwell_slip.element_torque_nm(act[a0 + i], tr[I_SLIP_K + i])
     return tau
 
 
 def state_rate(tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int, i: int) -> float:
-    """dw_i/dt of element i's normalized deflection (0 for an element that is off)."""
+    """dz_i/dt: stick inside the element's band at this bend, slide at its edge (maxwell_slip)."""
     k = tr[I_SLIP_K + i]
     if k <= 0.0:
         return 0.0
-    w = act[a0 + i]
-    side = w if w != 0.0 else xdot  # leaving zero: the side the twist moves to
-    return maxwell_slip.normalized_rate(xdot, k, _slip_torque(tr, i, side, bend))
+    lo, hi = maxwell_slip.band_rad(
+        k, tr[I_SLIP_F + i], tr[I_SLIP_RN], bend_friction.factor(bend, tr[I_BEND_MU])
+    )
+    return maxwell_slip.banded_rate(act[a0 + i], xdot, lo, hi)
 
 
 def state_limits(tr: Any) -> list[tuple[float, float] | None]:
-    """Normalized deflections stay within [-1, 1]: beyond, the element slips (MuJoCo clamps)."""
-    return [(-1.0, 1.0) for _ in range(N_SLIP)]
+    """A fixed outer range for MuJoCo's clamp: the widest band, at just beyond the largest valid
+    bend (the band itself moves with the bend inside the rate law)."""
+    g = bend_friction.factor(1.01 * BEND_LIMIT_RAD, tr[I_BEND_MU])
+    return [
+        maxwell_slip.band_rad(tr[I_SLIP_K + i], tr[I_SLIP_F + i], tr[I_SLIP_RN], g)
+        for i in range(N_SLIP)
+    ]
 
 
 def twist_for_torque(tr: Any, tau: float, bend: float) -> float:
@@ -206,17 +204,8 @@ def twist_for_torque(tr: Any, tau: float, bend: float) -> float:
 
 
 def bend_torque_nm(tr: Any, x: float, bend: float, act: Any, a0: int) -> float:
-    """-dV/dphi_B: eq. 3's stiffness falls with |phi_B|, the slip torques grow with it."""
-    tau = series_stiffness.bend_coupling_torque_nm(x, bend, tr[1], tr[3])
-    slope = bend_friction.factor_slope(bend, tr[I_BEND_MU])
-    for i in range(N_SLIP):
-        k = tr[I_SLIP_K + i]
-        if k > 0.0 and slope != 0.0:
-            w = act[a0 + i]
-            f = _slip_torque(tr, i, w, bend)
-            df = tr[I_SLIP_F + i] * (1.0 if w >= 0.0 else tr[I_SLIP_RN]) * slope
-            tau += maxwell_slip.normalized_bend_torque_nm(w, k, f, df)
-    return tau
+    """-dV/dphi_B: eq. 3's stiffness falls with |phi_B| (the elements' energy does not read it)."""
+    return series_stiffness.bend_coupling_torque_nm(x, bend, tr[1], tr[3])
 
 
 def max_stiffness(tr: Any) -> float:
@@ -231,8 +220,6 @@ def rating_nm(tr: Any) -> float:
 def potential_j(tr: Any, x: float, bend: float, act: Any, a0: int) -> float:
     v = series_stiffness.potential_j(x, bend, tr[0], tr[1], tr[2], tr[3])
     for i in range(N_SLIP):
-        k = tr[I_SLIP_K + i]
-        if k > 0.0:
-            w = act[a0 + i]
-            v += maxwell_slip.normalized_potential_j(w, k, _slip_torque(tr, i, w, bend))
+        if tr[I_SLIP_K + i] > 0.0:
+            v += maxwell_slip.element_potential_j(act[a0 + i], tr[I_SLIP_K + i])
     return v
