@@ -46,7 +46,7 @@ from fsarm_sim.model import (
     ArmStructure,
     Effects,
     SimConfig,
-    _fixed_tendon,
+    fixed_tendon,
     model_path,
     shaft_block,
     write_params,
@@ -112,7 +112,7 @@ class BenchStructure:
 def _single_joint_tendon(model: mujoco.MjModel, name: str) -> tuple[int, float] | None:
     if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_TENDON, name) < 0:
         return None
-    wraps = _fixed_tendon(model, name)
+    wraps = fixed_tendon(model, name)
     if len(wraps) != 1:
         raise ModelStructureError(f"tendon '{name}' of a bench must use exactly one joint")
     (joint, coef), *_ = wraps.items()
@@ -137,7 +137,7 @@ def read_bench_structure(model: mujoco.MjModel) -> BenchStructure:
     if ts is not None:
         if twist < 0:
             raise ModelStructureError("a bench with 'theta_s' needs the tendon 'shaft_twist'")
-        tw = _fixed_tendon(model, "shaft_twist")
+        tw = fixed_tendon(model, "shaft_twist")
         if (
             set(tw) != {rotor, load}
             or abs(tw[rotor] - coef_m) > 1e-12

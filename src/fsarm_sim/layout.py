@@ -15,24 +15,25 @@ The indices are plain module-level ints so that Numba-compiled kernels can use t
 
 from __future__ import annotations
 
+from fsarm_sim import transmissions
 from fsarm_sim.effects import backlash, bending, conduit_viscoelastic, payload_error
 from fsarm_sim.paramblocks import Decl, Layout
+from fsarm_sim.transmissions.base import N_TR
 
 PARAMS_NAME = "fsarm_params"
 REF_NAME = "fsarm_ref"
 MAGIC = 7013.0  # first parameter; marks an fsarm model so callbacks ignore foreign models
 REF_COLS = 9
 
-N_TR = 24  # parameters of one transmission block (the largest law's PARAMS fit)
-# Joint-3 transmissions, in registry order: the kernels dispatch on the integer id (the index
-# here), fsarm_sim.transmissions maps names to these modules, and tests/test_layout.py checks that
-# every id reaches its own module's kernels.
-TRANSMISSION_MODULES = ("flexible_shaft", "rtca", "qa_joint", "magnetic_spring", "tendon_sheath")
-TR_FLEXIBLE_SHAFT = TRANSMISSION_MODULES.index("flexible_shaft")
-TR_RTCA = TRANSMISSION_MODULES.index("rtca")
-TR_QA_JOINT = TRANSMISSION_MODULES.index("qa_joint")
-TR_MAGNETIC_SPRING = TRANSMISSION_MODULES.index("magnetic_spring")
-TR_TENDON_SHEATH = TRANSMISSION_MODULES.index("tendon_sheath")
+# Joint-3 transmissions: the kernels dispatch on the integer id, the module's place in the
+# registry (fsarm_sim.transmissions.MODULES); tests/test_layout.py checks that every id reaches
+# its own module's kernels. N_TR is the interface's block size.
+TRANSMISSION_MODULES = tuple(transmissions.MODULES)
+TR_FLEXIBLE_SHAFT = transmissions.KIND["flexible_shaft"]
+TR_RTCA = transmissions.KIND["rtca"]
+TR_QA_JOINT = transmissions.KIND["qa_joint"]
+TR_MAGNETIC_SPRING = transmissions.KIND["magnetic_spring"]
+TR_TENDON_SHEATH = transmissions.KIND["tendon_sheath"]
 
 # --- the parameter vector, block by block (offsets computed here, in this order) ---
 LAYOUT = Layout()

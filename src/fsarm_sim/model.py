@@ -245,7 +245,7 @@ def _id(model: mujoco.MjModel, kind: mujoco.mjtObj, name: str) -> int:
     return int(i)
 
 
-def _fixed_tendon(model: mujoco.MjModel, name: str) -> dict[int, float]:
+def fixed_tendon(model: mujoco.MjModel, name: str) -> dict[int, float]:
     t = _id(model, mujoco.mjtObj.mjOBJ_TENDON, name)
     adr, num = int(model.tendon_adr[t]), int(model.tendon_num[t])
     out: dict[int, float] = {}
@@ -262,9 +262,9 @@ def read_structure(model: mujoco.MjModel) -> ArmStructure:
     joints = [_id(model, J, n) for n in ("q1", "q2", "q3", "j3_rotor")]
     rotor, q3 = joints[3], joints[2]
     tm, ts, tw = (
-        _fixed_tendon(model, "theta_m"),
-        _fixed_tendon(model, "theta_s"),
-        _fixed_tendon(model, "shaft_twist"),
+        fixed_tendon(model, "theta_m"),
+        fixed_tendon(model, "theta_s"),
+        fixed_tendon(model, "shaft_twist"),
     )
     if set(tm) != {rotor} or set(ts) != {q3}:
         raise ModelStructureError("tendon 'theta_m' must use only j3_rotor and 'theta_s' only q3")

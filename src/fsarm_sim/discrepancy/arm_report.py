@@ -24,9 +24,9 @@ import numpy as np
 from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_modelfile as MF
 from fsarm_sim.discrepancy.report import (
-    _clean,
     confidence,
     confidence_line,
+    json_clean,
     plot_bic_steps,
     plot_channel_nrmse,
 )
@@ -136,7 +136,7 @@ def result_dict(diag: A.ArmDiagnosis, model_file: Path | None = None) -> dict[st
             "nrmse": "RMSE / (max - min) of the measured channel on the held-out samples",
         },
     }
-    return dict(_clean(res))
+    return dict(json_clean(res))
 
 
 def write_json(diag: A.ArmDiagnosis, path: str | Path, model_file: Path | None = None) -> Path:

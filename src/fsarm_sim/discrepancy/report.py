@@ -40,14 +40,14 @@ from fsarm_sim.discrepancy.selection import (
 )
 
 
-def _clean(x: Any) -> Any:
+def json_clean(x: Any) -> Any:
     """JSON-safe: numpy scalars to floats, non-finite to None, recursively."""
     if isinstance(x, dict):
-        return {str(k): _clean(v) for k, v in x.items()}
+        return {str(k): json_clean(v) for k, v in x.items()}
     if isinstance(x, list | tuple):
-        return [_clean(v) for v in x]
+        return [json_clean(v) for v in x]
     if isinstance(x, np.ndarray):
-        return [_clean(v) for v in x.tolist()]
+        return [json_clean(v) for v in x.tolist()]
     if isinstance(x, bool | np.bool_):
         return bool(x)
     if isinstance(x, int | np.integer):
@@ -201,7 +201,7 @@ def result_dict(diag: Diagnosis, model_file: Path | None = None) -> dict[str, An
             "inertia_load_replay": f"segments of {R.SEGMENT_S:g} s started from the measured load state",
         },
     }
-    return _clean(res)
+    return json_clean(res)
 
 
 def write_json(diag: Diagnosis, path: str | Path, model_file: Path | None = None) -> Path:

@@ -1,18 +1,18 @@
 """Joint-3 transmissions: the registry (name -> kernel module and the id the kernels dispatch on).
 
 Add a transmission: write its module against :class:`~fsarm_sim.transmissions.base.
-TransmissionModule` (mypy checks it through :data:`MODULES`), append its module name to
-``layout.TRANSMISSION_MODULES`` (its integer id), list it here and add its branch to ``physics``'
-dispatch functions (tests/test_layout.py fails until every id reaches its own module).
+TransmissionModule` (mypy checks it through :data:`MODULES`), add it to :data:`MODULES` (its
+place there is its integer kernel id, ``layout.TR_*``) and :data:`_TABLE`, and add its branch to
+``physics``' dispatch functions (tests/test_layout.py fails until every id reaches its module).
 """
 
 from __future__ import annotations
 
-from fsarm_sim import layout as L
 from fsarm_sim.transmissions import flexible_shaft, magnetic_spring, qa_joint, rtca, tendon_sheath
 from fsarm_sim.transmissions.base import Transmission, TransmissionError, TransmissionModule
 
-# every registered module, typed as the interface: mypy checks each one against it
+# every registered module, typed as the interface (mypy checks each one against it); the order
+# is the kernels' integer id of each (layout.TR_* reads it from here)
 MODULES: dict[str, TransmissionModule] = {
     "flexible_shaft": flexible_shaft,
     "rtca": rtca,
@@ -22,13 +22,17 @@ MODULES: dict[str, TransmissionModule] = {
 }
 
 DEFAULT = "flexible-shaft"
+KIND: dict[str, int] = {module: i for i, module in enumerate(MODULES)}  # module -> kernel id
 # name -> (kernel id, module)
-_TABLE: dict[str, tuple[float, str]] = {
-    "flexible-shaft": (L.TR_FLEXIBLE_SHAFT, "flexible_shaft"),
-    "rtca": (L.TR_RTCA, "rtca"),
-    "qa-joint": (L.TR_QA_JOINT, "qa_joint"),
-    "magnetic-spring": (L.TR_MAGNETIC_SPRING, "magnetic_spring"),
-    "tendon-sheath": (L.TR_TENDON_SHEATH, "tendon_sheath"),
+_TABLE: dict[str, tuple[int, str]] = {
+    name: (KIND[module], module)
+    for name, module in (
+        ("flexible-shaft", "flexible_shaft"),
+        ("rtca", "rtca"),
+        ("qa-joint", "qa_joint"),
+        ("magnetic-spring", "magnetic_spring"),
+        ("tendon-sheath", "tendon_sheath"),
+    )
 }
 
 

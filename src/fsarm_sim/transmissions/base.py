@@ -57,10 +57,10 @@ import numpy as np
 import numpy.typing as npt
 
 from fsarm_sim.errors import FsarmError
-from fsarm_sim.layout import N_TR
 
 FloatArray = npt.NDArray[np.float64]
 
+N_TR = 24  # parameters of one transmission block (the largest law's PARAMS fit)
 N_STATES = 3  # continuous state slots (data.act) a transmission may use: the shaft_slip slots
 
 
