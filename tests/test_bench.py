@@ -14,7 +14,7 @@ import pytest
 
 from fsarm_sim import bench
 from fsarm_sim import layout as L
-from fsarm_sim.effects import bend_friction, maxwell_slip, series_stiffness
+from fsarm_sim.effects import bend_friction, series_stiffness
 from fsarm_sim.errors import InvalidParameterError, ShaftRangeError
 from fsarm_sim.model import Effects
 from fsarm_sim.shaft import ShaftParams, load_catalogue
