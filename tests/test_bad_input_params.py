@@ -117,7 +117,9 @@ BAD_FILES: dict[str, tuple[Callable[[str], str], tuple[str, ...]]] = {
         ("series.positive.p", "finite"),
     ),
     "section given as a value": (
-        lambda t: "rating = 0.0105\n" + _edit("[rating]\ncoefficient_nm_per_mm3 = 0.0105", "")(t),
+        lambda t: (
+            "rating = 0.0105\n" + _edit("[rating]\ncoefficient_nm_per_mm3 = 0.01171875", "")(t)
+        ),
         ("'rating'", "table"),
     ),
     "shaft name not a string": (
@@ -161,8 +163,8 @@ BAD_FILES: dict[str, tuple[Callable[[str], str], tuple[str, ...]]] = {
     ),
     "element without slip torque": (
         _edit(
-            "slip_torque_fraction = [0.0196, 0.0294, 0.049]",
-            "slip_torque_fraction = [0.0196, 0.0, 0.049]",
+            "slip_torque_fraction = [0.01756, 0.02634, 0.0439]",
+            "slip_torque_fraction = [0.01756, 0.0, 0.0439]",
         ),
         ("element 2", "slip_torque_fraction"),
     ),

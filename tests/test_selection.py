@@ -80,7 +80,7 @@ def test_algorithm1_is_deterministic_by_default_and_seedable() -> None:
 
 
 def test_algorithm1_picks_diameter_from_torque_need_only() -> None:
-    # 6.7 N*m (the prototype's joint-3 torque / i_G2) needs the 9 mm shaft's 7.65 N*m rating
+    # 6.7 N*m (the prototype's joint-3 torque / i_G2) needs the 9 mm shaft's 8.54 N*m rating
     req = SelectionRequest(k_des=15.0, kind="series", torque_nm=6.7)
     alg = algorithm1(CAT, req)
     assert alg.diameter_mm == 9.0

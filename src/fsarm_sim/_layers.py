@@ -65,6 +65,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
             "cli_collision",
             "cli_discrepancy",
             "cli_dynamics",
+            "cli_reproduce",
             "cli_review",
             "cli_speed",
             "cli_sweep",

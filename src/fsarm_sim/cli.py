@@ -259,6 +259,7 @@ def _register_extensions() -> None:
     importlib.import_module("fsarm_sim.cli_discrepancy").register(app)
     importlib.import_module("fsarm_sim.cli_transmissions").register(app)
     importlib.import_module("fsarm_sim.cli_collision").register(app)
+    importlib.import_module("fsarm_sim.cli_reproduce").register(app)
 
 
 _register_extensions()

@@ -1,0 +1,4 @@
+"""``fsarm reproduce``: the seed papers' claims, checked on the simulator with the papers' own
+procedures (issue 12). Claims are data (:mod:`.seed000` ... :mod:`.seed004`), measurements are
+separate functions (:mod:`.measure000` ... :mod:`.measure004`), verdict rules live in
+:mod:`.claims`, and :mod:`.runner` runs them and writes the report."""
