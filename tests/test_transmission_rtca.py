@@ -10,7 +10,7 @@ import pytest
 
 from fsarm_sim.effects import nonlinear_stiffness
 from fsarm_sim.transmissions import rtca
-from fsarm_sim.transmissions.base import N_STATES, Transmission, TransmissionError
+from fsarm_sim.transmissions.base import N_STATES, N_TR, Transmission, TransmissionError
 
 ACT = np.zeros(N_STATES)
 TR = rtca.default_block()
@@ -278,5 +278,5 @@ def test_bad_parameters_raise_named_errors() -> None:
         rtca.curve(0.1, 0.5)
     with pytest.raises(rtca.RtcaParamError, match="finite"):
         rtca.bend_radius_m(math.nan)
-    assert len(rtca.PARAMS) <= 24
+    assert len(rtca.PARAMS) <= N_TR
     assert rtca._dead_end_rad(1.0) == 0.0  # the x >= 0 branch needs no dead zone

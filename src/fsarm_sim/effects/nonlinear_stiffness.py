@@ -15,20 +15,33 @@ Two laws live here:
   ``c2, c3 > 0`` stiffen, ``< 0`` soften; ``c2 = c3 = 0`` is eq. 8. Linear in every coefficient
   (a least-squares data matrix fits it directly) and conservative (the gradient of
   :func:`polynomial_potential_j`).
-* :func:`masterflex08_torque_nm`, seed 001 Table 1 itself (Δθ in degrees in the paper), usable as
-  a "real" curve for synthetic data and as a check of how far eq. 8 can be trusted. The small
-  dissipative term ``c Δθ'`` of Table 1 (c = 3e-5 N*m per deg/s) is left to the damping effect.
+* :func:`masterflex08_torque_nm`, seed 001 Table 1 itself, usable as a "real" curve for synthetic
+  data and as a check of how far eq. 8 can be trusted. There is one implementation of that curve
+  in the project - the RTCA transmission's straight law (:mod:`fsarm_sim.transmissions.rtca`,
+  published block: the fitted range |T| <= 5 N*m of seed 001 Sec. 3.2, continued linearly with
+  the end slope beyond it) - and this law evaluates it (without that law's dead zone, which the
+  backlash effect stands for here). The small dissipative term ``c Δθ'`` of Table 1
+  (c = 3e-5 N*m per deg/s) is left to the damping effect.
 """
 
 from __future__ import annotations
 
 import math
 
-# seed 001 Table 1, MasterFlex08 8 mm x 865 mm. Twist in degrees, torque in N*m.
+from fsarm_sim.transmissions import rtca
+from fsarm_sim.transmissions.base import fill_block
+
+# seed 001 Table 1, MasterFlex08 8 mm x 865 mm (twist in degrees, torque in N*m): the RTCA
+# transmission's published block is the one copy of it
 MF08_LENGTH_MM = 865.0
-MF08_POS = (4.202, -4.201, 0.0, 0.0, 0.1622, 0.0, 0.0, 0.03322)  # a0, a1..a3, b1..b3, omega
-MF08_NEG = (-3.107, 2.335, 0.7484, 0.02559, -1.487, 0.3618, 0.1976, 0.04357)
-MF08_RANGE_DEG = 90.0  # the measured range (seed 001 Fig. 5); beyond it: linear extension
+MF08_POS = rtca.TABLE1_POS  # a0, a1..a3, b1..b3, omega
+MF08_NEG = rtca.TABLE1_NEG
+# the printed curve through the origin: the RTCA law's dead zone (its negative branch held at zero
+# where the printed series runs the wrong way, a play-like feature of its own) is left to the
+# backlash effect here
+# (the RTCA law's own cross-check refuses that: within 6.6 mrad the printed series falls by
+# 0.2 N*m/rad - kept as printed for this synthetic-truth law)
+MF08_BLOCK = fill_block(rtca.NAME, rtca.PARAMS, {"x_dead_neg": 0.0})
 DEG = math.pi / 180.0
 
 
@@ -50,42 +63,15 @@ def polynomial_stiffness(x: float, k: float, c2: float, c3: float, x_ref: float)
     return k + (2.0 * c2 * abs(r) + 3.0 * c3 * r * r) / x_ref
 
 
-def _fourier(c: tuple[float, ...], x_deg: float) -> float:
-    w = c[7]
-    v = c[0]
-    for n in range(1, 4):
-        v += c[n] * math.cos(n * w * x_deg) + c[n + 3] * math.sin(n * w * x_deg)
-    return v
-
-
-def _fourier_slope(c: tuple[float, ...], x_deg: float) -> float:
-    w = c[7]
-    v = 0.0
-    for n in range(1, 4):
-        v += n * w * (-c[n] * math.sin(n * w * x_deg) + c[n + 3] * math.cos(n * w * x_deg))
-    return v
-
-
 def masterflex08_torque_nm(twist_rad: float, twist_scale: float) -> float:
     """Seed 001 Table 1 torque at ``twist_rad * twist_scale`` (the MasterFlex08's own twist).
 
     ``twist_scale = 865 mm / L`` makes a shaft of length ``L`` with the same twist per length.
-    The series is shifted so that it passes exactly through the origin (the paper forced it to;
-    the printed, rounded coefficients miss by 1-2 mN*m) and continued linearly beyond the
-    measured +-90 deg with its end slope (a Fourier series turns over outside its data).
+    The RTCA transmission's straight law on its published block (module docstring).
     """
-    x = twist_rad * twist_scale / DEG
-    c = MF08_POS if x >= 0.0 else MF08_NEG
-    zero = _fourier(c, 0.0)
-    lim = MF08_RANGE_DEG if x >= 0.0 else -MF08_RANGE_DEG
-    if abs(x) <= MF08_RANGE_DEG:
-        return _fourier(c, x) - zero
-    return _fourier(c, lim) - zero + _fourier_slope(c, lim) * (x - lim)
+    return rtca.straight_elastic_nm(MF08_BLOCK, twist_rad * twist_scale)
 
 
 def masterflex08_stiffness(twist_rad: float, twist_scale: float) -> float:
     """d(tau)/d(twist) of :func:`masterflex08_torque_nm`, N*m/rad."""
-    x = twist_rad * twist_scale / DEG
-    c = MF08_POS if x >= 0.0 else MF08_NEG
-    xe = max(-MF08_RANGE_DEG, min(MF08_RANGE_DEG, x))
-    return _fourier_slope(c, xe) * twist_scale / DEG
+    return rtca.straight_stiffness(MF08_BLOCK, twist_rad * twist_scale) * twist_scale

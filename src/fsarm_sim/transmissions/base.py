@@ -60,7 +60,7 @@ from fsarm_sim.errors import FsarmError
 
 FloatArray = npt.NDArray[np.float64]
 
-N_TR = 24  # parameters of one transmission block (the largest law's PARAMS fit)
+N_TR = 26  # parameters of one transmission block (the largest law's PARAMS fit)
 N_STATES = 3  # continuous state slots (data.act) a transmission may use: the shaft_slip slots
 
 

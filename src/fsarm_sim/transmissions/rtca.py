@@ -104,6 +104,7 @@ I_XFIT_POS = 20
 I_XFIT_NEG = 21
 I_XDEAD_NEG = 22
 I_SCALE = 23
+I_EXTEND = 24  # 1: beyond the fitted range, continue linearly with the end slope; 0: the series
 
 
 class RtcaParamError(TransmissionError):
@@ -169,14 +170,22 @@ def _in_dead_zone(tr: FloatArray, x: float) -> bool:
     return x < 0.0 and -x <= tr[I_XDEAD_NEG]
 
 
+def _beyond(tr: FloatArray, x: float, xe: float) -> bool:
+    """Past the fitted range on this side, with the linear continuation switched on."""
+    return tr[I_EXTEND] > 0.5 and abs(x) > abs(xe)
+
+
 def straight_elastic_nm(tr: FloatArray, x: float) -> float:
-    """Straight-shaft static torque ``F(x) - F(0)``, linear with the end slope beyond the fit."""
+    """Straight-shaft static torque ``F(x) - F(0)`` (beyond the fit: ``extend_linear``).
+
+    The one implementation of seed 001's Table 1 curve: the ``nonlinear_stiffness`` effect's
+    MasterFlex08 law evaluates this function on the published block."""
     if _in_dead_zone(tr, x):
         return 0.0
     o = _offset(x)
     xe = _end(tr, x)
     f0 = _series(tr, o, 0.0)
-    if abs(x) <= abs(xe):
+    if not _beyond(tr, x, xe):
         return _series(tr, o, x) - f0
     return _series(tr, o, xe) - f0 + _series_slope(tr, o, xe) * (x - xe)
 
@@ -187,7 +196,7 @@ def straight_stiffness(tr: FloatArray, x: float) -> float:
         return 0.0
     o = _offset(x)
     xe = _end(tr, x)
-    if abs(x) <= abs(xe):
+    if not _beyond(tr, x, xe):
         return _series_slope(tr, o, x)
     return _series_slope(tr, o, xe)
 
@@ -201,7 +210,7 @@ def straight_energy_j(tr: FloatArray, x: float) -> float:
     e_dead = 0.0
     if x < 0.0:
         e_dead = _series_energy(tr, o, -tr[I_XDEAD_NEG])  # the wrong-way area left out
-    if abs(x) <= abs(xe):
+    if not _beyond(tr, x, xe):
         return _series_energy(tr, o, x) - e_dead
     dx = x - xe
     f_end = _series(tr, o, xe) - _series(tr, o, 0.0)
@@ -438,6 +447,15 @@ PARAMS: tuple[Param, ...] = (
         "-",
         "torque multiplier: 1 = the published shaft (n shafts in parallel)",
         positive(_POSITIVE_SCALE_WHY),
+    ),
+    Param(
+        "extend_linear",
+        1.0,
+        "-",
+        "beyond the fitted range (Sec. 3.2: the characterisation kept |T_s| <= 5 N*m): 1 = continue "
+        "linearly with the end slope (default: a Fourier series turns over outside its data), "
+        "0 = keep the printed series (it reaches 8.4 N*m at +90 deg)",
+        Bounds(0.0, 1.0, "a switch: 0 (printed series) or 1 (linear continuation)"),
     ),
 )
 
