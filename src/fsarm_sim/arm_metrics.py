@@ -45,6 +45,7 @@ from fsarm_sim import scenarios
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.model import SimConfig
 from fsarm_sim.simulation import (
+    DEFAULT_BACKEND,
     Backend,
     Simulation,
     check_duration,
@@ -74,7 +75,7 @@ def tracking(
     duration_s: float | None = None,
     payload_kg: float | None = None,
     bend_rad: float | None = None,
-    backend: Backend = "python",
+    backend: Backend = DEFAULT_BACKEND,
 ) -> dict[str, float]:
     """Run a scenario and return flat tracking / effort metrics (degrees, N*m, rad/s)."""
     sc = scenarios.get(scenario)
@@ -231,7 +232,7 @@ def torque_bandwidth(
     settle_s: float = 0.5,
     bias_fraction: float = 0.3,
     amplitude_fraction: float = 0.05,
-    backend: Backend = "python",
+    backend: Backend = DEFAULT_BACKEND,
 ) -> Bandwidth:
     """Joint-3 torque-loop bandwidth on the held arm (method in the module docstring)."""
     for name, v in (("chirp_s", chirp_s), ("settle_s", settle_s)):

@@ -52,7 +52,7 @@ from fsarm_sim.model import (
     write_params,
 )
 from fsarm_sim.shaft import ShaftParams, load_catalogue
-from fsarm_sim.simulation import Backend, raise_on_warning
+from fsarm_sim.simulation import DEFAULT_BACKEND, Backend, raise_on_warning
 from fsarm_sim.transmissions import flexible_shaft
 
 Array = npt.NDArray[np.float64]
@@ -452,7 +452,7 @@ class SeriesBench:
     load_inertia_kgm2: float | None  # None: blocked output
     bend_rad: float
     effects: Effects
-    backend: Backend = "python"
+    backend: Backend = DEFAULT_BACKEND
 
     @property
     def params(self) -> Array:
@@ -632,7 +632,7 @@ def build_series_bench(
     effects: Effects | None = None,
     load_damping_nms: float = 0.0,
     load_friction_nm: float = 0.0,
-    backend: Backend = "python",
+    backend: Backend = DEFAULT_BACKEND,
 ) -> SeriesBench:
     """Compile the series bench for one shaft, load and held bend angle.
 
@@ -694,7 +694,7 @@ def simulate_series_bench(
     load_damping_nms: float = 0.0,
     load_friction_nm: float = 0.0,
     max_timestep_s: float = DEFAULT_MAX_TIMESTEP_S,
-    backend: Backend = "python",
+    backend: Backend = DEFAULT_BACKEND,
     diagnostics: bool = False,
 ) -> dict[str, Array]:
     """Build the series bench and replay ``theta_m(t)``: columns t, theta_m, theta_s, phi_b, tau_s."""
@@ -725,7 +725,7 @@ class ParallelBench:
     shaft: ShaftParams
     twist_rad: float
     effects: Effects
-    backend: Backend = "python"
+    backend: Backend = DEFAULT_BACKEND
 
     @property
     def params(self) -> Array:
@@ -791,7 +791,7 @@ def build_parallel_bench(
     twist_rad: float = 0.0,
     effects: Effects | None = None,
     link_inertia_kgm2: float | None = None,
-    backend: Backend = "python",
+    backend: Backend = DEFAULT_BACKEND,
 ) -> ParallelBench:
     """Compile the parallel bench for one shaft.
 
@@ -834,7 +834,7 @@ def simulate_parallel_bench(
     effects: Effects | None = None,
     link_inertia_kgm2: float | None = None,
     max_timestep_s: float = DEFAULT_MAX_TIMESTEP_S,
-    backend: Backend = "python",
+    backend: Backend = DEFAULT_BACKEND,
     diagnostics: bool = False,
 ) -> dict[str, Array]:
     """Build the parallel bench and replay ``phi_b(t)``: columns t, phi_b, m_b."""

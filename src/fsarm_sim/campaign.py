@@ -71,7 +71,7 @@ class BenchSettings:
     bend_amplitude_deg: float = 90.0  # Sec. III-A: bend capability up to 90 deg
     torsion_fraction: float = 0.5  # "with torsion": held twist torque / rating (estimate)
     series_hysteresis: bool | None = None  # Maxwell-slip elements; None: the catalogue's setting
-    backend: str = "python"
+    backend: str = "native"
 
     def validate(self) -> None:
         for name in ("chirp_s", "f_start_hz", "f_stop_hz", "amplitude_fraction", "bend_period_s"):

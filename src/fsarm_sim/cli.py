@@ -118,7 +118,7 @@ def run_cmd(
     log_every: Annotated[int, typer.Option(help="log one row every N control ticks")] = 1,
     backend: Annotated[
         str, typer.Option(help="callback path: python (reference) or native")
-    ] = "python",
+    ] = "native",
     rrd: Annotated[
         Path | None, typer.Option(help="write a Rerun recording (.rrd) of the run here")
     ] = None,

@@ -42,7 +42,7 @@ def register(app: typer.Typer) -> None:
         ] = False,
         backend: Annotated[
             str, typer.Option(help="callback path: python (reference) or native")
-        ] = "python",
+        ] = "native",
         json_file: Annotated[
             Path | None, typer.Option("--json", help="write the results as JSON here")
         ] = None,

@@ -44,7 +44,7 @@ from fsarm_sim.outer_loops import (
     reaction_loop,
 )
 from fsarm_sim.outer_loops import calibrate as calibrate_with
-from fsarm_sim.simulation import Backend, RunResult, Simulation, run_scenario
+from fsarm_sim.simulation import DEFAULT_BACKEND, Backend, RunResult, Simulation, run_scenario
 from fsarm_sim.transmissions.base import TransmissionError
 
 Array = npt.NDArray[np.float64]
@@ -99,7 +99,7 @@ def residual(result: RunResult, gain_rad_s: float = GAIN_RAD_S) -> Array:
 
 
 def calibrate(
-    config: SimConfig, gain_rad_s: float = GAIN_RAD_S, backend: Backend = "python"
+    config: SimConfig, gain_rad_s: float = GAIN_RAD_S, backend: Backend = DEFAULT_BACKEND
 ) -> Calibration:
     """delta_a for this arm and transmission (cached per configuration; payload ignored): the
     identification of :func:`fsarm_sim.outer_loops.calibrate` on :class:`Simulation` runs, the
@@ -340,7 +340,7 @@ def _detect(
     return evaluate_detection(label, res, threshold_nm, dist)
 
 
-def run_battery(config: SimConfig, backend: Backend = "python") -> Battery:
+def run_battery(config: SimConfig, backend: Backend = DEFAULT_BACKEND) -> Battery:
     """collision-hit, its collision-free twin, fig14-sine and p2p-payload through Algorithm 1;
     hand-guide through Algorithm 2. A run the transmission cannot make (it cannot hold the
     scenario's load statically) is reported as skipped, with the reason."""

@@ -44,7 +44,7 @@ from fsarm_sim import layout as L
 from fsarm_sim import references as R
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.model import ArmStructure, SimConfig, build_model, read_structure
-from fsarm_sim.simulation import Backend, initial_state
+from fsarm_sim.simulation import DEFAULT_BACKEND, Backend, initial_state
 
 Array = npt.NDArray[np.float64]
 DEG = math.pi / 180.0
@@ -75,7 +75,7 @@ class FsarmPhysics(dm_mujoco.Physics):
     """dm_control Physics of an fsarm model, with named read-outs in SI units."""
 
     _structure: ArmStructure | None = None
-    backend: Backend = "python"
+    backend: Backend = DEFAULT_BACKEND
 
     def step(self, nstep: int = 1) -> None:
         """``nstep`` physics steps with fsarm's callbacks active (shaft forces, internal states,
@@ -90,7 +90,7 @@ class FsarmPhysics(dm_mujoco.Physics):
 
     @classmethod
     def from_config(
-        cls, config: SimConfig, ref_table: Array, backend: Backend = "python"
+        cls, config: SimConfig, ref_table: Array, backend: Backend = DEFAULT_BACKEND
     ) -> FsarmPhysics:
         """The configured model of ``fsarm run`` (``build_model``) wrapped for dm_control.
 
@@ -260,7 +260,7 @@ def load(
     control_timestep: float = DEFAULT_CONTROL_TIMESTEP_S,
     randomize_reference: bool = False,
     max_offset_rad: float = MAX_OFFSET_RAD,
-    backend: Backend = "python",
+    backend: Backend = DEFAULT_BACKEND,
     random: Any = None,
 ) -> control.Environment:
     """The tracking environment of a registered scenario (reference, payload, duration).

@@ -60,7 +60,7 @@ import functools
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Literal, Protocol
+from typing import Protocol
 
 import mujoco
 import numpy as np
@@ -68,12 +68,13 @@ import numpy.typing as npt
 
 from fsarm_sim import layout as L
 from fsarm_sim import references as R
+from fsarm_sim.callbacks import DEFAULT_BACKEND, Backend
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.model import PAYLOAD_MAX_KG, SimConfig, build_model, read_structure
 from fsarm_sim.transmissions.base import TransmissionError
 
 Array = npt.NDArray[np.float64]
-Backend = Literal["python", "native"]  # the callback path (fsarm_sim.simulation.Backend)
+
 DEG = math.pi / 180.0
 
 # Observer bandwidth K_O, rad/s. Estimate: ~16 Hz, above the seed's ~6 Hz compliant-control
@@ -113,7 +114,7 @@ class Simulator(Protocol):
     interrupted: bool
 
     def __init__(
-        self, config: SimConfig, ref_table: Array, backend: Backend = "python"
+        self, config: SimConfig, ref_table: Array, backend: Backend = DEFAULT_BACKEND
     ) -> None: ...
 
     def run(
@@ -305,7 +306,7 @@ def calibrate(
     simulator: SimulatorClass,
     config: SimConfig,
     gain_rad_s: float = GAIN_RAD_S,
-    backend: Backend = "python",
+    backend: Backend = DEFAULT_BACKEND,
 ) -> Calibration:
     """delta_a for this arm and transmission, identified on runs of ``simulator`` (a simulation
     class, e.g. :class:`fsarm_sim.simulation.Simulation`); cached per configuration, payload

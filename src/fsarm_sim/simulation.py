@@ -6,7 +6,6 @@ import math
 import os
 import time as _time
 from dataclasses import dataclass, field
-from typing import Literal
 
 import mujoco
 import numpy as np
@@ -24,7 +23,8 @@ from fsarm_sim.errors import (
 from fsarm_sim.model import ArmStructure, SimConfig, build_model, read_structure
 
 Array = npt.NDArray[np.float64]
-Backend = Literal["python", "native"]
+Backend = callbacks.Backend
+DEFAULT_BACKEND = callbacks.DEFAULT_BACKEND
 MAX_DURATION_S = 3600.0
 DEFAULT_TIMESTEP_S = 0.001  # models/fsarm/fsarm.xml <option timestep>, used before a model exists
 # One hour at a 10 us timestep: the most physics steps one run may take (about 15 min native).
@@ -190,7 +190,9 @@ def static_twist(prm: Array, tau_shaft: float, bend: float) -> float:
 class Simulation:
     """One configured model and data, stepped with fsarm's callbacks."""
 
-    def __init__(self, config: SimConfig, ref_table: Array, backend: Backend = "python") -> None:
+    def __init__(
+        self, config: SimConfig, ref_table: Array, backend: Backend = DEFAULT_BACKEND
+    ) -> None:
         self.config = config
         self.model = build_model(config, ref_table)
         self.data = mujoco.MjData(self.model)
@@ -580,7 +582,7 @@ def run_scenario(
     *,
     duration_s: float | None = None,
     payload_kg: float | None = None,
-    backend: Backend = "python",
+    backend: Backend = DEFAULT_BACKEND,
     log_every_ticks: int = 1,
 ) -> RunResult:
     """Run a registered scenario (or a :class:`~fsarm_sim.scenarios.Scenario`) headless and

@@ -167,7 +167,7 @@ class SweepSpec:
     outputs: tuple[str, ...] = DEFAULT_OUTPUTS
     shaft_file: str | None = None
     extrapolate: bool = False
-    backend: str = "python"
+    backend: str = "native"
     bench: dict[str, Any] = field(default_factory=dict)
     bandwidth: dict[str, Any] = field(default_factory=dict)
 
@@ -363,7 +363,7 @@ def build_spec(
         extrapolate=bool(
             extrapolate if extrapolate is not None else data.get("extrapolate", False)
         ),
-        backend=str(backend or data.get("backend", "python")),
+        backend=str(backend or data.get("backend", "native")),
         bench={**BENCH_DEFAULTS, **dict(data.get("bench", {})), **dict(bench or {})},
         bandwidth={**dict(data.get("bandwidth", {})), **dict(bandwidth or {})},
     )
@@ -552,7 +552,7 @@ def evaluate_point(task: Mapping[str, Any]) -> dict[str, Any]:
     )
     d, ell, bend = p["diameter_mm"], p["length_mm"], math.radians(p["bend_deg"])
     shaft = cat.shaft(d, ell, extrapolate=p["extrapolate"])
-    backend = task.get("backend", "python")
+    backend = task.get("backend", "native")
     cfg = SimConfig(shaft=shaft, gains=_gains(p))
     out: dict[str, Any] = {
         "k_sp_catalogue": shaft.k_series(bend, 1),

@@ -38,7 +38,7 @@ from fsarm_sim.arm_metrics import (
 )
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.model import SimConfig
-from fsarm_sim.simulation import Backend, check_duration
+from fsarm_sim.simulation import DEFAULT_BACKEND, Backend, check_duration
 
 Array = npt.NDArray[np.float64]
 DEFAULT_BENDS_DEG = (0.0, 30.0, 60.0, 90.0, 120.0)
@@ -69,7 +69,7 @@ def output_impedance(
     duration_s: float = 6.0,
     amplitude_rad: float = math.radians(1.0),
     control: bool = True,
-    backend: Backend = "python",
+    backend: Backend = DEFAULT_BACKEND,
 ) -> Impedance:
     """Joint-3 output impedance with the torque loop commanding zero torque (module docstring)."""
     check_band(f_start_hz, f_stop_hz)
