@@ -39,9 +39,7 @@ def register(app: typer.Typer) -> None:
 
         Bench records and arm records (measured, synthetic, or written by `fsarm run` as they
         are); columns the diagnosis does not read are listed, not refused."""
-        from rich.table import Table
-
-        from fsarm_sim.discrepancy import diagnose
+        from fsarm_sim.discrepancy import diagnose_record
         from fsarm_sim.discrepancy import report as rep
         from fsarm_sim.measured import dataset_files, load_dataset
 
@@ -55,80 +53,15 @@ def register(app: typer.Typer) -> None:
         err = make_console(stderr=True)
         writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
         ds = load_dataset(data)
-        if ds.setup == "arm":  # closed-loop replay of the run (fsarm_sim.discrepancy.arm)
-            from fsarm_sim.discrepancy import arm_report
-
-            arm_report.run_cli(
-                ds,
-                console,
-                json_file=json_file,
-                report=report,
-                model_file=model_file,
-                max_effects=min(max_effects, 3),
-                writes=writes,
-            )
-            writes.finish()
-            return
-        diag = diagnose(ds, max_effects=max_effects)
-        for st in diag.steps:
-            t = Table(title=f"step {st.index}: {st.reason}", title_justify="left")
-            for col in (
-                "candidate",
-                "k",
-                "held-out NRMSE %",
-                "ΔBIC teach",
-                "ΔBIC held-out",
-                "gain %",
-                "earns place",
-            ):
-                t.add_column(col, justify="right" if col != "candidate" else "left")
-            for sc in st.scores:
-                t.add_row(
-                    sc.label,
-                    str(sc.k),
-                    f"{100 * sc.nrmse_held:.3f}",
-                    f"{sc.d_bic_teach:+.1f}",
-                    f"{sc.d_bic_held:+.1f}",
-                    f"{100 * sc.gain_held:.1f}",
-                    "yes" if sc.earns_place else "no",
-                )
-            console.print(t)
-            line = rep.confidence_line(st)
-            if line:
-                console.print(line, markup=False)
-        console.print(f"named effects: {diag.named or 'none'}", markup=False)
-        console.print(
-            f"held-out NRMSE of {ds.output_column}: nominal {100 * diag.gap_before:.3f} % -> "
-            f"final {100 * diag.gap_after:.3f} %",
-            markup=False,
+        diag = diagnose_record(ds, max_effects=max_effects)
+        rep.emit(
+            diag,
+            console,
+            json_file=json_file,
+            report=report,
+            model_file=model_file,
+            writes=writes,
         )
-        console.print(diag.verdict, markup=False)
-        for line in ds.column_notes():
-            console.print(line, markup=False)
-        console.print(f"runtime {diag.runtime_s:.1f} s", markup=False)
-        written: Path | None = None
-        if model_file is not None:
-            written = writes.write(
-                model_file, lambda p: rep.write_model(diag, p), "the final model (--model)"
-            )
-            if written is not None:
-                console.print(f"model: {written}", markup=False)
-        if report is not None:
-            files = writes.write(
-                report, lambda d: rep.write_report(diag, d), "the report (--report)", folder=True
-            )
-            if files is not None:
-                written = written or files["model"]
-                where = files["result"].parent
-                console.print(
-                    f"report: {where} ({', '.join(p.name for p in files.values())})", markup=False
-                )
-        if json_file is not None:
-            res = writes.write(
-                json_file, lambda p: rep.write_json(diag, p, written), "the result (--json)"
-            )
-            if res is not None:
-                console.print(f"result: {res}", markup=False)
         writes.finish()
 
     @app.command("synth")
@@ -181,7 +114,7 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Write a SYNTHETIC measured-format dataset with chosen hidden effects and noise."""
         from fsarm_sim import synth
-        from fsarm_sim.discrepancy.benchmodel import load_model
+        from fsarm_sim.discrepancy.arm_synth import ArmRecording
         from fsarm_sim.errors import InvalidParameterError
         from fsarm_sim.measured import output_files, write_dataset
         from fsarm_sim.shaft import load_catalogue
@@ -203,64 +136,38 @@ def register(app: typer.Typer) -> None:
         ).check()
         err = make_console(stderr=True)
         writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
-        if setup == "arm":  # the arm run by the simulator (fsarm_sim.discrepancy.arm)
-            from fsarm_sim.discrepancy import arm_modelfile, arm_synth
-
-            if model is not None:
-                arm_truth, _ = arm_modelfile.load_arm_model(model)
-            else:
-                arm_truth = arm_synth.truth_model(effect or [], stiffness_scale=stiffness_scale)
-            arm_rec = arm_synth.ArmRecording(
+        if setup != "arm" and load not in ("blocked", "inertia"):
+            raise InvalidParameterError(f"--load must be blocked or inertia, got {load!r}")
+        # the stated eq. 8 shaft; series hysteresis is an effect the truth lists
+        shaft = load_catalogue().shaft(diameter_mm, length_mm, series_hysteresis=False)
+        rec: synth.Recording | ArmRecording
+        if setup == "arm":
+            rec = ArmRecording(
                 scenario=scenario, duration_s=duration, noise_rad=noise_rad, seed=seed
             )
-            # the stated eq. 8 shaft; series hysteresis is an effect the truth lists
-            arm_shaft = load_catalogue().shaft(diameter_mm, length_mm, series_hysteresis=False)
-            arm_cols, arm_side = arm_synth.synthesize_arm(arm_truth, arm_rec, arm_shaft)
-            arm_written = writes.write(
-                out, lambda p: write_dataset(p, arm_cols, arm_side), "the dataset (OUT)"
-            )
-            if arm_written is not None:
-                typer.echo(
-                    f"wrote {arm_written[0]} and {arm_written[1]} "
-                    f"(SYNTHETIC; hidden: {arm_truth.labels or 'none'})"
-                )
-            writes.finish()
-            return
-        if setup not in ("series_bench", "parallel_bench"):
-            raise InvalidParameterError(
-                f"--setup must be series_bench or parallel_bench, got {setup!r}"
-            )
-        if load not in ("blocked", "inertia"):
-            raise InvalidParameterError(f"--load must be blocked or inertia, got {load!r}")
-        shaft = load_catalogue().shaft(diameter_mm, length_mm, series_hysteresis=False)
-        rec = synth.Recording(
-            duration_s=30.0 if duration is None else duration,
-            rate_hz=rate,
-            noise=noise,
-            trajectory=trajectory,
-            amplitude=amplitude,
-            bend_rad=math.radians(bend_deg),
-            seed=seed,
-        )
-        if model is not None:
-            truth = load_model(model)
         else:
-            stated = inertia if (setup == "series_bench" and load == "inertia") else None
-            truth = synth.truth_model(
-                setup,
-                shaft=shaft,
-                load_inertia_kgm2=stated,
-                stiffness_scale=stiffness_scale,
-                true_inertia_kgm2=true_inertia,
+            rec = synth.Recording(
+                duration_s=30.0 if duration is None else duration,
+                rate_hz=rate,
+                noise=noise,
+                trajectory=trajectory,
+                amplitude=amplitude,
+                bend_rad=math.radians(bend_deg),
+                seed=seed,
             )
-            amp = amplitude if amplitude is not None else synth.default_amplitude(truth, shaft)
-            for text in effect or []:
-                truth.effects.append(synth.parse_effect(text, setup, amp))
-        cols, side = synth.synthesize(truth, rec, shaft)
+        cols, side, hidden = synth.synthesize_setup(
+            setup,
+            effect or [],
+            model_file=model,
+            shaft=shaft,
+            stiffness_scale=stiffness_scale,
+            load_inertia_kgm2=inertia if (setup == "series_bench" and load == "inertia") else None,
+            true_inertia_kgm2=true_inertia,
+            recording=rec,
+        )
         written = writes.write(out, lambda p: write_dataset(p, cols, side), "the dataset (OUT)")
         if written is not None:
             typer.echo(
-                f"wrote {written[0]} and {written[1]} "
-                f"(SYNTHETIC; hidden: {[e.label for e in truth.effects] or 'none'})"
+                f"wrote {written[0]} and {written[1]} (SYNTHETIC; hidden: {hidden or 'none'})"
             )
         writes.finish()

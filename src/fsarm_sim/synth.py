@@ -20,6 +20,7 @@ The diagnosis never reads the ``synthetic`` key. Input trajectories: :data:`TRAJ
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -30,8 +31,14 @@ import numpy.typing as npt
 from scipy.signal import butter, sosfiltfilt
 
 from fsarm_sim import records
+from fsarm_sim.discrepancy import effect_text
 from fsarm_sim.discrepancy import replay as R
-from fsarm_sim.discrepancy.benchmodel import BenchModel, EffectInstance, nominal_from_shaft
+from fsarm_sim.discrepancy.benchmodel import (
+    BenchModel,
+    EffectInstance,
+    load_model,
+    nominal_from_shaft,
+)
 from fsarm_sim.effects import registry, sensor_offset
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.measured import MAX_SAMPLE_INTERVAL_S, write_dataset
@@ -358,56 +365,72 @@ def truth_model(
     return m
 
 
-def split_effect_text(text: str, what: str = "effect") -> tuple[str, str, list[float]]:
-    """``NAME[:VARIANT]=v1[,v2...]`` -> (name, variant or "", numbers); named errors."""
-    if "=" not in text:
-        raise InvalidParameterError(f"{what} {text!r}: expected NAME[:VARIANT]=VALUES")
-    head, vals = text.split("=", 1)
-    name, _, variant = (part.strip() for part in head.partition(":"))
-    try:
-        nums = [float(v) for v in vals.split(",") if v.strip()]
-    except ValueError:
-        raise InvalidParameterError(f"{what} {text!r}: values must be numbers") from None
-    return name, variant, nums
-
-
 def parse_effect(text: str, setup: str, x_ref: float) -> EffectInstance:
-    """``NAME[:VARIANT]=v1[,v2...]`` -> an effect with its registry parameters in order.
+    """``NAME[:VARIANT]=v1[,v2...]`` -> an effect with its registry parameters in order
+    (:func:`fsarm_sim.discrepancy.effect_text.parse_effect`, the one parser of every setup).
 
     Hysteresis takes pairs: ``hysteresis:maxwell_slip=k1,d1,k2,d2``. Nonlinear stiffness
     ``poly`` takes ``a2,a3`` (x_ref = the input amplitude).
     """
-    name, variant, nums = split_effect_text(text)
-    try:
-        eff = registry.get(name)
-        var = eff.variant(variant) if variant else eff.variants[0]
-    except KeyError as exc:
-        raise InvalidParameterError(str(exc.args[0])) from None
-    if setup not in var.setups:
-        raise InvalidParameterError(f"{eff.name}[{var.key}] does not act in a {setup}")
-    params: dict[str, Any] = {}
-    if eff.name == "hysteresis":
-        if len(nums) % 2 or not nums:
-            raise InvalidParameterError(f"{text!r}: hysteresis needs pairs (k, delta/tau)")
-        params[var.params[0].name] = nums[0::2]
-        params[var.params[1].name] = nums[1::2]
+    return effect_text.parse_effect(text, setup, x_ref)
+
+
+SETUPS = (registry.SERIES, registry.PARALLEL, registry.ARM)
+
+
+def synthesize_setup(
+    setup: str,
+    effects: Sequence[str] = (),
+    *,
+    model_file: str | Path | None = None,
+    shaft: ShaftParams | None = None,
+    stiffness_scale: float = 1.0,
+    load_inertia_kgm2: float | None = None,
+    true_inertia_kgm2: float | None = None,
+    recording: Any = None,
+) -> tuple[dict[str, FloatArray], dict[str, Any], list[str]]:
+    """``fsarm synth``: (columns, sidecar, hidden effect labels) of a SYNTHETIC record of any
+    setup - the benches by the replay engine (:func:`synthesize`), the arm by the simulator
+    (:func:`fsarm_sim.discrepancy.arm_synth.synthesize_arm`).
+
+    The truth is a model file's (``fsarm diagnose`` writes them; a bench file names its own
+    bench) or the catalogue's nominal model (``stiffness_scale``; benches: the stated and the
+    acting load inertia) with ``effects`` in the effect text of
+    :mod:`fsarm_sim.discrepancy.effect_text`, one parser for every setup. ``recording``: a
+    :class:`Recording` (benches) or an ``ArmRecording`` (arm); None: the defaults. ``shaft``:
+    the stated shaft (default: the catalogue's 9 x 450 mm, eq. 8).
+    """
+    if setup not in SETUPS:
+        raise InvalidParameterError(
+            f"--setup must be {', '.join(SETUPS[:-1])} or {SETUPS[-1]}, got {setup!r}"
+        )
+    if setup == registry.ARM:
+        from fsarm_sim.discrepancy import arm_modelfile, arm_synth
+
+        if model_file is not None:
+            arm_truth = arm_modelfile.load_arm_model(model_file)[0]
+        else:
+            arm_truth = arm_synth.truth_model(list(effects), stiffness_scale=stiffness_scale)
+        rec = recording if recording is not None else arm_synth.ArmRecording()
+        cols, side = arm_synth.synthesize_arm(arm_truth, rec, shaft)
+        return cols, side, list(arm_truth.labels)
+    bench_rec = recording if recording is not None else Recording()
+    if model_file is not None:
+        truth = load_model(model_file)
     else:
-        if len(nums) != len(var.params):
-            raise InvalidParameterError(
-                f"{eff.name}[{var.key}] takes {len(var.params)} value(s): "
-                f"{', '.join(p.name for p in var.params)}"
-            )
-        params = {p.name: v for p, v in zip(var.params, nums, strict=True)}
-        if eff.name == "nonlinear_stiffness" and var.key != "masterflex08":
-            params["x_ref_rad"] = x_ref
-    for p in var.params:
-        vv = params[p.name]
-        for v in vv if isinstance(vv, list) else [vv]:
-            if not p.lower <= v <= p.upper:
-                raise InvalidParameterError(
-                    f"{eff.name}[{var.key}].{p.name} = {v:g} outside [{p.lower:g}, {p.upper:g}] {p.unit}"
-                )
-    return EffectInstance(eff.name, var.key, params)
+        truth = truth_model(
+            setup,
+            shaft=shaft,
+            load_inertia_kgm2=load_inertia_kgm2,
+            stiffness_scale=stiffness_scale,
+            true_inertia_kgm2=true_inertia_kgm2,
+        )
+        sh = shaft or load_catalogue().shaft(series_hysteresis=False)
+        amp = bench_rec.amplitude
+        amp = amp if amp is not None else default_amplitude(truth, sh)
+        truth.effects.extend(parse_effect(text, setup, amp) for text in effects)
+    cols, side = synthesize(truth, bench_rec, shaft)
+    return cols, side, [e.label for e in truth.effects]
 
 
 def write_synthetic(

@@ -20,7 +20,8 @@ from typing import Any
 import numpy as np
 
 from fsarm_sim import transmissions
-from fsarm_sim.discrepancy import arm as A
+from fsarm_sim.discrepancy import arm_fit as A
+from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.measured import resolve_shaft
 from fsarm_sim.model import SimConfig
@@ -131,22 +132,25 @@ def model_from_dict(d: Mapping[str, Any], where: str = "arm model") -> tuple[A.A
 
 
 def add_effect(m: A.ArmModel, name: str, variant: str, p: Mapping[str, Any], where: str) -> None:
+    """Add a named effect with its parameters (the arm's variants: :data:`.variants.ARM`)."""
     label = f"{name}[{variant}]"
-    if name == "hysteresis" and variant == "maxwell_slip":
+    if (name, variant) in A.MEASUREMENT_CANDIDATES:  # one parameter: the channel's
+        m.values[f"{name}.{variant}"] = float(p[V.ARM[name][0].params[0].name])
+    elif (name, variant) in A.PLANT_CANDIDATES and name == V.HYSTERESIS:
         ks, ds_ = list(p["k_nm_per_rad"]), list(p["delta_rad"])
-        if len(ks) != len(ds_) or not 1 <= len(ks) <= 3:
-            raise ArmModelFileError(f"{where}: hysteresis needs 1-3 (k, delta) elements")
+        if len(ks) != len(ds_) or not 1 <= len(ks) <= V.ARM_MAX_ELEMENTS:
+            raise ArmModelFileError(
+                f"{where}: hysteresis needs 1-{V.ARM_MAX_ELEMENTS} (k, delta) elements"
+            )
         m.set_slip([float(k) for k in ks], [float(x) for x in ds_])
-    elif name in ("sensor_offset", "delay") and variant in A.RAW:
-        key = "offset_rad" if name == "sensor_offset" else "delay_s"
-        m.values[f"{name}.{variant}"] = float(p[key])
     elif (name, variant) in A.PLANT_CANDIDATES:
         for k, v in p.items():
             if f"{name}.{k}" not in A.BOUNDS:
                 raise ArmModelFileError(f"{where}: unknown parameter {k!r} of {label}")
             m.values[f"{name}.{k}"] = float(v)
-        if name == "backlash":
-            m.values.setdefault("backlash.center_rad", 0.0)
+        for (e, q), default in V.ARM_DEFAULTS.items():  # optional parameters (backlash centre)
+            if e == name:
+                m.values.setdefault(f"{name}.{q}", default)
     else:
         raise ArmModelFileError(
             f"{where}: unknown arm effect {label}; known: "

@@ -18,13 +18,14 @@ import numpy as np
 import numpy.typing as npt
 
 from fsarm_sim import records, scenarios
-from fsarm_sim.discrepancy import arm as A
+from fsarm_sim.discrepancy import arm_fit as A
 from fsarm_sim.discrepancy import arm_modelfile as MF
+from fsarm_sim.discrepancy.effect_text import parse_effect
+from fsarm_sim.effects.registry import ARM
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.measured import write_dataset
 from fsarm_sim.model import Gains
 from fsarm_sim.shaft import ShaftParams, load_catalogue
-from fsarm_sim.synth import split_effect_text
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -52,42 +53,19 @@ class ArmRecording:
 
 
 def parse_arm_effect(text: str) -> tuple[str, str, dict[str, Any]]:
-    """``NAME[:VARIANT]=v1[,v2...]`` -> (name, variant, params) of an arm effect.
+    """``NAME[:VARIANT]=v1[,v2...]`` -> (name, variant, params) of an arm effect: the effect
+    text of every setup (:mod:`.effect_text`) with the arm's variants (:data:`.variants.ARM`).
 
     payload_error=DM_KG; coulomb_friction=F_NM; viscous_damping=B_NMS; backlash=W[,C];
     hysteresis=K1,D1[,K2,D2[,K3,D3]]; sensor_offset:CH=RAD; delay:CH=S (CH: q3, theta_m, q2).
     """
-    name, variant, nums = split_effect_text(text, "arm effect")
-    defaults = dict(A.PLANT_CANDIDATES)
-    if name in defaults and not variant:
-        variant = defaults[name]
-    p: dict[str, Any]
-    if name == "payload_error" and len(nums) == 1:
-        p = {"dm_kg": nums[0]}
-    elif name == "coulomb_friction" and len(nums) == 1:
-        p = {"f_c_nm": nums[0]}
-    elif name == "viscous_damping" and len(nums) == 1:
-        p = {"b_nms": nums[0]}
-    elif name == "backlash" and len(nums) in (1, 2):
-        p = {"width_rad": nums[0], "center_rad": nums[1] if len(nums) == 2 else 0.0}
-    elif name == "hysteresis" and len(nums) in (2, 4, 6):
-        p = {"k_nm_per_rad": nums[0::2], "delta_rad": nums[1::2]}
-    elif name == "sensor_offset" and len(nums) == 1:
-        p = {"offset_rad": nums[0]}
-    elif name == "delay" and len(nums) == 1:
-        p = {"delay_s": nums[0]}
-    else:
-        raise InvalidParameterError(
-            f"arm effect {text!r} not understood; use payload_error=DM, coulomb_friction=F, "
-            "viscous_damping=B, backlash=W[,C], hysteresis=K1,D1[,...], sensor_offset:CH=X, "
-            "delay:CH=D with CH one of q3, theta_m, q2"
-        )
+    e = parse_effect(text, ARM)
     m = A.ArmModel()
     try:
-        MF.add_effect(m, name, variant, p, f"effect {text!r}")
+        MF.add_effect(m, e.name, e.variant, e.params, f"effect {text!r}")
     except MF.ArmModelFileError as exc:
         raise InvalidParameterError(str(exc)) from None
-    return name, variant, p
+    return e.name, e.variant, e.params
 
 
 def truth_model(

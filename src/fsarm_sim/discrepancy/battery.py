@@ -28,9 +28,11 @@ import numpy as np
 from fsarm_sim import synth
 from fsarm_sim.discrepancy import candidates as C
 from fsarm_sim.discrepancy import replay as R
-from fsarm_sim.discrepancy.benchmodel import BenchModel, EffectInstance
+from fsarm_sim.discrepancy import variants as V
+from fsarm_sim.discrepancy.bench_setup import BenchDiagnosis, diagnose
+from fsarm_sim.discrepancy.benchmodel import BenchModel, EffectInstance, stated_model
 from fsarm_sim.discrepancy.residuals import gap_excess
-from fsarm_sim.discrepancy.selection import Diagnosis, Step, diagnose, stated_model
+from fsarm_sim.discrepancy.selection import Step
 from fsarm_sim.effects import registry
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.measured import Dataset, load_dataset, validate_columns
@@ -96,19 +98,19 @@ class Outcome:
 
 def _base_params(effect: str, variant: str, setup: str, amp: float, sign: float) -> dict[str, Any]:
     """Effect parameters at knob = 1 (scaled by the calibration)."""
-    if effect == "coulomb_friction":
+    if effect == V.COULOMB:
         return {"f_c_nm": 0.1}
-    if effect == "viscous_damping":
+    if effect == V.VISCOUS:
         return {"b_nms": 0.01}
-    if effect == "backlash":
+    if effect == V.BACKLASH:
         return {"width_rad": 0.05 * amp, "center_rad": 0.1 * 0.05 * amp * sign}
-    if effect == "delay":
+    if effect == V.DELAY:
         return {"delay_s": 0.005 * sign}
-    if effect == "sensor_offset":
+    if effect == V.OFFSET:
         return (
             {"offset_nm": 0.1 * sign} if variant == "output" else {"offset_rad": 0.02 * amp * sign}
         )
-    if effect == "hysteresis" and variant == "maxwell_slip":  # catalogue's elements, deflections
+    if effect == V.HYSTERESIS and variant == "maxwell_slip":  # catalogue's elements, deflections
         # scaled to the amplitude (shaft.toml: 0.1/12, 0.15/6, 0.25/3 rad at ~0.4 rad), and at
         # least twice the Coulomb boundary (an element that slips within it *is* Coulomb friction)
         b = C.coulomb_delta_max(amp)
@@ -116,11 +118,11 @@ def _base_params(effect: str, variant: str, setup: str, amp: float, sign: float)
             "k_nm_per_rad": [12.0, 6.0, 3.0],
             "delta_rad": [max(0.02 * amp, 2 * b), max(0.06 * amp, 5 * b), max(0.2 * amp, 12 * b)],
         }
-    if effect == "hysteresis":  # catalogue conduit branches (fractions 0.35, 0.25; 0.15 s, 1.5 s)
+    if effect == V.HYSTERESIS:  # catalogue conduit branches (fractions 0.35, 0.25; 0.15 s, 1.5 s)
         return {"k_nm_per_rad": [0.35, 0.25], "tau_s": [0.15, 1.5]}
-    if effect == "nonlinear_stiffness" and variant == "masterflex08":
+    if effect == V.NONLINEAR and variant == "masterflex08":
         return {"twist_scale": 865.0 / 450.0}
-    if effect == "nonlinear_stiffness":  # stiffening: cubic (sign > 0) or quadratic (sign < 0)
+    if effect == V.NONLINEAR:  # stiffening: cubic (sign > 0) or quadratic (sign < 0)
         # (measured shafts stiffen: seed 001 Table 1, seed 000 Fig. 9; a softening polynomial
         # large enough to matter reaches negative stiffness - the masterflex08 case softens
         # beyond 60 deg the way a real curve does)
@@ -135,13 +137,13 @@ def _base_params(effect: str, variant: str, setup: str, amp: float, sign: float)
 def _scale(effect: str, variant: str, p: dict[str, Any], m: float) -> dict[str, Any]:
     q = dict(p)
     keys = {
-        "coulomb_friction": ["f_c_nm"],
-        "viscous_damping": ["b_nms"],
-        "backlash": ["width_rad", "center_rad"],
-        "delay": ["delay_s"],
-        "sensor_offset": ["offset_nm", "offset_rad"],
-        "hysteresis": ["k_nm_per_rad"],
-        "nonlinear_stiffness": ["c2_nm", "c3_nm"],
+        V.COULOMB: ["f_c_nm"],
+        V.VISCOUS: ["b_nms"],
+        V.BACKLASH: ["width_rad", "center_rad"],
+        V.DELAY: ["delay_s"],
+        V.OFFSET: ["offset_nm", "offset_rad"],
+        V.HYSTERESIS: ["k_nm_per_rad"],
+        V.NONLINEAR: ["c2_nm", "c3_nm"],
     }[effect]
     for k in keys:
         if k in q:
@@ -254,19 +256,19 @@ def build_truth(case: Case) -> tuple[BenchModel, float]:
 
 def _scalar(effect: str, e: EffectInstance) -> float | None:
     p = e.params
-    if effect == "coulomb_friction":
+    if effect == V.COULOMB:
         return float(p["f_c_nm"])
-    if effect == "viscous_damping":
+    if effect == V.VISCOUS:
         return float(p["b_nms"])
-    if effect == "backlash":
+    if effect == V.BACKLASH:
         return float(p["width_rad"])
-    if effect == "delay":
+    if effect == V.DELAY:
         return float(p["delay_s"])
-    if effect == "sensor_offset":
+    if effect == V.OFFSET:
         return float(p.get("offset_nm", p.get("offset_rad", 0.0)))
-    if effect == "hysteresis" and e.variant == "maxwell_slip":  # total slip torque
+    if effect == V.HYSTERESIS and e.variant == "maxwell_slip":  # total slip torque
         return float(sum(k * d for k, d in zip(p["k_nm_per_rad"], p["delta_rad"], strict=True)))
-    if effect == "hysteresis":  # sum of branch stiffnesses (the fast-rate stiffness increase)
+    if effect == V.HYSTERESIS:  # sum of branch stiffnesses (the fast-rate stiffness increase)
         return float(sum(p["k_nm_per_rad"]))
     return None
 
@@ -278,7 +280,7 @@ def recovery(truth: BenchModel, fitted: BenchModel) -> dict[str, float]:
         fe = fitted.effect(te.name, te.variant)
         if fe is None:
             continue
-        if te.name == "nonlinear_stiffness":
+        if te.name == V.NONLINEAR:
             if te.variant == "masterflex08" or "x_ref_rad" not in fe.params:
                 continue
             xr = fe.params["x_ref_rad"]
@@ -308,11 +310,11 @@ def single_effects(setup: str, inertia: bool) -> list[tuple[str, str]]:
     # one variant per effect is enough for hiding, except where the variant changes the physics
     keep = []
     for e, v in pairs:
-        if e == "nonlinear_stiffness" and v == "poly_per_sign":
+        if e == V.NONLINEAR and v == "poly_per_sign":
             continue
         keep.append((e, v))
     if setup == "series_bench" and not inertia:
-        keep.append(("nonlinear_stiffness", "masterflex08"))
+        keep.append((V.NONLINEAR, "masterflex08"))
     return keep
 
 
@@ -365,13 +367,13 @@ def cases(full: bool = True, duration_s: float = 30.0) -> list[Case]:
                     )
                 )
     two = [
-        ("series_bench", False, [("coulomb_friction", "shaft"), ("nonlinear_stiffness", "poly")]),
-        ("series_bench", False, [("backlash", "coupling"), ("viscous_damping", "shaft")]),
-        ("series_bench", True, [("coulomb_friction", "load"), ("delay", "input")]),
+        ("series_bench", False, [(V.COULOMB, "shaft"), (V.NONLINEAR, "poly")]),
+        ("series_bench", False, [(V.BACKLASH, "coupling"), (V.VISCOUS, "shaft")]),
+        ("series_bench", True, [(V.COULOMB, "load"), (V.DELAY, "input")]),
         (
             "parallel_bench",
             False,
-            [("hysteresis", "viscoelastic"), ("nonlinear_stiffness", "poly")],
+            [(V.HYSTERESIS, "viscoelastic"), (V.NONLINEAR, "poly")],
         ),
     ]
     for setup, inertia, effs in two:
@@ -423,7 +425,7 @@ def run_case(case: Case) -> Outcome:
     try:
         ds = _dataset(truth, case, case.noise)
         t0 = time.perf_counter()
-        diag: Diagnosis = diagnose(ds)
+        diag: BenchDiagnosis = diagnose(ds)
     except Exception as exc:  # a battery reports failures, it does not stop at them
         return Outcome(
             case,
@@ -523,12 +525,12 @@ def confusion(outcomes: list[Outcome]) -> tuple[list[str], list[str], dict[tuple
 
 
 LOOK_ALIKE_TRUTHS = (
-    "delay",
-    "viscous_damping",
-    "backlash",
-    "nonlinear_stiffness",
-    "coulomb_friction",
-    "hysteresis",
+    V.DELAY,
+    V.VISCOUS,
+    V.BACKLASH,
+    V.NONLINEAR,
+    V.COULOMB,
+    V.HYSTERESIS,
 )
 
 

@@ -22,11 +22,15 @@ import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
+from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.effects import registry
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.shaft import ShaftParams
+
+if TYPE_CHECKING:
+    from fsarm_sim.measured import Dataset
 
 FORMAT = "fsarm-bench-model"
 VERSION = 1
@@ -128,6 +132,24 @@ def nominal_from_shaft(
     )
 
 
+POLY_KEYS = ("poly", "poly_per_sign")  # its variants in r = x / x_ref (registry)
+
+
+def uses_x_ref(name: str, variant: str) -> bool:
+    """The effect's law is a polynomial in x / x_ref: the model stores ``x_ref_rad``."""
+    return name == V.NONLINEAR and variant in POLY_KEYS
+
+
+def element_wise(var: registry.Variant) -> bool:
+    """The variant's parameters come one per element (lists: the registry's "(each)")."""
+    return bool(var.params) and all("(each)" in p.meaning for p in var.params)
+
+
+def stated_model(ds: Dataset) -> BenchModel:
+    """The nominal model of a dataset's setup with the catalogue's / sidecar's parameters."""
+    return nominal_from_shaft(ds.setup, ds.shaft, ds.load_inertia_kgm2, j_link=0.0)
+
+
 def _check_number(value: Any, where: str) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
         raise ModelFileError(f"{where} must be a finite number, got {value!r}")
@@ -156,7 +178,7 @@ def _check_effect(setup: str, inertia: bool, raw: Any, i: int) -> EffectInstance
             raise ModelFileError(f"effects[{i}] ({eff.name}[{var.key}]) needs parameter '{p.name}'")
         v = params[p.name]
         vals = v if isinstance(v, list) else [v]
-        if eff.name == "hysteresis" and not isinstance(v, list):
+        if element_wise(var) and not isinstance(v, list):
             raise ModelFileError(f"effects[{i}].params.{p.name} must be a list (one per element)")
         if len(vals) > MAX_ELEMENTS:
             raise ModelFileError(f"effects[{i}].params.{p.name}: at most {MAX_ELEMENTS} elements")
@@ -170,11 +192,9 @@ def _check_effect(setup: str, inertia: bool, raw: Any, i: int) -> EffectInstance
                 )
             checked.append(xv)
         out[p.name] = checked if isinstance(v, list) else checked[0]
-    if eff.name == "hysteresis":
-        a, b = (params[p.name] for p in var.params)
-        if len(a) != len(b):
-            raise ModelFileError(f"effects[{i}]: hysteresis parameter lists differ in length")
-    if eff.name == "nonlinear_stiffness" and var.key != "masterflex08":
+    if element_wise(var) and len({len(params[p.name]) for p in var.params}) > 1:
+        raise ModelFileError(f"effects[{i}]: {eff.name} parameter lists differ in length")
+    if uses_x_ref(eff.name, var.key):
         out["x_ref_rad"] = _check_number(params.get("x_ref_rad", 1.0), f"effects[{i}].x_ref_rad")
         if out["x_ref_rad"] <= 0:
             raise ModelFileError(f"effects[{i}].params.x_ref_rad must be > 0")

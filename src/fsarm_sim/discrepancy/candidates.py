@@ -29,6 +29,7 @@ import numpy.typing as npt
 from scipy.optimize import least_squares, lsq_linear, minimize, minimize_scalar
 
 from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.discrepancy.benchmodel import BenchModel, EffectInstance
 from fsarm_sim.discrepancy.residuals import bic, effective_n, noise_floor, split_masks
 from fsarm_sim.effects import registry
@@ -51,12 +52,12 @@ VE_MIN_TAU_S = 0.02
 NOMINAL_RANGE = 4.0  # inertia load: refit stiffness within this factor of the catalogue's
 INERTIA_RANGE = 2.0  # ... and the load inertia within this factor of the stated one
 PRUNE_FRACTION = 0.002  # hysteresis elements contributing less than this x rms(y) are dropped
-K_BOUNDS = registry.get("hysteresis").variant("maxwell_slip").params[0]
-DELAY_BOUNDS = registry.get("delay").variant("input").params[0]
-BACKLASH_W = registry.get("backlash").variant("coupling").params[0]
-BACKLASH_C = registry.get("backlash").variant("coupling").params[1]
-IN_OFFSET = registry.get("sensor_offset").variant("input").params[0]
-POLY_C = registry.get("nonlinear_stiffness").variant("poly").params[0]
+K_BOUNDS = registry.get(V.HYSTERESIS).variant("maxwell_slip").params[0]
+DELAY_BOUNDS = registry.get(V.DELAY).variant("input").params[0]
+BACKLASH_W = registry.get(V.BACKLASH).variant("coupling").params[0]
+BACKLASH_C = registry.get(V.BACKLASH).variant("coupling").params[1]
+IN_OFFSET = registry.get(V.OFFSET).variant("input").params[0]
+POLY_C = registry.get(V.NONLINEAR).variant("poly").params[0]
 
 
 @dataclass
@@ -296,13 +297,13 @@ def to_model(ctx: Context, st: Structure, coef: dict[str, float]) -> BenchModel:
         m.nominal["kb"] = coef["kb"]
         m.nominal["j_link"] = coef["j_link"]
     if st.delay_s is not None:
-        m.effects.append(EffectInstance("delay", "input", {"delay_s": st.delay_s}))
+        m.effects.append(EffectInstance(V.DELAY, "input", {"delay_s": st.delay_s}))
     if st.in_offset is not None:
-        m.effects.append(EffectInstance("sensor_offset", "input", {"offset_rad": st.in_offset}))
+        m.effects.append(EffectInstance(V.OFFSET, "input", {"offset_rad": st.in_offset}))
     if st.backlash is not None:
         m.effects.append(
             EffectInstance(
-                "backlash",
+                V.BACKLASH,
                 "coupling",
                 {"width_rad": st.backlash[0], "center_rad": st.backlash[1]},
             )
@@ -310,7 +311,7 @@ def to_model(ctx: Context, st: Structure, coef: dict[str, float]) -> BenchModel:
     if st.poly == "poly":
         m.effects.append(
             EffectInstance(
-                "nonlinear_stiffness",
+                V.NONLINEAR,
                 "poly",
                 {"c2_nm": coef["c2_nm"], "c3_nm": coef["c3_nm"], "x_ref_rad": ctx.x_ref},
             )
@@ -318,25 +319,25 @@ def to_model(ctx: Context, st: Structure, coef: dict[str, float]) -> BenchModel:
     elif st.poly == "poly_per_sign":
         p = {k: coef[k] for k in ("c2_pos_nm", "c3_pos_nm", "c2_neg_nm", "c3_neg_nm")}
         p["x_ref_rad"] = ctx.x_ref
-        m.effects.append(EffectInstance("nonlinear_stiffness", "poly_per_sign", p))
+        m.effects.append(EffectInstance(V.NONLINEAR, "poly_per_sign", p))
     if st.coulomb is not None:
         m.effects.append(
             EffectInstance(
-                "coulomb_friction",
+                V.COULOMB,
                 "shaft",
                 {"f_c_nm": coef["f_c_nm"], "delta_rad": st.coulomb},
             )
         )
     if st.viscous:
-        m.effects.append(EffectInstance("viscous_damping", "shaft", {"b_nms": coef["b_nms"]}))
+        m.effects.append(EffectInstance(V.VISCOUS, "shaft", {"b_nms": coef["b_nms"]}))
     if st.load_coulomb:
-        m.effects.append(EffectInstance("coulomb_friction", "load", {"f_c_nm": coef["f_load_nm"]}))
+        m.effects.append(EffectInstance(V.COULOMB, "load", {"f_c_nm": coef["f_load_nm"]}))
     if st.load_viscous:
-        m.effects.append(EffectInstance("viscous_damping", "load", {"b_nms": coef["b_load_nms"]}))
+        m.effects.append(EffectInstance(V.VISCOUS, "load", {"b_nms": coef["b_load_nms"]}))
     if st.slip is not None and st.slip.size:
         m.effects.append(
             EffectInstance(
-                "hysteresis",
+                V.HYSTERESIS,
                 "maxwell_slip",
                 {
                     "k_nm_per_rad": [coef[f"slip{j}"] for j in range(st.slip.size)],
@@ -347,7 +348,7 @@ def to_model(ctx: Context, st: Structure, coef: dict[str, float]) -> BenchModel:
     if st.ve is not None and st.ve.size:
         m.effects.append(
             EffectInstance(
-                "hysteresis",
+                V.HYSTERESIS,
                 "viscoelastic",
                 {
                     "k_nm_per_rad": [coef[f"ve{j}"] for j in range(st.ve.size)],
@@ -356,9 +357,7 @@ def to_model(ctx: Context, st: Structure, coef: dict[str, float]) -> BenchModel:
             )
         )
     if st.out_offset:
-        m.effects.append(
-            EffectInstance("sensor_offset", "output", {"offset_nm": coef["offset_nm"]})
-        )
+        m.effects.append(EffectInstance(V.OFFSET, "output", {"offset_nm": coef["offset_nm"]}))
     return m
 
 
@@ -502,17 +501,17 @@ def _coef_of_model(ctx: Context, st: Structure, m: BenchModel) -> dict[str, floa
     c["j_load"] = nom.get("j_load", m.load_inertia_kgm2 or 0.0)
     for e in m.effects:
         p = e.params
-        if e.name == "coulomb_friction":
+        if e.name == V.COULOMB:
             c["f_c_nm" if e.variant == "shaft" else "f_load_nm"] = p["f_c_nm"]
-        elif e.name == "viscous_damping":
+        elif e.name == V.VISCOUS:
             c["b_nms" if e.variant == "shaft" else "b_load_nms"] = p["b_nms"]
-        elif e.name == "sensor_offset" and e.variant == "output":
+        elif e.name == V.OFFSET and e.variant == "output":
             c["offset_nm"] = p["offset_nm"]
-        elif e.name == "nonlinear_stiffness":
+        elif e.name == V.NONLINEAR:
             for k, v in p.items():
                 if k.startswith("c"):
                     c[k] = v
-        elif e.name == "hysteresis":
+        elif e.name == V.HYSTERESIS:
             key = "slip" if e.variant == "maxwell_slip" else "ve"
             for j, v in enumerate(p["k_nm_per_rad"]):
                 c[f"{key}{j}"] = v
@@ -655,7 +654,7 @@ def candidate(ctx: Context, cur: Fit, effect: str, variant: str) -> Fit | None:
     base = cur.structure
     st = base.copy()
     h = ctx.inp.h
-    if effect == "coulomb_friction":
+    if effect == V.COULOMB:
         if variant == "shaft":
             if base.coulomb is not None:
                 return None
@@ -673,7 +672,7 @@ def candidate(ctx: Context, cur: Fit, effect: str, variant: str) -> Fit | None:
                 return None
             st.load_coulomb = True
             fit = solve(ctx, st)
-    elif effect == "viscous_damping":
+    elif effect == V.VISCOUS:
         if variant == "shaft":
             if base.viscous:
                 return None
@@ -683,17 +682,17 @@ def candidate(ctx: Context, cur: Fit, effect: str, variant: str) -> Fit | None:
                 return None
             st.load_viscous = True
         fit = solve(ctx, st)
-    elif effect == "sensor_offset" and variant == "output":
+    elif effect == V.OFFSET and variant == "output":
         if base.out_offset:
             return None
         st.out_offset = True
         fit = solve(ctx, st)
-    elif effect == "nonlinear_stiffness":
+    elif effect == V.NONLINEAR:
         if base.poly is not None:
             return None
         st.poly = variant
         fit = solve(ctx, st)
-    elif effect == "hysteresis":
+    elif effect == V.HYSTERESIS:
         if variant == "maxwell_slip":
             if base.slip is not None:
                 return None
@@ -707,7 +706,7 @@ def candidate(ctx: Context, cur: Fit, effect: str, variant: str) -> Fit | None:
             variant == "viscoelastic" and fit.structure.ve is None
         ):
             return None
-    elif effect == "delay":
+    elif effect == V.DELAY:
         if base.delay_s is not None:
             return None
         steps = np.array([1, 2, 3, 5, 8, 12, 20, 30, 50, 80], dtype=float) * h
@@ -720,7 +719,7 @@ def candidate(ctx: Context, cur: Fit, effect: str, variant: str) -> Fit | None:
             return s2
 
         fit = _search_1d(ctx, make_d, grid, DELAY_BOUNDS.lower, DELAY_BOUNDS.upper)
-    elif effect == "sensor_offset" and variant == "input":
+    elif effect == V.OFFSET and variant == "input":
         if base.in_offset is not None:
             return None
         mags = np.array([0.003, 0.01, 0.03, 0.1, 0.3]) * ctx.x_ref
@@ -732,7 +731,7 @@ def candidate(ctx: Context, cur: Fit, effect: str, variant: str) -> Fit | None:
             return s2
 
         fit = _search_1d(ctx, make_o, grid, IN_OFFSET.lower, IN_OFFSET.upper)
-    elif effect == "backlash":
+    elif effect == V.BACKLASH:
         if base.backlash is not None:
             return None
         fit = _fit_backlash(ctx, base)

@@ -55,10 +55,12 @@ from fsarm_sim.effects import (
     viscous_damping,
 )
 from fsarm_sim.measured import Dataset
+from fsarm_sim.transmissions import rtca
 
 FloatArray = npt.NDArray[np.float64]
 
 _KERNEL_MODULES: tuple[ModuleType, ...] = (
+    rtca,  # seed 001 Table 1 (nonlinear_stiffness' MasterFlex08 law evaluates its curve)
     backlash,
     coulomb_friction,
     conduit_viscoelastic,

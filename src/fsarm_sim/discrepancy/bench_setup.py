@@ -1,0 +1,415 @@
+"""The series and parallel benches as a :class:`.core.Setup`: the record replayed by the Numba
+engine (:mod:`.replay`), grey-box candidates fitted inside it (:mod:`.candidates`).
+
+Setups ``series_bench`` (blocked output: a replay of the input's history; inertia load: the load
+simulated in segments from its measured state) and ``parallel_bench``. The cost is the MSE of the
+main output channel (``tau_s`` / ``m_b``), the noise variance that of its white noise (from the
+data). With an inertia load every candidate is screened with a short output-error refinement and
+the step's leader is redone in full; a hysteresis effect, once named, has its elements moved off
+the candidates' fixed grid (:func:`.candidates.refine_elements`); the final model's nonlinear
+parameters are refined jointly (:func:`.candidates.refine`). The verdict names the noise floor
+and the output error the recorded inputs' own errors cause (:mod:`.input_errors`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from fsarm_sim.discrepancy import candidates as C
+from fsarm_sim.discrepancy import core
+from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import selection as S
+from fsarm_sim.discrepancy import variants as V
+from fsarm_sim.discrepancy.benchmodel import BenchModel, save_model, stated_model
+from fsarm_sim.discrepancy.core import UnsupportedSetupError
+from fsarm_sim.discrepancy.input_errors import input_error_floor
+from fsarm_sim.discrepancy.report import plot_channel_nrmse
+from fsarm_sim.discrepancy.residuals import (
+    gap_excess,
+    noise_floor,
+    nrmse,
+    nrmse_floor,
+    signature,
+)
+from fsarm_sim.discrepancy.selection import Score
+from fsarm_sim.effects import registry
+from fsarm_sim.measured import Dataset
+
+SETUPS = (registry.SERIES, registry.PARALLEL)
+WITHIN_NOISE = 1.15  # a held-out residual RMS up to this x the noise floor is "within noise"
+
+
+class BenchDiagnosis(core.Diagnosis[C.Fit]):
+    """A bench diagnosis, with its noise floors in held-out NRMSE units."""
+
+    @property
+    def sigma_inputs(self) -> float:
+        """The output error caused by the recorded inputs' own errors (RMS, output units)."""
+        return float(self.extras.get("sigma_inputs", 0.0))
+
+    @property
+    def noise_floor_nrmse(self) -> float:
+        """The estimated noise floor in held-out NRMSE units (a perfect model's gap)."""
+        return nrmse_floor(self.ctx.inp.y, self.ctx.sigma_y, self.ctx.held)
+
+    @property
+    def noise_floor_inputs_nrmse(self) -> float:
+        """The output error the recorded inputs' own errors cause, held-out NRMSE units."""
+        return nrmse_floor(self.ctx.inp.y, self.sigma_inputs, self.ctx.held)
+
+    @property
+    def noise_floor_total_nrmse(self) -> float:
+        """Output noise and propagated input errors together (they add in variance)."""
+        return math.hypot(self.noise_floor_nrmse, self.noise_floor_inputs_nrmse)
+
+    @property
+    def gap_excess_before(self) -> float:
+        """Held-out gap of the nominal model above the noise floor."""
+        return gap_excess(self.gap_before, self.noise_floor_nrmse)
+
+    @property
+    def gap_excess_after(self) -> float:
+        """Held-out gap of the final model above the noise floor."""
+        return gap_excess(self.gap_after, self.noise_floor_nrmse)
+
+
+def _nrmse_cell(sc: Score) -> str:
+    return f"{100 * sc.nrmse_held:.3f}"
+
+
+class BenchSetup:
+    """A bench record as a :class:`.core.Setup` (fits: :class:`.candidates.Fit`)."""
+
+    mse_name = "MSE"
+    look_alikes = S.LOOK_ALIKES
+    score_cell = ("held-out NRMSE %", _nrmse_cell)
+    load_hint = (
+        "load the final model: fsarm_sim.discrepancy.benchmodel.load_model(MODEL) -> BenchModel"
+    )
+
+    def __init__(self, ds: Dataset) -> None:
+        if ds.setup not in SETUPS:
+            raise UnsupportedSetupError(
+                f"this diagnose handles the bench setups ({', '.join(SETUPS)}); for "
+                f"'{ds.setup}' use fsarm_sim.discrepancy.arm.diagnose_arm (`fsarm diagnose` picks "
+                "the right one)"
+            )
+        self.dataset = ds
+        self.ctx = C.make_context(R.prepare_inputs(ds), stated_model(ds))
+        self.main_channel = ds.output_column
+        self.noise_var = self.ctx.sigma_y**2
+        self.pairs = registry.applicable(ds.setup, self.ctx.inp.inertia_load)
+
+    # ------------------------------------------------------------------ selection
+
+    def nominal(self) -> tuple[C.Fit, C.Fit]:
+        return C.stated(self.ctx), C.nominal(self.ctx)
+
+    def candidates(self, cur: C.Fit, named: Sequence[str]) -> list[C.Fit]:
+        ctx = self.ctx
+        inertia = ctx.inp.inertia_load
+        if inertia:  # screen with a short output-error refinement, redo the leader
+            ctx.options["oe_nfev"] = C.OE_NFEV_SCREEN
+        fits = [C.candidate(ctx, cur, e, v) for e, v in self.pairs if e not in named]
+        ctx.options.pop("oe_nfev", None)
+        good = [f for f in fits if f is not None and math.isfinite(f.mse_held)]
+        if inertia and good:
+            i_lead = min(range(len(good)), key=lambda i: good[i].mse_held)
+            lead = good[i_lead]
+            redo = C.solve(ctx, lead.structure)
+            redo.label, redo.effect, redo.variant = lead.label, lead.effect, lead.variant
+            if redo.mse_teach <= lead.mse_teach:
+                good[i_lead] = redo
+        return good
+
+    def cost(self, fit: C.Fit) -> tuple[float, float, int]:
+        return fit.mse_teach, fit.mse_held, fit.k
+
+    def residual(self, fit: C.Fit) -> tuple[C.FloatArray, C.BoolArray, C.BoolArray]:
+        return self.ctx.inp.y - fit.yhat, self.ctx.teach, self.ctx.held
+
+    def gap(self, fit: C.Fit) -> float:
+        return nrmse(self.ctx.inp.y, fit.yhat, self.ctx.held)
+
+    def effect_params(self, fit: C.Fit) -> dict[str, Any]:
+        eff = fit.model.effect(fit.effect or "", fit.variant)
+        return dict(eff.params) if eff is not None else {}
+
+    def accept(self, fit: C.Fit) -> C.Fit:
+        # hysteresis elements were fitted on a fixed grid: move them off it before the next
+        # step, so that the grid's approximation error is not left for another effect
+        return C.refine_elements(self.ctx, fit) if fit.effect == V.HYSTERESIS else fit
+
+    def finish(self, fit: C.Fit, named: Sequence[str]) -> C.Fit:
+        return C.refine(self.ctx, fit) if named else fit
+
+    def conclude(
+        self, nominal: C.Fit, final: C.Fit, named: Sequence[str]
+    ) -> tuple[str, dict[str, Any]]:
+        sigma_in = input_error_floor(self.dataset, self.ctx, final.model)
+        return verdict(self.ctx, nominal, final, named, sigma_in), {"sigma_inputs": sigma_in}
+
+    # ------------------------------------------------------------------ report
+
+    def parameters(self, model: BenchModel) -> dict[str, Any]:
+        return {"nominal": dict(model.nominal), "effects": [e.as_dict() for e in model.effects]}
+
+    def save_model(self, model: BenchModel, path: Path) -> Path:
+        return save_model(model, path)
+
+    def report(self, diag: core.Diagnosis[C.Fit]) -> core.ReportParts:
+        ctx = self.ctx
+        inp = ctx.inp
+        ds = self.dataset
+        floors = diag if isinstance(diag, BenchDiagnosis) else _floors(diag)
+        return core.ReportParts(
+            head={
+                "setup": ds.setup,
+                "load": "inertia"
+                if inp.inertia_load
+                else ("blocked" if ds.setup == registry.SERIES else None),
+                "samples": inp.n,
+                "rate_hz": 1.0 / inp.h,
+                "duration_s": float(inp.t[-1] - inp.t[0]),
+                "main_channel": ds.output_column,
+            },
+            gaps={
+                "noise_floor_nrmse": floors.noise_floor_nrmse,
+                "noise_floor_inputs_nrmse": floors.noise_floor_inputs_nrmse,
+                "noise_floor_total_nrmse": floors.noise_floor_total_nrmse,
+                "gap_excess_before": floors.gap_excess_before,
+                "gap_excess_after": floors.gap_excess_after,
+                "residual_over_noise": {
+                    "nominal": _over_noise(diag.nominal.mse_held, ctx.sigma_y),
+                    "final": _over_noise(diag.final.mse_held, ctx.sigma_y),
+                },
+                "gap_catalogue": nrmse(inp.y, diag.catalogue.yhat, ctx.held),
+            },
+            nominal_refit={
+                "catalogue": dict(diag.catalogue.model.nominal),
+                "refit": dict(diag.nominal.model.nominal),
+            },
+            noise_floor={
+                ds.output_column: ctx.sigma_y,
+                f"{ds.input_column} (smoothed)": ctx.sigma_u,
+                f"{ds.output_column} from the recorded inputs' errors (propagated)": (
+                    floors.sigma_inputs
+                ),
+                **(
+                    {"theta_s": noise_floor(inp.theta_s)}
+                    if inp.inertia_load and inp.theta_s is not None
+                    else {}
+                ),
+            },
+            nrmse=channel_nrmse(diag),
+            signatures={
+                "before": residual_signature(diag, diag.nominal),
+                "after": residual_signature(diag, diag.final),
+            },
+            method={
+                "bic": "n_eff ln(MSE) + k ln(n_eff), n_eff from the residual autocorrelation time",
+                "noise_floor": "4th-difference MAD estimate of the main channel's white noise; "
+                "noise_floor_nrmse = that / (max - min) of the channel on the held-out samples",
+                "noise_floor_inputs": "the recorded angles re-measured (their encoder grid at a "
+                "random phase, or their white noise) and the final model replayed on both: RMS "
+                "output difference on the held-out samples",
+                "inertia_load_replay": f"segments of {R.SEGMENT_S:g} s started from the "
+                "measured load state",
+            },
+        )
+
+    def plots(self, diag: core.Diagnosis[C.Fit], folder: Path) -> list[Path]:
+        return write_plots(diag, folder)
+
+    def summary_lines(self, diag: core.Diagnosis[C.Fit]) -> list[str]:
+        ds = self.dataset
+        return [
+            f"named effects: {diag.named or 'none'}",
+            f"held-out NRMSE of {ds.output_column}: nominal {100 * diag.gap_before:.3f} % -> "
+            f"final {100 * diag.gap_after:.3f} %",
+            diag.verdict,
+            *ds.column_notes(),
+            f"runtime {diag.runtime_s:.1f} s",
+        ]
+
+
+def _floors(diag: core.Diagnosis[C.Fit]) -> BenchDiagnosis:
+    """The diagnosis as a :class:`BenchDiagnosis` (for its noise floors)."""
+    return BenchDiagnosis(**{f.name: getattr(diag, f.name) for f in dataclasses.fields(diag)})
+
+
+def _over_noise(mse: float, sigma: float) -> float:
+    return math.sqrt(mse) / sigma if sigma > 0 else math.inf
+
+
+def diagnose(ds: Dataset, *, max_effects: int = S.MAX_EFFECTS) -> BenchDiagnosis:
+    """Find, name and fit the effects missing from the nominal model of a bench dataset."""
+    t0 = time.perf_counter()
+    return core.diagnose(BenchSetup(ds), max_effects, kind=BenchDiagnosis, started=t0)
+
+
+def verdict(
+    ctx: C.Context,
+    nom: C.Fit,
+    final: C.Fit,
+    named: Sequence[str],
+    sigma_in: float = 0.0,
+) -> str:
+    """One honest sentence: what was named, the gap before / after, the noise floor and the
+    gap above it (independent noise adds in variance)."""
+    y, held = ctx.inp.y, ctx.held
+    floor = nrmse_floor(y, ctx.sigma_y, held)
+    gap_b, gap_a = nrmse(y, nom.yhat, held), nrmse(y, final.yhat, held)
+    rms = math.sqrt(final.mse_held)
+    ratio = rms / ctx.sigma_y if ctx.sigma_y > 0 else math.inf
+    within = ratio <= WITHIN_NOISE
+    floor_txt = (
+        f"noise floor {100 * floor:.3g} %; gap above the floor "
+        f"{100 * gap_excess(gap_b, floor):.3g} % -> {100 * gap_excess(gap_a, floor):.3g} %"
+    )
+    if not named:
+        if within:
+            return (
+                "nothing is missing within noise: the refit nominal model leaves a held-out "
+                f"residual of {rms:.4g} (noise floor {ctx.sigma_y:.4g}); no candidate earns its "
+                "place"
+            )
+        return (
+            f"no library effect earns its place, but the refit nominal model leaves "
+            f"{ratio:.2g} x the noise floor (held-out NRMSE {100 * gap_a:.3g} %, {floor_txt}): "
+            "something outside the library or the recorded inputs' own errors"
+        )
+    total = math.hypot(ctx.sigma_y, sigma_in)
+    if within:
+        rest = "the rest is within noise"
+    elif total > 0 and rms <= WITHIN_NOISE * total:
+        rest = (
+            f"a residual of {ratio:.2g} x the output noise floor remains, within what the output "
+            f"noise and the recorded inputs' own errors (quantisation / noise, propagated: "
+            f"{100 * nrmse_floor(y, sigma_in, held):.3g} % NRMSE) explain together"
+        )
+    else:
+        rest = f"a residual of {ratio:.2g} x the noise floor remains that no further effect claims"
+    return (
+        f"missing: {', '.join(named)}; held-out NRMSE {100 * gap_b:.3g} % -> {100 * gap_a:.3g} % "
+        f"({floor_txt}); {rest}"
+    )
+
+
+def residual_signature(diag: core.Diagnosis[C.Fit], fit: C.Fit) -> dict[str, Any]:
+    ctx = diag.ctx
+    inp = ctx.inp
+    s = inp.theta_s if inp.inertia_load and inp.theta_s is not None else inp.s
+    x = inp.u - s
+    xd = np.gradient(x, inp.h)
+    return signature(inp.y, fit.yhat, x, xd, inp.phi, inp.t, ctx.sigma_y).as_dict()
+
+
+def channel_nrmse(diag: core.Diagnosis[C.Fit]) -> dict[str, dict[str, float]]:
+    """Held-out NRMSE per measured channel for the catalogue, refit nominal and final models."""
+    ctx = diag.ctx
+    inp = ctx.inp
+    main = diag.dataset.output_column
+    fits = (("catalogue", diag.catalogue), ("nominal", diag.nominal), ("final", diag.final))
+    out: dict[str, dict[str, float]] = {main: {}}
+    for name, fit in fits:
+        out[main][name] = nrmse(inp.y, fit.yhat, ctx.held)
+    if inp.inertia_load and inp.theta_s is not None:
+        out["theta_s"] = {}
+        for name, fit in fits:
+            th = R.replay(fit.model, inp)["theta_s"]
+            out["theta_s"][name] = nrmse(inp.theta_s, th, ctx.held)
+    return out
+
+
+def write_plots(diag: core.Diagnosis[C.Fit], folder: str | Path) -> list[Path]:
+    """Time series and loops before/after, NRMSE per channel."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out = Path(folder)
+    out.mkdir(parents=True, exist_ok=True)
+    ctx = diag.ctx
+    inp = ctx.inp
+    ds = diag.dataset
+    unit = "N·m"
+    files: list[Path] = []
+
+    # 1. time series in the first held-out block (a few seconds)
+    idx = np.flatnonzero(ctx.held)
+    i0 = int(idx[0]) if idx.size else 0
+    i1 = min(inp.n, i0 + round(4.0 / inp.h))
+    sl = slice(i0, i1)
+    fig, ax = plt.subplots(3, 1, figsize=(10, 8), sharex=True)
+    ax[0].plot(inp.t[sl], inp.u[sl], color="k", lw=1)
+    ax[0].set_ylabel(f"{ds.input_column} [rad]")
+    ax[0].set_title(f"{ds.path.name}: held-out window")
+    ax[1].plot(inp.t[sl], inp.y[sl], color="k", lw=1, label="measured")
+    ax[1].plot(inp.t[sl], diag.nominal.yhat[sl], color="tab:red", lw=1, label="nominal (refit)")
+    ax[1].plot(
+        inp.t[sl], diag.final.yhat[sl], color="tab:blue", lw=1, ls="--", label=diag.final.label
+    )
+    ax[1].set_ylabel(f"{ds.output_column} [{unit}]")
+    ax[1].legend(loc="upper right", fontsize=8)
+    ax[2].plot(
+        inp.t[sl], (inp.y - diag.nominal.yhat)[sl], color="tab:red", lw=0.8, label="residual before"
+    )
+    ax[2].plot(
+        inp.t[sl], (inp.y - diag.final.yhat)[sl], color="tab:blue", lw=0.8, label="residual after"
+    )
+    for k in (-2, 2):
+        ax[2].axhline(k * ctx.sigma_y, color="grey", ls=":", lw=0.8)
+    ax[2].set_ylabel(f"residual [{unit}]")
+    ax[2].set_xlabel("t [s]")
+    ax[2].legend(loc="upper right", fontsize=8)
+    fig.tight_layout()
+    files.append(out / "timeseries.png")
+    fig.savefig(files[-1], dpi=110)
+    plt.close(fig)
+
+    # 2. torque-deflection loops
+    s = inp.theta_s if inp.inertia_load and inp.theta_s is not None else inp.s
+    x = inp.u - s
+    step = max(1, inp.n // 8000)
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.5), sharey=True)
+    for a, fit, title in (
+        (ax[0], diag.nominal, "before (nominal refit)"),
+        (ax[1], diag.final, "after (final model)"),
+    ):
+        a.plot(x[::step], inp.y[::step], ".", ms=1.5, color="k", alpha=0.4, label="measured")
+        a.plot(
+            x[::step],
+            fit.yhat[::step],
+            ".",
+            ms=1.5,
+            color="tab:blue" if fit is diag.final else "tab:red",
+            label="replay",
+        )
+        a.set_title(title)
+        a.set_xlabel("deflection (input - output angle) [rad]")
+        a.legend(loc="upper left", fontsize=8, markerscale=6)
+    ax[0].set_ylabel(f"{ds.output_column} [{unit}]")
+    fig.tight_layout()
+    files.append(out / "loops.png")
+    fig.savefig(files[-1], dpi=110)
+    plt.close(fig)
+
+    # 3. NRMSE per channel
+    floor = nrmse_floor(inp.y, ctx.sigma_y, ctx.held)
+    files.append(
+        plot_channel_nrmse(
+            channel_nrmse(diag),
+            out / "nrmse.png",
+            floor=(floor, f"noise floor ({ds.output_column})"),
+        )
+    )
+    return files

@@ -1,0 +1,68 @@
+"""Each setup's variants of the registry's effects: where an effect acts in that setup, with the
+registry's parameters and bounds (:mod:`fsarm_sim.effects.registry`).
+
+The benches use the registry's variants as they are. The arm's are the registry's laws placed on
+the arm: Coulomb friction and viscous damping at joint 3 (the laws of the ``shaft`` variants), a
+dead band on the shaft twist (``backlash[coupling]``), the shaft's own Maxwell-slip elements, the
+payload, and - on the recording, not the plant - a bias or a lag of one recorded channel (the
+``input`` variants' laws on ``q3``, ``theta_m`` or ``q2``). One table for the arm's candidates,
+its model file and the effect text of ``fsarm synth --setup arm``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+
+from fsarm_sim.effects import registry
+from fsarm_sim.effects.registry import Variant
+
+ARM_CHANNELS = ("q3", "theta_m", "q2")  # the arm's recorded channels the replay compares
+
+
+def _on_arm(effect: str, law: str, key: str, enters: str) -> Variant:
+    """The registry's variant ``effect[law]`` (parameters, bounds) acting on the arm as ``key``."""
+    base = registry.get(effect).variant(law)
+    return dataclasses.replace(base, key=key, setups=(registry.ARM,), enters=enters)
+
+
+PAYLOAD = registry.get("payload_error").name
+COULOMB = registry.get("coulomb_friction").name
+VISCOUS = registry.get("viscous_damping").name
+BACKLASH = registry.get("backlash").name
+HYSTERESIS = registry.get("hysteresis").name
+OFFSET = registry.get("sensor_offset").name
+DELAY = registry.get("delay").name
+NONLINEAR = registry.get("nonlinear_stiffness").name
+
+ARM: dict[str, tuple[Variant, ...]] = {  # effect -> its arm variants (candidate order)
+    PAYLOAD: (registry.get(PAYLOAD).variant("mass"),),
+    COULOMB: (_on_arm(COULOMB, "shaft", "q3", "Coulomb friction at joint 3 (q3_friction_nm)"),),
+    VISCOUS: (_on_arm(VISCOUS, "shaft", "q3", "extra viscous damping at joint 3"),),
+    BACKLASH: (_on_arm(BACKLASH, "coupling", "twist", "dead band on the shaft twist"),),
+    HYSTERESIS: (
+        _on_arm(HYSTERESIS, "maxwell_slip", "maxwell_slip", "the shaft's elasto-slip elements"),
+    ),
+    OFFSET: tuple(
+        _on_arm(OFFSET, "input", ch, f"constant bias on the recorded {ch}") for ch in ARM_CHANNELS
+    ),
+    DELAY: tuple(
+        _on_arm(DELAY, "input", ch, f"the recorded {ch} lags the others") for ch in ARM_CHANNELS
+    ),
+}
+ARM_RECORDING = frozenset({OFFSET, DELAY})  # the arm's effects on the recording, not the plant
+ARM_MAX_ELEMENTS = 3  # hysteresis elements on the arm (ShaftParams' slots)
+ARM_DEFAULTS = {(BACKLASH, "center_rad"): 0.0}  # (effect, parameter): value when not given
+
+
+def of(setup: str) -> Mapping[str, tuple[Variant, ...]]:
+    """Effect name -> the variants a setup knows (default first). The benches': all the
+    registry's (whether each acts in the setup is the variant's ``setups``)."""
+    if setup == registry.ARM:
+        return ARM
+    return {e.name: e.variants for e in registry.EFFECTS}
+
+
+def pairs(setup: str) -> list[tuple[str, str]]:
+    """(effect, variant key) of every variant a setup knows, in table order."""
+    return [(name, v.key) for name, vs in of(setup).items() for v in vs]
