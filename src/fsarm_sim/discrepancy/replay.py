@@ -55,6 +55,7 @@ from fsarm_sim.effects import (
     viscous_damping,
 )
 from fsarm_sim.measured import Dataset
+from fsarm_sim.paramblocks import Decl, Layout
 from fsarm_sim.transmissions import rtca
 
 FloatArray = npt.NDArray[np.float64]
@@ -108,21 +109,61 @@ def _numba_cache_in(path: Path) -> Iterator[None]:
 
 
 # ------------------------------------------------------------------------- parameter vector
-R_KP, R_SP, R_KN, R_SN = 0, 1, 2, 3  # eq. 3/8 (parallel bench: K = kb both sides, no slope)
-R_A2P, R_A3P, R_A2N, R_A3N, R_XREF = 4, 5, 6, 7, 8  # nonlinear stiffness c2, c3 per sign, x_ref
-R_BL_W, R_BL_C = 9, 10  # backlash
-R_B_SH, R_F_SH, R_DELTA_C = 11, 12, 13  # viscous / Coulomb in parallel with the spring
-R_OFF_OUT = 14  # output sensor offset
-R_J, R_B_LOAD, R_F_LOAD = 15, 16, 17  # load (series) or link (parallel) inertia; load friction
-R_N_SLIP = 18
-R_SLIP_K = 19
-R_SLIP_D = R_SLIP_K + MAX_ELEMENTS
-R_N_VE = R_SLIP_D + MAX_ELEMENTS
-R_VE_K = R_N_VE + 1
-R_VE_TAU = R_VE_K + MAX_ELEMENTS
-R_USE_ACC = R_VE_TAU + MAX_ELEMENTS  # 1: add R_J * input acceleration (parallel bench link)
-R_MF = R_USE_ACC + 1  # > 0: spring = seed 001 MasterFlex08 curve at twist * R_MF (synthetic truth)
-N_R = R_MF + 1
+# Declared block by block (fsarm_sim.paramblocks, as the simulator's kernel vector in
+# fsarm_sim.layout): offsets are computed from the declarations, never typed by hand.
+REPLAY_LAYOUT = Layout()
+_r = REPLAY_LAYOUT.block(
+    "spring",
+    (
+        Decl("k_pos", "N*m/rad", 0.0, "eq. 3/8 winding side (parallel bench: K_b)"),
+        Decl("s_pos", "N*m/rad^2", 0.0, "its slope in |phi_B| (parallel bench: 0)"),
+        Decl("k_neg", "N*m/rad", 0.0, "eq. 3/8 unwinding side (parallel bench: K_b)"),
+        Decl("s_neg", "N*m/rad^2", 0.0, "its slope in |phi_B|"),
+        Decl("c2_pos", "N*m", 0.0, "nonlinear stiffness, quadratic term, x >= 0"),
+        Decl("c3_pos", "N*m", 0.0, "nonlinear stiffness, cubic term, x >= 0"),
+        Decl("c2_neg", "N*m", 0.0, "nonlinear stiffness, quadratic term, x < 0"),
+        Decl("c3_neg", "N*m", 0.0, "nonlinear stiffness, cubic term, x < 0"),
+        Decl("x_ref", "rad", 1.0, "reference deflection of the nonlinear terms"),
+    ),
+)
+R_KP, R_SP, R_KN, R_SN = _r["k_pos"], _r["s_pos"], _r["k_neg"], _r["s_neg"]
+R_A2P, R_A3P, R_A2N, R_A3N = _r["c2_pos"], _r["c3_pos"], _r["c2_neg"], _r["c3_neg"]
+R_XREF = _r["x_ref"]
+_r = REPLAY_LAYOUT.block("backlash", backlash.KERNEL_PARAMS)
+R_BL_W, R_BL_C = _r["width"], _r["center"]
+_r = REPLAY_LAYOUT.block(
+    "shaft_friction",
+    (
+        Decl("b", "N*m*s/rad", 0.0, "viscous damping in parallel with the spring"),
+        Decl("f_c", "N*m", 0.0, "Coulomb friction in parallel with the spring"),
+        Decl("delta_c", "rad", 1e-3, "its presliding deflection"),
+    ),
+)
+R_B_SH, R_F_SH, R_DELTA_C = _r["b"], _r["f_c"], _r["delta_c"]
+R_OFF_OUT = REPLAY_LAYOUT.one("output_offset", "offset", "N*m", "output sensor offset")
+_r = REPLAY_LAYOUT.block(
+    "load",
+    (
+        Decl("j", "kg*m^2", 0.0, "load (series bench) or link (parallel bench) inertia"),
+        Decl("b_load", "N*m*s/rad", 0.0, "load viscous damping"),
+        Decl("f_load", "N*m", 0.0, "load Coulomb friction"),
+    ),
+)
+R_J, R_B_LOAD, R_F_LOAD = _r["j"], _r["b_load"], _r["f_load"]
+R_N_SLIP = REPLAY_LAYOUT.one("slip_count", "n", "count", "Maxwell-slip elements in use")
+R_SLIP_K = REPLAY_LAYOUT.array("slip_k", MAX_ELEMENTS, "N*m/rad", "element stiffnesses")
+R_SLIP_D = REPLAY_LAYOUT.array("slip_d", MAX_ELEMENTS, "rad", "element slip deflections")
+R_N_VE = REPLAY_LAYOUT.one("ve_count", "n", "count", "visco-elastic branches in use")
+R_VE_K = REPLAY_LAYOUT.array("ve_k", MAX_ELEMENTS, "N*m/rad", "branch stiffnesses")
+R_VE_TAU = REPLAY_LAYOUT.array("ve_tau", MAX_ELEMENTS, "s", "branch relaxation times")
+R_USE_ACC = REPLAY_LAYOUT.one(
+    "use_acc", "use", "on/off", "1: add J x input acceleration (parallel bench link)"
+)
+R_MF = REPLAY_LAYOUT.one(
+    "masterflex08", "twist_scale", "-", "> 0: spring = seed 001 MasterFlex08 at twist x it"
+)
+N_R = REPLAY_LAYOUT.size
+del _r
 
 # Presliding deflection of a Coulomb element when a model does not state one: a few micrometres
 # of contact presliding (Dahl-type) at the ~4.5 mm radius of a 9 mm shaft core -> ~1 mrad
