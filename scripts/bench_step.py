@@ -16,7 +16,7 @@ import json
 from dataclasses import asdict
 from pathlib import Path
 
-from fsarm_sim.speed import format_report, measure_speed
+from fsarm_sim.studies.speed import format_report, measure_speed
 
 
 def main() -> None:

@@ -21,7 +21,7 @@ from typing import Any
 
 from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_synth as S
-from fsarm_sim.measured import load_dataset
+from fsarm_sim.records.measured import load_dataset
 
 NOISES = (1e-5, 5e-5)  # rad
 STIFFNESS_SCALE = 1.05  # the true shaft is 5 % stiffer than the catalogue: the refit must see it

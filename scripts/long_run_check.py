@@ -17,10 +17,10 @@ import time
 
 import numpy as np
 
-from fsarm_sim import layout as L
-from fsarm_sim import scenarios
-from fsarm_sim.model import Gains, SimConfig
-from fsarm_sim.simulation import Simulation
+from fsarm_sim.engine.model import Gains, SimConfig
+from fsarm_sim.kernels import layout as L
+from fsarm_sim.sim import scenarios
+from fsarm_sim.sim.simulation import Simulation
 
 
 def main() -> None:

@@ -9,9 +9,9 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from fsarm_sim import synth
+from fsarm_sim.discrepancy import synth
 from fsarm_sim.discrepancy.benchmodel import EffectInstance
-from fsarm_sim.shaft import load_catalogue
+from fsarm_sim.plant.shaft import load_catalogue
 
 OUT = Path(__file__).resolve().parent.parent / "examples" / "data"
 DURATION_S = 10.0

@@ -11,7 +11,7 @@ import sys
 import numpy as np
 import pytest
 
-from fsarm_sim.shaft import ShaftParams, load_catalogue
+from fsarm_sim.plant.shaft import ShaftParams, load_catalogue
 
 
 @pytest.fixture(scope="session")

@@ -8,11 +8,11 @@ import mujoco
 import numpy as np
 import pytest
 
-from fsarm_sim import layout as L
-from fsarm_sim import physics
+from fsarm_sim.engine.model import Effects, SimConfig, build_model, read_structure
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.model import Effects, SimConfig, build_model, read_structure
-from fsarm_sim.simulation import Simulation, initial_state, run_scenario
+from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import physics
+from fsarm_sim.sim.simulation import Simulation, initial_state, run_scenario
 
 from conftest import hold_table
 

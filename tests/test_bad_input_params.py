@@ -23,12 +23,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fsarm_sim import sweep as sw
-from fsarm_sim import transmissions
+from fsarm_sim.engine.model import SimConfig, build_model
 from fsarm_sim.errors import CoefficientFileError, FsarmError, ShaftRangeError
-from fsarm_sim.model import SimConfig, build_model
-from fsarm_sim.shaft import UNITS, load_catalogue
-from fsarm_sim.transmissions.base import Bounds, Param, Transmission, TransmissionError
+from fsarm_sim.plant import transmissions
+from fsarm_sim.plant.shaft import UNITS, load_catalogue
+from fsarm_sim.plant.transmissions.base import Bounds, Param, Transmission, TransmissionError
+from fsarm_sim.studies import sweep as sw
 
 from conftest import hold_table, run_fsarm
 

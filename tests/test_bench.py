@@ -12,13 +12,13 @@ import mujoco
 import numpy as np
 import pytest
 
-from fsarm_sim import bench
-from fsarm_sim import layout as L
-from fsarm_sim.effects import bend_friction, series_stiffness
+from fsarm_sim.engine.model import Effects
 from fsarm_sim.errors import InvalidParameterError, ShaftRangeError
-from fsarm_sim.model import Effects
-from fsarm_sim.shaft import ShaftParams, load_catalogue
-from fsarm_sim.transmissions import flexible_shaft
+from fsarm_sim.kernels import layout as L
+from fsarm_sim.plant.effects import bend_friction, series_stiffness
+from fsarm_sim.plant.shaft import ShaftParams, load_catalogue
+from fsarm_sim.plant.transmissions import flexible_shaft
+from fsarm_sim.studies import bench
 
 
 @pytest.fixture(scope="module")

@@ -8,11 +8,12 @@ import mujoco
 import numpy as np
 import pytest
 
-from fsarm_sim import callbacks, scenarios
+from fsarm_sim.engine import callbacks
+from fsarm_sim.engine.model import Gains, SimConfig
 from fsarm_sim.errors import CallbackConflictError
-from fsarm_sim.model import Gains, SimConfig
-from fsarm_sim.shaft import load_catalogue
-from fsarm_sim.simulation import Simulation
+from fsarm_sim.plant.shaft import load_catalogue
+from fsarm_sim.sim import scenarios
+from fsarm_sim.sim.simulation import Simulation
 
 PENDULUM = """<mujoco><option timestep="0.002"/><worldbody><body><joint name="j" axis="0 1 0"/>
 <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02"/></body></worldbody>
@@ -106,7 +107,7 @@ def test_callbacks_only_while_active() -> None:
 
 def test_runs_in_threads_share_the_callbacks_and_match_a_run_alone() -> None:
     """Two runs stepping at once in two threads: each as if alone, callbacks restored after."""
-    from fsarm_sim.simulation import run_scenario
+    from fsarm_sim.sim.simulation import run_scenario
 
     alone = run_scenario("fig14-sine", duration_s=1.0).metrics["rmse_rad"]
     results: dict[int, object] = {}
@@ -130,7 +131,7 @@ def test_runs_in_threads_share_the_callbacks_and_match_a_run_alone() -> None:
 
 def test_building_a_model_waits_for_a_python_run_in_another_thread() -> None:
     """Compiling suspends the callbacks; it must not switch off another thread's run."""
-    from fsarm_sim.simulation import run_scenario
+    from fsarm_sim.sim.simulation import run_scenario
 
     alone = run_scenario("fig14-sine", duration_s=1.5).metrics["rmse_rad"]
     out: dict[str, object] = {}
@@ -198,7 +199,7 @@ def test_native_default_falls_back_to_the_python_path_with_a_message(
     real = importlib.import_module
 
     def no_native(name: str, *args, **kwargs):  # type: ignore[no-untyped-def]
-        if name == "fsarm_sim.native":
+        if name == "fsarm_sim.engine.native":
             raise ImportError("no compiler here")
         return real(name, *args, **kwargs)
 

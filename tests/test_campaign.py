@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fsarm_sim import campaign as cp
-from fsarm_sim.shaft import load_catalogue
+from fsarm_sim.plant.shaft import load_catalogue
+from fsarm_sim.studies import campaign as cp
 
 from conftest import run_fsarm
 

@@ -318,7 +318,7 @@ def test_run_summary_to_a_full_disk_is_rescued(
 def test_run_timeseries_write_failure_is_rescued(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:
-    from fsarm_sim import timeseries
+    from fsarm_sim.records import timeseries
 
     original = timeseries.write_timeseries
     target = tmp_path / "o"
@@ -369,7 +369,7 @@ def test_diagnose_result_to_a_full_disk_is_rescued(
 def test_ctrl_c_during_run_keeps_the_finished_part_and_exits_130(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:
-    from fsarm_sim.simulation import Simulation
+    from fsarm_sim.sim.simulation import Simulation
 
     loop = Simulation._loop
 
@@ -401,8 +401,8 @@ def test_ctrl_c_during_run_keeps_the_finished_part_and_exits_130(
 def test_compare_transmissions_exits_1_when_a_row_failed(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:
-    from fsarm_sim import comparison
     from fsarm_sim.errors import RunFailedError
+    from fsarm_sim.studies import comparison
 
     original = comparison.run_scenario
 
@@ -444,8 +444,8 @@ def test_compare_transmissions_all_ok_exits_0(
 def test_sweep_rerun_reports_failed_points_already_stored(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:
-    from fsarm_sim import sweep as sw
-    from fsarm_sim.store import ResultStore
+    from fsarm_sim.records.store import ResultStore
+    from fsarm_sim.studies import sweep as sw
 
     store = tmp_path / "r.sqlite"
     grid = "diameter_mm=9"
@@ -473,7 +473,7 @@ def test_sweep_rerun_reports_failed_points_already_stored(
 
 
 def test_store_accepts_its_own_files_and_empty_ones(tmp_path: Path) -> None:
-    from fsarm_sim.store import ResultStore
+    from fsarm_sim.records.store import ResultStore
 
     (tmp_path / "empty.sqlite").touch()
     sqlite3.connect(tmp_path / "blank.sqlite").close()  # SQLite file with no tables
@@ -511,16 +511,16 @@ def test_run_outputs_that_do_not_collide_pass(
 
 def test_module_names_every_command_that_writes() -> None:
     """Each command module that writes files goes through fsarm_sim.outputs."""
-    src = Path(__file__).resolve().parents[1] / "src" / "fsarm_sim"
+    src = Path(__file__).resolve().parents[1] / "src" / "fsarm_sim" / "cli"
     for name in (
-        "cli.py",
-        "cli_review.py",
-        "cli_discrepancy.py",
-        "cli_dynamics.py",
-        "cli_speed.py",
-        "cli_sweep.py",
-        "cli_transmissions.py",
-        "cli_collision.py",
+        "__init__.py",
+        "review.py",
+        "discrepancy.py",
+        "dynamics.py",
+        "speed.py",
+        "sweep.py",
+        "transmissions.py",
+        "collision.py",
     ):
         text = (src / name).read_text()
         assert "OutputPlan" in text or "run_output_plan" in text, name
@@ -577,8 +577,8 @@ def test_safe_writer_reports_a_result_it_could_not_keep(tmp_path: Path) -> None:
 def test_sweep_dry_run_counts_failed_points_in_the_store(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:
-    from fsarm_sim import sweep as sw
-    from fsarm_sim.store import ResultStore
+    from fsarm_sim.records.store import ResultStore
+    from fsarm_sim.studies import sweep as sw
 
     store = tmp_path / "r.sqlite"
     spec = sw.build_spec(None, grid=["diameter_mm=9,10"], outputs=["bench"])

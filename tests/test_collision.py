@@ -18,13 +18,13 @@ import pytest
 import typer
 from typer.testing import CliRunner
 
-from fsarm_sim import collision as C
-from fsarm_sim import scenarios
-from fsarm_sim.effects import bend_friction
+from fsarm_sim.engine.model import SimConfig, build_model, read_structure
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.model import SimConfig, build_model, read_structure
-from fsarm_sim.shaft import load_catalogue
-from fsarm_sim.simulation import RunResult, run_scenario
+from fsarm_sim.plant.effects import bend_friction
+from fsarm_sim.plant.shaft import load_catalogue
+from fsarm_sim.sim import scenarios
+from fsarm_sim.sim.simulation import RunResult, run_scenario
+from fsarm_sim.studies import collision as C
 
 HIT = scenarios.get("collision-hit")
 HAND = scenarios.get("hand-guide")
@@ -208,7 +208,7 @@ def test_alarm_intervals_and_bad_inputs() -> None:
 
 
 def test_cli_table_and_json(monkeypatch: pytest.MonkeyPatch, tmp_path) -> None:  # type: ignore[no-untyped-def]
-    from fsarm_sim import cli_collision
+    from fsarm_sim.cli import collision as cli_collision
 
     cal = C.Calibration(0.2, 0.1, 2.0, ("id @ 0 kg",))
     det = (

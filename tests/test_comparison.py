@@ -8,10 +8,10 @@ from pathlib import Path
 
 import pytest
 
-from fsarm_sim.comparison import compare
-from fsarm_sim.model import SimConfig, reference_stiffness
-from fsarm_sim.simulation import run_scenario
-from fsarm_sim.transmissions import TransmissionError
+from fsarm_sim.engine.model import SimConfig, reference_stiffness
+from fsarm_sim.plant.transmissions import TransmissionError
+from fsarm_sim.sim.simulation import run_scenario
+from fsarm_sim.studies.comparison import compare
 
 from conftest import run_fsarm
 
@@ -74,7 +74,7 @@ def test_cli_writes_the_table_as_json(monkeypatch: pytest.MonkeyPatch, tmp_path:
 
 
 def test_gain_overrides_are_checked(monkeypatch: pytest.MonkeyPatch) -> None:
-    from fsarm_sim.cli_transmissions import parse_gains
+    from fsarm_sim.cli.transmissions import parse_gains
     from fsarm_sim.errors import InvalidParameterError
 
     assert parse_gains(["torque_integral_rad_s=0"]) == {"torque_integral_rad_s": 0.0}

@@ -10,8 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fsarm_sim import synth
-from fsarm_sim.discrepancy import UnsupportedSetupError, diagnose, report
+from fsarm_sim.discrepancy import UnsupportedSetupError, diagnose, report, synth
 from fsarm_sim.discrepancy import battery as B
 from fsarm_sim.discrepancy import candidates as C
 from fsarm_sim.discrepancy import replay as R
@@ -30,8 +29,8 @@ from fsarm_sim.discrepancy.residuals import (
     nrmse_floor,
     split_masks,
 )
-from fsarm_sim.measured import Dataset, load_dataset
-from fsarm_sim.shaft import load_catalogue
+from fsarm_sim.plant.shaft import load_catalogue
+from fsarm_sim.records.measured import Dataset, load_dataset
 
 
 def _inputs(setup: str, u: np.ndarray, h: float, phi: float = 0.0) -> R.ReplayInputs:
@@ -126,14 +125,14 @@ def test_inertia_replay_limits() -> None:
 
 @pytest.mark.parametrize("load", ["blocked", 0.01])
 def test_replay_agrees_with_mujoco_series_bench(load: object) -> None:
-    """Same effects in MuJoCo (fsarm_sim.bench) and in the Numba replay: eq. 8 at a bend,
+    """Same effects in MuJoCo (fsarm_sim.studies.bench) and in the Numba replay: eq. 8 at a bend,
     eq. 1 damping, Maxwell-slip elements; with a load inertia its damping too.
 
     With a load MuJoCo runs at 0.1 ms: at its 1 ms default the slip states (integrated with the
     pre-step velocity) differ by ~2 % NRMSE through the lightly damped load resonance, and
     converge to the replay as the step shrinks (0.25 ms: 0.2 %, 0.1 ms: 0.07 %).
     """
-    from fsarm_sim.bench import simulate_series_bench
+    from fsarm_sim.studies.bench import simulate_series_bench
 
     # the replay's Maxwell-slip candidate is the symmetric, bend-independent stop operator: give
     # the MuJoCo shaft's elements the same law (the catalogue's are side- and bend-dependent)
@@ -188,8 +187,8 @@ def test_replay_agrees_with_mujoco_series_bench(load: object) -> None:
 
 def test_replay_agrees_with_mujoco_parallel_bench() -> None:
     """Parallel bench: eq. 2/4 bending with stiffening, conduit branches, link inertia."""
-    from fsarm_sim.bench import simulate_parallel_bench
-    from fsarm_sim.model import Effects
+    from fsarm_sim.engine.model import Effects
+    from fsarm_sim.studies.bench import simulate_parallel_bench
 
     sh = load_catalogue().shaft()
     h = 1e-3

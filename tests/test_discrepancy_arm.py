@@ -14,15 +14,15 @@ from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_modelfile as MF
 from fsarm_sim.discrepancy import arm_synth as S
 from fsarm_sim.discrepancy import replay as R
-from fsarm_sim.effects import delay
-from fsarm_sim.measured import (
+from fsarm_sim.engine.model import SimConfig
+from fsarm_sim.plant.effects import delay
+from fsarm_sim.records.measured import (
     MissingColumnError,
     SidecarError,
     TimeAxisError,
     load_dataset,
     write_dataset,
 )
-from fsarm_sim.model import SimConfig
 
 from conftest import run_fsarm
 

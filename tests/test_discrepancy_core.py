@@ -21,8 +21,8 @@ from fsarm_sim.discrepancy import selection as S
 from fsarm_sim.discrepancy.effect_text import parse_effect
 from fsarm_sim.discrepancy.residuals import noise_floor, nrmse, split_masks
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.measured import Dataset
-from fsarm_sim.shaft import load_catalogue
+from fsarm_sim.plant.shaft import load_catalogue
+from fsarm_sim.records.measured import Dataset
 
 FloatArray = np.ndarray
 

@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 from dm_env import StepType
 
-from fsarm_sim import dmc_env
+from fsarm_sim.engine.model import SimConfig, build_model
 from fsarm_sim.errors import FsarmError
-from fsarm_sim.model import SimConfig, build_model
-from fsarm_sim.simulation import run_scenario
+from fsarm_sim.sim.simulation import run_scenario
+from fsarm_sim.studies import dmc_env
 
 from conftest import hold_table
 

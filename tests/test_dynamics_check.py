@@ -14,13 +14,13 @@ import pinocchio as pin
 import pytest
 from typer.testing import CliRunner
 
-from fsarm_sim import dynamics_check as C
-from fsarm_sim import layout as L
-from fsarm_sim import transmissions
 from fsarm_sim.cli import app
+from fsarm_sim.engine.model import SimConfig
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.model import SimConfig
-from fsarm_sim.shaft import load_catalogue
+from fsarm_sim.kernels import layout as L
+from fsarm_sim.plant import transmissions
+from fsarm_sim.plant.shaft import load_catalogue
+from fsarm_sim.studies import dynamics_check as C
 
 N = 50  # random states per model (the CLI default is 200)
 SHORT_S = 0.05  # trajectory length in the tests

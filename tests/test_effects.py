@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from fsarm_sim.effects import bending, conduit_viscoelastic, maxwell_slip, series_stiffness
+from fsarm_sim.plant.effects import bending, conduit_viscoelastic, maxwell_slip, series_stiffness
 
 K = (15.0, -2.86, 12.0, -2.15)  # k_pos, s_pos, k_neg, s_neg of the prototype
 

@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from fsarm_sim.effects import (
+from fsarm_sim.plant.effects import (
     backlash,
     conduit_viscoelastic,
     coulomb_friction,
@@ -144,7 +144,7 @@ def test_polynomial_spring_is_an_energy_gradient(c2: float, c3: float) -> None:
 def test_masterflex08_curve_is_seed001_table1() -> None:
     """Seed 001 Table 1 evaluated directly (degrees) inside the fitted range (|T| <= 5 N*m),
     through the origin, stiffening; beyond it the one continuation the RTCA transmission uses."""
-    from fsarm_sim.transmissions import rtca
+    from fsarm_sim.plant.transmissions import rtca
 
     d = 30.0
     pos = 4.202 - 4.201 * math.cos(0.03322 * d) + 0.1622 * math.sin(0.03322 * d)
@@ -241,8 +241,8 @@ def test_payload_error_matches_mujoco_gravity() -> None:
     """Extra payload mass: the module's gravity torques equal MuJoCo's bias-force change."""
     import mujoco
 
-    from fsarm_sim import callbacks
-    from fsarm_sim.model import SimConfig, build_spec
+    from fsarm_sim.engine import callbacks
+    from fsarm_sim.engine.model import SimConfig, build_spec
 
     def model_with(mass: float) -> mujoco.MjModel:
         with callbacks.suspended():
@@ -278,7 +278,7 @@ def test_registry_covers_the_spec_vocabulary_and_is_consistent() -> None:
     assert "payload_error" in names
     for eff in registry.EFFECTS:
         for mod in eff.module.split(" / "):
-            importlib.import_module(f"fsarm_sim.effects.{mod.strip()}")
+            importlib.import_module(f"fsarm_sim.plant.effects.{mod.strip()}")
         assert eff.variants
         for v in eff.variants:
             assert v.setups and v.enters
@@ -306,7 +306,7 @@ def test_every_applicable_effect_changes_the_replay(setup: str, inertia: bool) -
     """Generic over the registry: each (effect, variant) at mid-size parameters enters the replay."""
     from fsarm_sim.discrepancy import replay as R
     from fsarm_sim.discrepancy.benchmodel import EffectInstance, nominal_from_shaft
-    from fsarm_sim.shaft import load_catalogue
+    from fsarm_sim.plant.shaft import load_catalogue
 
     sh = load_catalogue().shaft()
     base = nominal_from_shaft(setup, sh, 0.01 if inertia else None, j_link=0.01)

@@ -6,10 +6,11 @@ import math
 
 import pytest
 
-from fsarm_sim import layout as L
-from fsarm_sim import physics, transmissions
-from fsarm_sim.energy_check import conservative_config, free_arm_energy_drift
-from fsarm_sim.model import build_model
+from fsarm_sim.engine.model import build_model
+from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import physics
+from fsarm_sim.plant import transmissions
+from fsarm_sim.studies.energy_check import conservative_config, free_arm_energy_drift
 
 NAMES = transmissions.names()
 MAX_DRIFT_J = 1e-6
@@ -34,7 +35,7 @@ def test_without_the_coupling_torque_a_routed_bend_dependent_law_drifts() -> Non
 
 
 def free_arm_energy_drift_without_coupling(name: str) -> float:
-    import fsarm_sim.energy_check as E
+    import fsarm_sim.studies.energy_check as E
 
     original = E.build_model
 
@@ -62,7 +63,7 @@ def test_coupling_torque_is_minus_the_bend_derivative_of_the_stored_energy(name:
     import mujoco
 
     d = mujoco.MjData(m)
-    from fsarm_sim.model import read_structure
+    from fsarm_sim.engine.model import read_structure
 
     st = read_structure(m)
     d.qpos[st.qadr[1]] = 0.7
@@ -104,8 +105,8 @@ def test_every_transmission_states_minus_dv_dbend(name: str) -> None:
 def _stuck_elements_drift(unwinding_ratio: float, timestep_s: float):  # type: ignore[no-untyped-def]
     import dataclasses
 
-    import fsarm_sim.energy_check as E
-    from fsarm_sim.shaft import load_catalogue
+    import fsarm_sim.studies.energy_check as E
+    from fsarm_sim.plant.shaft import load_catalogue
 
     sh = load_catalogue().shaft(series_hysteresis=True)
     assert sh.bend_friction_per_rad > 0.0

@@ -12,9 +12,9 @@ from typing import Any
 
 import pytest
 
-from fsarm_sim import sweep as sw
 from fsarm_sim.executors import ExecutorError, Outcome, run_tasks
-from fsarm_sim.store import ResultStore
+from fsarm_sim.records.store import ResultStore
+from fsarm_sim.studies import sweep as sw
 
 
 def _tiny_tasks() -> list[dict[str, Any]]:

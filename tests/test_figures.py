@@ -10,9 +10,11 @@ import matplotlib.image
 import numpy as np
 import pytest
 
-from fsarm_sim import cli, figures, scenarios
+from fsarm_sim import cli
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.simulation import RunResult, run_scenario
+from fsarm_sim.review import figures
+from fsarm_sim.sim import scenarios
+from fsarm_sim.sim.simulation import RunResult, run_scenario
 
 SMALL = (3.2, 2.2)  # inches
 DPI = 50

@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from fsarm_sim.identification import qa_joint_ls as ls
-from fsarm_sim.transmissions import qa_joint as qa
-from fsarm_sim.transmissions.base import Transmission
+from fsarm_sim.plant.transmissions import qa_joint as qa
+from fsarm_sim.plant.transmissions.base import Transmission
+from fsarm_sim.studies.identification import qa_joint_ls as ls
 
 TR = Transmission("qa-joint", 2, qa)
 DEG = math.pi / 180.0

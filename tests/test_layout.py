@@ -7,9 +7,10 @@ import itertools
 import numpy as np
 import pytest
 
-from fsarm_sim import layout as L
-from fsarm_sim import physics, transmissions
+from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import physics
 from fsarm_sim.paramblocks import Decl, Layout, LayoutError
+from fsarm_sim.plant import transmissions
 
 
 def test_every_slot_is_declared_once_and_blocks_do_not_overlap() -> None:
@@ -33,7 +34,7 @@ def test_every_named_constant_points_into_its_declared_block() -> None:
 
 
 def test_a_law_module_declares_its_own_block() -> None:
-    from fsarm_sim.effects import backlash, bending
+    from fsarm_sim.plant.effects import backlash, bending
 
     lo, hi = L.LAYOUT.bounds("bending")
     assert [s.decl.name for s in L.LAYOUT.slots[lo:hi]] == [d.name for d in bending.KERNEL_PARAMS]

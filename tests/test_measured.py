@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fsarm_sim import measured as M
+from fsarm_sim.records import measured as M
 
 
 def _series_cols(n: int = 500) -> dict[str, np.ndarray]:

@@ -9,9 +9,9 @@ import mujoco
 import numpy as np
 import pytest
 
-from fsarm_sim import layout as L
+from fsarm_sim.engine.model import Gains, SimConfig, build_model, model_path, read_structure
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
-from fsarm_sim.model import Gains, SimConfig, build_model, model_path, read_structure
+from fsarm_sim.kernels import layout as L
 
 from conftest import hold_table
 

@@ -15,12 +15,14 @@ import mujoco
 import numpy as np
 import pytest
 
-from fsarm_sim import batch, bench, callbacks, native, scenarios
-from fsarm_sim import layout as L
+from fsarm_sim.engine import callbacks, native
+from fsarm_sim.engine.model import Effects, SimConfig
 from fsarm_sim.errors import InvalidParameterError, SimulationWarningError
-from fsarm_sim.model import Effects, SimConfig
-from fsarm_sim.shaft import load_catalogue
-from fsarm_sim.simulation import Simulation
+from fsarm_sim.kernels import layout as L
+from fsarm_sim.plant.shaft import load_catalogue
+from fsarm_sim.sim import batch, scenarios
+from fsarm_sim.sim.simulation import Simulation
+from fsarm_sim.studies import bench
 
 FULLPHYSICS = mujoco.mjtState.mjSTATE_FULLPHYSICS
 INTEGRATION = mujoco.mjtState.mjSTATE_INTEGRATION
@@ -274,7 +276,7 @@ def test_offsetof_probe_matches_table_in_use() -> None:
 
 def test_compiled_callbacks_are_cached() -> None:
     """A fresh process loads all three callbacks from the cache this process filled."""
-    code = "from fsarm_sim import native; print(native.COMPILE_INFO.cache_hits)"
+    code = "from fsarm_sim.engine import native; print(native.COMPILE_INFO.cache_hits)"
     env = dict(os.environ)
     out = subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, env=env, check=True
@@ -284,7 +286,7 @@ def test_compiled_callbacks_are_cached() -> None:
 
 def test_speed_benchmark_runs_and_reports() -> None:
     """Smoke test of the benchmark's plumbing (tiny sizes; the numbers are not checked)."""
-    from fsarm_sim.speed import format_report, measure_speed
+    from fsarm_sim.studies.speed import format_report, measure_speed
 
     r = measure_speed(
         reps=1,

@@ -8,12 +8,13 @@ import mujoco
 import numpy as np
 import pytest
 
-from fsarm_sim import callbacks, physics
-from fsarm_sim import layout as L
-from fsarm_sim.effects import bend_friction
-from fsarm_sim.model import Effects, Gains, SimConfig, build_model, read_structure
-from fsarm_sim.shaft import ShaftParams, load_catalogue
-from fsarm_sim.simulation import initial_state, raise_on_warning
+from fsarm_sim.engine import callbacks
+from fsarm_sim.engine.model import Effects, Gains, SimConfig, build_model, read_structure
+from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import physics
+from fsarm_sim.plant.effects import bend_friction
+from fsarm_sim.plant.shaft import ShaftParams, load_catalogue
+from fsarm_sim.sim.simulation import initial_state, raise_on_warning
 
 from conftest import hold_table
 
@@ -116,7 +117,7 @@ def test_static_twist_is_torque_over_stiffness_on_each_side(
 def test_joint2_static_relief_about_8nm_at_90deg(prototype: ShaftParams) -> None:
     """Hold the arm with joint 2 at 90 deg under position control: the joint-2 motor needs about
     8 N*m less with the bent shaft than without (controller not told about the shaft)."""
-    from fsarm_sim.simulation import Simulation
+    from fsarm_sim.sim.simulation import Simulation
 
     torques = []
     for bending in (True, False):
@@ -133,7 +134,7 @@ def test_joint2_static_relief_about_8nm_at_90deg(prototype: ShaftParams) -> None
 
 
 def test_torque_estimate_matches_truth_and_sees_hysteresis() -> None:
-    from fsarm_sim.simulation import run_scenario
+    from fsarm_sim.sim.simulation import run_scenario
 
     no_hysteresis = SimConfig(shaft=load_catalogue().shaft(series_hysteresis=False))
     exact = run_scenario("fig14-sine", no_hysteresis, duration_s=2.0).metrics
@@ -150,7 +151,7 @@ def test_torque_estimate_matches_truth_and_sees_hysteresis() -> None:
 def test_series_hysteresis_loop_in_the_arm_dissipates() -> None:
     """With the 15 kg payload the twist swings ~0.17 rad: over one full 4 s period the net work
     done on the shaft (the torque-twist loop area) is positive with slip hysteresis, ~0 without."""
-    from fsarm_sim.simulation import run_scenario
+    from fsarm_sim.sim.simulation import run_scenario
 
     works = []
     for hysteresis in (True, False):

@@ -10,11 +10,11 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from fsarm_sim import callbacks
-from fsarm_sim import pinocchio_model as pm
+from fsarm_sim.engine import callbacks
+from fsarm_sim.engine.model import SimConfig, build_model, build_spec, read_structure
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
-from fsarm_sim.model import SimConfig, build_model, build_spec, read_structure
-from fsarm_sim.shaft import load_catalogue
+from fsarm_sim.plant.shaft import load_catalogue
+from fsarm_sim.studies import pinocchio_model as pm
 
 TABLE = np.zeros((2, 9))
 ODD_PAYLOAD_KG = 7.123456789  # more digits than MuJoCo's XML writer keeps

@@ -14,10 +14,10 @@ import mujoco
 import numpy as np
 import pytest
 
-from fsarm_sim import recording
+from fsarm_sim.engine.model import model_path
 from fsarm_sim.errors import FsarmError, InvalidParameterError
-from fsarm_sim.model import model_path
-from fsarm_sim.simulation import RunResult, run_scenario
+from fsarm_sim.review import recording
+from fsarm_sim.sim.simulation import RunResult, run_scenario
 
 from conftest import run_fsarm
 

@@ -1,4 +1,4 @@
-"""One typed record schema (fsarm_sim.records): every writer's sidecar reads back equal, legacy
+"""One typed record schema (fsarm_sim.records.sidecar): every writer's sidecar reads back equal, legacy
 sidecars still load, unknown keys and wrong types are named errors, and a record written by
 ``fsarm run`` is diagnosed as it is (unused columns listed, not refused)."""
 
@@ -9,14 +9,14 @@ from pathlib import Path
 
 import pytest
 
-from fsarm_sim import records as rec
-from fsarm_sim import synth, timeseries
 from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_modelfile as MF
-from fsarm_sim.discrepancy import arm_synth
-from fsarm_sim.measured import SidecarError, load_dataset
-from fsarm_sim.model import SimConfig
-from fsarm_sim.simulation import run_scenario
+from fsarm_sim.discrepancy import arm_synth, synth
+from fsarm_sim.engine.model import SimConfig
+from fsarm_sim.records import sidecar as rec
+from fsarm_sim.records import timeseries
+from fsarm_sim.records.measured import SidecarError, load_dataset
+from fsarm_sim.sim.simulation import run_scenario
 
 from conftest import run_fsarm
 

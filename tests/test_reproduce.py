@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from fsarm_sim.reproduce import runner
-from fsarm_sim.reproduce.claims import (
+from fsarm_sim.studies.reproduce import runner
+from fsarm_sim.studies.reproduce.claims import (
     PAPERS,
     VERDICTS,
     Abs,

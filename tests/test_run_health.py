@@ -13,15 +13,17 @@ import mujoco
 import numpy as np
 import pytest
 
-from fsarm_sim import callbacks, physics, scenarios, simulation
-from fsarm_sim import layout as L
+from fsarm_sim.engine import callbacks
+from fsarm_sim.engine.model import Gains, SimConfig
 from fsarm_sim.errors import (
     CallbackBypassError,
     InvalidParameterError,
     RunHealthError,
 )
-from fsarm_sim.model import Gains, SimConfig
-from fsarm_sim.simulation import Simulation, check_clock, run_scenario
+from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import physics
+from fsarm_sim.sim import scenarios, simulation
+from fsarm_sim.sim.simulation import Simulation, check_clock, run_scenario
 
 HOUR_S = 3600.0
 MINUTE_S = 60.0

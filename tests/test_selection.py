@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from fsarm_sim.shaft import load_catalogue
-from fsarm_sim.shaft_selection import (
+from fsarm_sim.plant.shaft import load_catalogue
+from fsarm_sim.studies.shaft_selection import (
     SelectionRequest,
     ShaftSelectionError,
     algorithm1,
@@ -180,12 +180,12 @@ def test_cli_select_shaft(
 
 
 def test_old_module_name_is_a_deprecated_alias() -> None:
-    """fsarm_sim.selection (renamed fsarm_sim.shaft_selection) still works for one release."""
+    """fsarm_sim.studies.selection (renamed fsarm_sim.studies.shaft_selection) still works for one release."""
     import ast
     import inspect
 
-    import fsarm_sim.selection as old
-    import fsarm_sim.shaft_selection as new
+    import fsarm_sim.studies.selection as old
+    import fsarm_sim.studies.shaft_selection as new
 
     tree = ast.parse(inspect.getsource(new))
     defined = {n.name for n in tree.body if isinstance(n, ast.FunctionDef | ast.ClassDef)}

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from fsarm_sim.errors import CoefficientFileError, ShaftRangeError
-from fsarm_sim.shaft import load_catalogue
+from fsarm_sim.plant.shaft import load_catalogue
 
 CAT = load_catalogue()
 BENDS = np.linspace(0.0, 2.0 * math.pi / 3.0, 9)

@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from fsarm_sim import scenarios
+from fsarm_sim.engine.model import SimConfig
 from fsarm_sim.errors import InvalidParameterError, ScenarioNotFoundError, SimulationWarningError
-from fsarm_sim.model import SimConfig
-from fsarm_sim.simulation import Simulation, run_scenario
+from fsarm_sim.sim import scenarios
+from fsarm_sim.sim.simulation import Simulation, run_scenario
 
 
 @pytest.mark.parametrize("name", sorted(scenarios.REGISTRY))
@@ -78,7 +78,7 @@ def test_interrupted_run_keeps_finished_work(monkeypatch: pytest.MonkeyPatch) ->
     """Ctrl-C during a long run: the finished part is returned, marked as interrupted."""
     import mujoco
 
-    from fsarm_sim import simulation
+    from fsarm_sim.sim import simulation
 
     calls = {"n": 0}
     real_step = mujoco.mj_step

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 import fsarm_sim
-from fsarm_sim.store import ResultStore, StoreError, canonical_json, point_key
+from fsarm_sim.records.store import ResultStore, StoreError, canonical_json, point_key
 
 POINT = {
     "diameter_mm": 9.0,

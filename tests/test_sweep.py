@@ -14,12 +14,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fsarm_sim import arm_metrics, cli
-from fsarm_sim import sweep as sw
+from fsarm_sim import cli
+from fsarm_sim.engine.model import Gains, SimConfig
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.model import Gains, SimConfig
-from fsarm_sim.shaft import load_catalogue
-from fsarm_sim.store import ResultStore, point_key
+from fsarm_sim.plant.shaft import load_catalogue
+from fsarm_sim.records.store import ResultStore, point_key
+from fsarm_sim.studies import arm_metrics
+from fsarm_sim.studies import sweep as sw
 
 
 def _fsarm(monkeypatch: pytest.MonkeyPatch, *args: str) -> int:

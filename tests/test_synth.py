@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from fsarm_sim import synth
 from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import synth
 from fsarm_sim.discrepancy.benchmodel import EffectInstance, load_model, model_from_dict
 from fsarm_sim.discrepancy.residuals import lag_of_best_match, noise_floor
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.measured import load_dataset
+from fsarm_sim.records.measured import load_dataset
 
 REC = synth.Recording(duration_s=6.0, noise=0.01, trajectory="multisine", seed=1)
 

@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from fsarm_sim.transmissions import magnetic_spring as ms
-from fsarm_sim.transmissions.base import N_STATES, Transmission, TransmissionError
+from fsarm_sim.plant.transmissions import magnetic_spring as ms
+from fsarm_sim.plant.transmissions.base import N_STATES, Transmission, TransmissionError
 
 ACT = np.zeros(N_STATES)
 TR = ms.default_block()

@@ -9,8 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from fsarm_sim.transmissions import qa_joint as qa
-from fsarm_sim.transmissions.base import N_STATES, N_TR, Transmission, TransmissionError
+from fsarm_sim.plant.transmissions import qa_joint as qa
+from fsarm_sim.plant.transmissions.base import N_STATES, N_TR, Transmission, TransmissionError
 
 TR = Transmission("qa-joint", 2, qa)
 DT = 1e-3  # the arm's physics step

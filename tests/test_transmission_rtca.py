@@ -8,9 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from fsarm_sim.effects import nonlinear_stiffness
-from fsarm_sim.transmissions import rtca
-from fsarm_sim.transmissions.base import N_STATES, N_TR, Transmission, TransmissionError
+from fsarm_sim.plant.effects import nonlinear_stiffness
+from fsarm_sim.plant.transmissions import rtca
+from fsarm_sim.plant.transmissions.base import N_STATES, N_TR, Transmission, TransmissionError
 
 ACT = np.zeros(N_STATES)
 TR = rtca.default_block()

@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from fsarm_sim.transmissions import tendon_sheath as ts
-from fsarm_sim.transmissions.base import N_STATES, N_TR, Transmission, TransmissionError
+from fsarm_sim.plant.transmissions import tendon_sheath as ts
+from fsarm_sim.plant.transmissions.base import N_STATES, N_TR, Transmission, TransmissionError
 
 TR = Transmission("tendon-sheath", 4, ts)
 DT = 1e-3

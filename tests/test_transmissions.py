@@ -14,14 +14,15 @@ import mujoco
 import numpy as np
 import pytest
 
-from fsarm_sim import layout as L
-from fsarm_sim import physics, transmissions
-from fsarm_sim.cli_transmissions import parse_params
+from fsarm_sim.cli.transmissions import parse_params
+from fsarm_sim.engine.model import Effects, SimConfig, build_model, read_structure
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.model import Effects, SimConfig, build_model, read_structure
-from fsarm_sim.shaft import load_catalogue
-from fsarm_sim.simulation import initial_state, run_scenario
-from fsarm_sim.transmissions.base import N_STATES, TransmissionError
+from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import physics
+from fsarm_sim.plant import transmissions
+from fsarm_sim.plant.shaft import load_catalogue
+from fsarm_sim.plant.transmissions.base import N_STATES, TransmissionError
+from fsarm_sim.sim.simulation import initial_state, run_scenario
 
 from conftest import hold_table, run_fsarm
 

@@ -6,11 +6,11 @@ import math
 
 import pytest
 
-from fsarm_sim.arm_metrics import torque_bandwidth
+from fsarm_sim.engine.model import Gains, SimConfig
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.model import Gains, SimConfig
-from fsarm_sim.shaft import load_catalogue
-from fsarm_sim.transparency import output_impedance
+from fsarm_sim.plant.shaft import load_catalogue
+from fsarm_sim.studies.arm_metrics import torque_bandwidth
+from fsarm_sim.studies.transparency import output_impedance
 
 # the shaft's eq. 8 law alone: these tests are about its stiffness and the loop around it
 ELASTIC = load_catalogue().shaft(series_hysteresis=False)

@@ -7,15 +7,15 @@ missing here. Names are relative to ``fsarm_sim`` (``__init__``: the package its
 package's name covers its submodules unless a submodule is listed itself. ``controllers`` is the
 top-level ``controllers/`` folder, installed as ``fsarm_sim.controllers``.
 
-Read top-down, the layers are the package's architecture (the folders it is growing into):
+Read top-down, the layers are the package's folders (since 0.3.0):
 
 * base - named errors, declared parameter blocks, output paths, task executors;
-* laws - physical laws and pure controllers: no MuJoCo, compilable (effects, transmissions, the
-  shaft catalogue);
-* layout - where parameters and states live inside a model and its data (the kernels' ABI);
-* kernels - the array kernels the callbacks run;
-* engine - MuJoCo glue: model building, callbacks, native compilation;
-* simulation - the runner, its scenarios and their outer loops, batches of runs;
+* laws (``plant/``, ``controllers/``) - physical laws and pure controllers: no MuJoCo,
+  compilable (effects, transmissions, the shaft catalogue);
+* layout (``kernels/layout``) - where parameters and states live inside a model and its data;
+* kernels (``kernels/physics``) - the array kernels the callbacks run;
+* engine (``engine/``) - MuJoCo glue: model building, callbacks, native compilation;
+* simulation (``sim/``) - the runner, its scenarios and their outer loops, batches of runs;
 * records - the record schema, measured data, written runs, the results store;
 * studies - what is computed from runs: benches, sweeps, shaft selection, comparisons,
   collision detection, verification (Pinocchio, energy), speed, identification, environments,
@@ -29,48 +29,14 @@ from __future__ import annotations
 
 LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("base", ("__init__", "_layers", "data", "errors", "executors", "outputs", "paramblocks")),
-    ("laws", ("controllers", "effects", "shaft", "transmissions")),
-    ("layout", ("layout",)),
-    ("kernels", ("physics",)),
-    ("engine", ("callbacks", "model", "native")),
-    ("simulation", ("batch", "outer_loops", "references", "scenarios", "simulation")),
-    ("records", ("measured", "records", "store", "timeseries")),
-    (
-        "studies",
-        (
-            "arm_metrics",
-            "bench",
-            "campaign",
-            "collision",
-            "comparison",
-            "dmc_env",
-            "dynamics_check",
-            "energy_check",
-            "identification",
-            "pinocchio_model",
-            "reproduce",
-            "selection",  # deprecated alias of shaft_selection
-            "shaft_selection",
-            "speed",
-            "sweep",
-            "transparency",
-        ),
-    ),
-    ("review", ("figures", "recording")),
-    ("discrepancy", ("discrepancy", "synth")),
-    (
-        "cli",
-        (
-            "cli",
-            "cli_collision",
-            "cli_discrepancy",
-            "cli_dynamics",
-            "cli_reproduce",
-            "cli_review",
-            "cli_speed",
-            "cli_sweep",
-            "cli_transmissions",
-            "console",
-        ),
-    ),
+    ("laws", ("controllers", "plant")),
+    ("layout", ("kernels", "kernels.layout")),
+    ("kernels", ("kernels.physics",)),
+    ("engine", ("engine",)),
+    ("simulation", ("sim",)),
+    ("records", ("records",)),
+    ("studies", ("studies",)),
+    ("review", ("review",)),
+    ("discrepancy", ("discrepancy",)),
+    ("cli", ("cli",)),
 )

@@ -52,7 +52,7 @@ class RunHealthError(RunFailedError):
 
 class CallbackBypassError(FsarmError, RuntimeError):
     """An fsarm model was stepped without fsarm's callbacks (plain ``mujoco.mj_step`` outside
-    ``fsarm_sim.callbacks.active()``): its shaft and controllers did not act over those steps."""
+    ``fsarm_sim.engine.callbacks.active()``): its shaft and controllers did not act over those steps."""
 
 
 class CallbackConflictError(FsarmError, RuntimeError):

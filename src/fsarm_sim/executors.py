@@ -17,7 +17,7 @@ results store).
   anything). ``processes=False`` runs the workers as threads of this process (tests).
 
 MuJoCo's callbacks are process-global and fsarm installs them only while stepping
-(:func:`fsarm_sim.callbacks.active`), which is not safe for two threads of one process at the same
+(:func:`fsarm_sim.engine.callbacks.active`), which is not safe for two threads of one process at the same
 time. Every task therefore runs under :data:`PROCESS_LOCK`: processes run in parallel, threads of
 one process take turns.
 """

@@ -2,9 +2,9 @@
 
 Every slot of ``model.numeric("fsarm_params")`` is *declared* - a name, a unit, a default and
 where its value comes from - in a block owned by one part of the model (a law module declares its
-own, e.g. :data:`fsarm_sim.effects.bending.KERNEL_PARAMS`). :class:`Layout` gives the blocks
+own, e.g. :data:`fsarm_sim.plant.effects.bending.KERNEL_PARAMS`). :class:`Layout` gives the blocks
 consecutive offsets in the order they are added, so no index is ever typed by hand; the offsets
-come out as plain ints that :mod:`fsarm_sim.layout` keeps as module-level constants (Numba
+come out as plain ints that :mod:`fsarm_sim.kernels.layout` keeps as module-level constants (Numba
 freezes those into the compiled kernels). ``tests/test_layout.py`` checks that no two slots
 overlap and that every slot is declared exactly once.
 

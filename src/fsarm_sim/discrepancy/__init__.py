@@ -24,7 +24,7 @@ from typing import Any
 
 from fsarm_sim.discrepancy.bench_setup import diagnose
 from fsarm_sim.discrepancy.core import Diagnosis, Setup, UnsupportedSetupError
-from fsarm_sim.measured import Dataset
+from fsarm_sim.records.measured import Dataset
 
 __all__ = ["Diagnosis", "Setup", "UnsupportedSetupError", "diagnose", "diagnose_record"]
 

@@ -68,7 +68,7 @@ from fsarm_sim.discrepancy.arm_fit import (
 from fsarm_sim.discrepancy.report import plot_channel_nrmse
 from fsarm_sim.discrepancy.residuals import nrmse, signature
 from fsarm_sim.discrepancy.selection import LOOK_ALIKES, Score
-from fsarm_sim.measured import Dataset
+from fsarm_sim.records.measured import Dataset
 
 __all__ = [
     "ARM_LOOK_ALIKES",

@@ -1,15 +1,15 @@
 """The arm's closed-loop replay and fits: rebuild a recorded run, simulate a model of it, fit the
 nominal refit and the candidate effects (the arm's :class:`~.core.Setup` is :mod:`.arm`).
 
-**Replay.** An ``arm`` record (:mod:`fsarm_sim.measured`; sidecar schema :mod:`fsarm_sim.records`)
+**Replay.** An ``arm`` record (:mod:`fsarm_sim.records.measured`; sidecar schema :mod:`fsarm_sim.records.sidecar`)
 is rebuilt from its sidecar - shaft (a run's exact ``shaft_params`` when recorded), stated
 payload, controller gains, control period, timestep, integrator and joint 3's transmission with
-its plant and controller parameters - into a :class:`~fsarm_sim.model.SimConfig`,
+its plant and controller parameters - into a :class:`~fsarm_sim.engine.model.SimConfig`,
 and the run is simulated by the project's own simulator (MuJoCo + the native callbacks) with the
 *recorded* references ``q*_ref`` (``qd*_ref``/``qdd*_ref`` if recorded, else central differences,
 see :func:`reference_table`) driving the *run's* controller. The controller always keeps the
 stated shaft and payload (what the real controller knew); refits and effects act on the plant
-only (``SimConfig.controller_shaft``; the plant-only switches of :class:`~fsarm_sim.model.Effects`).
+only (``SimConfig.controller_shaft``; the plant-only switches of :class:`~fsarm_sim.engine.model.Effects`).
 
 **Channels.** The recorded ``q3``, ``theta_m`` and ``q2`` are compared in the basis
 ``q3``, ``twist = theta_m - i_G2 q3`` (the shaft twist, proportional to the shaft torque by eq. 8)
@@ -45,7 +45,7 @@ delay[CH]                  the recorded channel CH lags the others by d         
 =========================  =============================================================  ====
 
 The last two are measurement effects: applied to the simulated channel
-(:func:`apply_measurement`), not to the plant. Bounds: :mod:`fsarm_sim.effects.registry`.
+(:func:`apply_measurement`), not to the plant. Bounds: :mod:`fsarm_sim.plant.effects.registry`.
 
 **Fitting** (few simulations: a 10 s record costs ~0.15 s per closed-loop run). Each step
 linearises the weighted teaching residual once: secant columns (one simulation per plant
@@ -75,22 +75,22 @@ import numpy as np
 import numpy.typing as npt
 from scipy.optimize import lsq_linear
 
-from fsarm_sim import transmissions
 from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.discrepancy.benchmodel import EffectInstance
 from fsarm_sim.discrepancy.residuals import noise_floor, split_masks
-from fsarm_sim.effects import sensor_offset
+from fsarm_sim.engine.model import PAYLOAD_MAX_KG, Effects, Gains, SimConfig
 from fsarm_sim.errors import InvalidParameterError, SimulationWarningError
-from fsarm_sim.measured import (
+from fsarm_sim.plant import transmissions
+from fsarm_sim.plant.effects import sensor_offset
+from fsarm_sim.plant.shaft import ShaftParams
+from fsarm_sim.records.measured import (
     Dataset,
     MeasuredDataError,
     SidecarError,
 )
-from fsarm_sim.model import PAYLOAD_MAX_KG, Effects, Gains, SimConfig
-from fsarm_sim.records import Sidecar, as_record
-from fsarm_sim.shaft import ShaftParams
-from fsarm_sim.simulation import Simulation
+from fsarm_sim.records.sidecar import Sidecar, as_record
+from fsarm_sim.sim.simulation import Simulation
 
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
@@ -284,7 +284,7 @@ def stated_transmission(
 
 def arm_run(ds: Dataset) -> ArmRun:
     """Rebuild the run's setup from an ``arm`` dataset (sidecar keys checked here; the schema
-    of the sidecar is :mod:`fsarm_sim.records`)."""
+    of the sidecar is :mod:`fsarm_sim.records.sidecar`)."""
     where = ds.path.with_suffix(".json")
     if ds.setup != "arm":
         raise ArmSidecarError(f"{where}: expected an 'arm' dataset, got '{ds.setup}'")
@@ -621,7 +621,7 @@ def make_context(ds: Dataset, run: ArmRun) -> ArmContext:
     c = ds.columns
     raw = {ch: c[ch] for ch in RAW}
     # i_G2 from the compiled model of the stated run (a one-tick build, no stepping)
-    from fsarm_sim.model import build_model, read_structure
+    from fsarm_sim.engine.model import build_model, read_structure
 
     try:
         coef_s = read_structure(build_model(to_config(run, ArmModel()), run.ref_table[:2])).coef_s

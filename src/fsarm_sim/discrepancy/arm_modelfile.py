@@ -1,5 +1,5 @@
 """The arm's final-model file: what ``fsarm diagnose`` writes for an arm record, and loading it
-back as a :class:`~fsarm_sim.model.SimConfig` the simulator runs (``load_arm_config``).
+back as a :class:`~fsarm_sim.engine.model.SimConfig` the simulator runs (``load_arm_config``).
 
 Format ``fsarm-arm-model`` (JSON): the stated setup (shaft - D/L and, for the model of a record
 of ``fsarm run``, its exact ``shaft_params`` -, payload, control period, gains;
@@ -19,13 +19,13 @@ from typing import Any
 
 import numpy as np
 
-from fsarm_sim import transmissions
 from fsarm_sim.discrepancy import arm_fit as A
 from fsarm_sim.discrepancy import variants as V
+from fsarm_sim.engine.model import SimConfig
 from fsarm_sim.errors import FsarmError
-from fsarm_sim.measured import resolve_shaft
-from fsarm_sim.model import SimConfig
-from fsarm_sim.records import as_record, shaft_params_entry
+from fsarm_sim.plant import transmissions
+from fsarm_sim.records.measured import resolve_shaft
+from fsarm_sim.records.sidecar import as_record, shaft_params_entry
 
 
 def model_dict(run: A.ArmRun, m: A.ArmModel) -> dict[str, Any]:

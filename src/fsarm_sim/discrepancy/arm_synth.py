@@ -17,15 +17,16 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim import records, scenarios
 from fsarm_sim.discrepancy import arm_fit as A
 from fsarm_sim.discrepancy import arm_modelfile as MF
 from fsarm_sim.discrepancy.effect_text import parse_effect
-from fsarm_sim.effects.registry import ARM
+from fsarm_sim.engine.model import Gains
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.measured import write_dataset
-from fsarm_sim.model import Gains
-from fsarm_sim.shaft import ShaftParams, load_catalogue
+from fsarm_sim.plant.effects.registry import ARM
+from fsarm_sim.plant.shaft import ShaftParams, load_catalogue
+from fsarm_sim.records import sidecar as records
+from fsarm_sim.records.measured import write_dataset
+from fsarm_sim.sim import scenarios
 
 FloatArray = npt.NDArray[np.float64]
 

@@ -25,18 +25,18 @@ from typing import Any
 
 import numpy as np
 
-from fsarm_sim import synth
 from fsarm_sim.discrepancy import candidates as C
 from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import synth
 from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.discrepancy.bench_setup import BenchDiagnosis, diagnose
 from fsarm_sim.discrepancy.benchmodel import BenchModel, EffectInstance, stated_model
 from fsarm_sim.discrepancy.residuals import gap_excess
 from fsarm_sim.discrepancy.selection import Step
-from fsarm_sim.effects import registry
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.measured import Dataset, load_dataset, validate_columns
-from fsarm_sim.shaft import load_catalogue
+from fsarm_sim.plant.effects import registry
+from fsarm_sim.plant.shaft import load_catalogue
+from fsarm_sim.records.measured import Dataset, load_dataset, validate_columns
 
 SMALL = 0.03  # effect size: RMS of the unexplained clean output / its range
 LARGE = 0.08

@@ -39,8 +39,8 @@ from fsarm_sim.discrepancy.residuals import (
     signature,
 )
 from fsarm_sim.discrepancy.selection import Score
-from fsarm_sim.effects import registry
-from fsarm_sim.measured import Dataset
+from fsarm_sim.plant.effects import registry
+from fsarm_sim.records.measured import Dataset
 
 SETUPS = (registry.SERIES, registry.PARALLEL)
 WITHIN_NOISE = 1.15  # a held-out residual RMS up to this x the noise floor is "within noise"

@@ -12,7 +12,7 @@ engine) load: a JSON file ::
 Nominal parameters (SI): series bench ``k_pos, s_pos, k_neg, s_neg`` (eq. 3/8: K = k + s |phi_B|
 per twist sign) and ``j_load`` (inertia load only); parallel bench ``kb`` (eq. 2: M = K_b phi)
 and ``j_link`` (inertia of the bending link about the joint, seen by the torque sensor).
-Effect parameters: see :mod:`fsarm_sim.effects.registry` (hysteresis takes lists, one value per
+Effect parameters: see :mod:`fsarm_sim.plant.effects.registry` (hysteresis takes lists, one value per
 element or branch; nonlinear stiffness also stores its reference deflection ``x_ref_rad``).
 """
 
@@ -25,12 +25,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from fsarm_sim.discrepancy import variants as V
-from fsarm_sim.effects import registry
 from fsarm_sim.errors import FsarmError
-from fsarm_sim.shaft import ShaftParams
+from fsarm_sim.plant.effects import registry
+from fsarm_sim.plant.shaft import ShaftParams
 
 if TYPE_CHECKING:
-    from fsarm_sim.measured import Dataset
+    from fsarm_sim.records.measured import Dataset
 
 FORMAT = "fsarm-bench-model"
 VERSION = 1

@@ -32,7 +32,7 @@ from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.discrepancy.benchmodel import BenchModel, EffectInstance
 from fsarm_sim.discrepancy.residuals import bic, effective_n, noise_floor, split_masks
-from fsarm_sim.effects import registry
+from fsarm_sim.plant.effects import registry
 
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]

@@ -33,7 +33,7 @@ from fsarm_sim.discrepancy import selection as S
 from fsarm_sim.discrepancy.residuals import effective_n
 from fsarm_sim.discrepancy.selection import Score, Step
 from fsarm_sim.errors import FsarmError
-from fsarm_sim.measured import Dataset
+from fsarm_sim.records.measured import Dataset
 
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]

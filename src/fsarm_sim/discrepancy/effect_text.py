@@ -1,5 +1,5 @@
 """The effect text of ``fsarm synth --effect``, one parser for every setup: ``NAME[:VARIANT]=v1[,v2...]``
-read against the effect registry (:mod:`fsarm_sim.effects.registry`) through the setup's table
+read against the effect registry (:mod:`fsarm_sim.plant.effects.registry`) through the setup's table
 of variants (:mod:`.variants`).
 
 * NAME is a registry effect; VARIANT one of the setup's variants of it (default: the first; the
@@ -20,9 +20,9 @@ from typing import Any
 
 from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.discrepancy.benchmodel import EffectInstance, element_wise, uses_x_ref
-from fsarm_sim.effects import registry
-from fsarm_sim.effects.registry import Variant
 from fsarm_sim.errors import InvalidParameterError
+from fsarm_sim.plant.effects import registry
+from fsarm_sim.plant.effects.registry import Variant
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,7 @@ from fsarm_sim.discrepancy import candidates as C
 from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.discrepancy.benchmodel import BenchModel
 from fsarm_sim.discrepancy.residuals import noise_floor
-from fsarm_sim.measured import Dataset
+from fsarm_sim.records.measured import Dataset
 
 FloatArray = npt.NDArray[np.float64]
 

@@ -1,6 +1,6 @@
 """Fast replay of the bench setups: the nominal model plus effects, driven by the recorded input.
 
-The same constitutive kernels as the simulator (:mod:`fsarm_sim.effects` - eq. 3/8 series
+The same constitutive kernels as the simulator (:mod:`fsarm_sim.plant.effects` - eq. 3/8 series
 stiffness, Maxwell-slip elements, visco-elastic branches, and the new friction, damping, backlash,
 nonlinear-stiffness, delay and offset modules) compiled with Numba into two loops:
 
@@ -16,7 +16,7 @@ and accelerations of the input come from Savitzky-Golay derivatives (15 ms / 31 
 cubic), so that encoder quantisation does not turn into velocity spikes.
 
 Internal states start relaxed (slip elements and branches unloaded at the first sample), which is
-also what ``fsarm_sim.bench`` does for MuJoCo replays. :class:`FeatureBank` exposes the same
+also what ``fsarm_sim.studies.bench`` does for MuJoCo replays. :class:`FeatureBank` exposes the same
 operators column by column for the linear least-squares fits (seed 002 eq. 17-18).
 
 Compiled code is cached in ``$FSARM_CACHE_DIR`` (default ``~/.cache/fsarm-sim``) under a name that
@@ -43,7 +43,8 @@ from numba.extending import register_jitable
 from scipy.signal import savgol_filter
 
 from fsarm_sim.discrepancy.benchmodel import MAX_ELEMENTS, BenchModel
-from fsarm_sim.effects import (
+from fsarm_sim.paramblocks import Decl, Layout
+from fsarm_sim.plant.effects import (
     backlash,
     conduit_viscoelastic,
     coulomb_friction,
@@ -54,9 +55,8 @@ from fsarm_sim.effects import (
     series_stiffness,
     viscous_damping,
 )
-from fsarm_sim.measured import Dataset
-from fsarm_sim.paramblocks import Decl, Layout
-from fsarm_sim.transmissions import rtca
+from fsarm_sim.plant.transmissions import rtca
+from fsarm_sim.records.measured import Dataset
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -75,7 +75,7 @@ _KERNEL_MODULES: tuple[ModuleType, ...] = (
 
 
 def _register(mods: tuple[ModuleType, ...]) -> None:
-    """Make the effect functions callable from compiled code (same flag as fsarm_sim.native)."""
+    """Make the effect functions callable from compiled code (same flag as fsarm_sim.engine.native)."""
     for mod in mods:
         for _, fn in inspect.getmembers(mod, inspect.isfunction):
             if fn.__module__ == mod.__name__ and not getattr(fn, "_fsarm_jitable", False):
@@ -110,7 +110,7 @@ def _numba_cache_in(path: Path) -> Iterator[None]:
 
 # ------------------------------------------------------------------------- parameter vector
 # Declared block by block (fsarm_sim.paramblocks, as the simulator's kernel vector in
-# fsarm_sim.layout): offsets are computed from the declarations, never typed by hand.
+# fsarm_sim.kernels.layout): offsets are computed from the declarations, never typed by hand.
 REPLAY_LAYOUT = Layout()
 _r = REPLAY_LAYOUT.block(
     "spring",

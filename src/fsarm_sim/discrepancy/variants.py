@@ -1,5 +1,5 @@
 """Each setup's variants of the registry's effects: where an effect acts in that setup, with the
-registry's parameters and bounds (:mod:`fsarm_sim.effects.registry`).
+registry's parameters and bounds (:mod:`fsarm_sim.plant.effects.registry`).
 
 The benches use the registry's variants as they are. The arm's are the registry's laws placed on
 the arm: Coulomb friction and viscous damping at joint 3 (the laws of the ``shaft`` variants), a
@@ -14,8 +14,8 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Mapping
 
-from fsarm_sim.effects import registry
-from fsarm_sim.effects.registry import Variant
+from fsarm_sim.plant.effects import registry
+from fsarm_sim.plant.effects.registry import Variant
 
 ARM_CHANNELS = ("q3", "theta_m", "q2")  # the arm's recorded channels the replay compares
 

@@ -1,0 +1,274 @@
+"""The ``fsarm`` command. Thin: parse arguments, call the library, print tables."""
+
+from __future__ import annotations
+
+import importlib
+import math
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.markup import escape
+from rich.table import Table
+
+from fsarm_sim.cli.console import make_console
+from fsarm_sim.errors import FsarmError
+
+app = typer.Typer(
+    help="Flexible-shaft arm simulator (MuJoCo). Run scenarios headless and report tracking metrics.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+console = make_console()
+err_console = make_console(stderr=True)
+
+
+@app.command("scenarios")
+def scenarios_cmd() -> None:
+    """List the registered scenarios."""
+    from fsarm_sim.sim import scenarios
+
+    table = Table(title="fsarm scenarios")
+    for col in ("name", "duration [s]", "payload [kg]", "description"):
+        table.add_column(escape(col))
+    for sc in scenarios.REGISTRY.values():
+        table.add_row(sc.name, f"{sc.duration_s:g}", f"{sc.payload_kg:g}", sc.description)
+    console.print(table)
+
+
+@app.command("shafts")
+def shafts_cmd(
+    shaft_file: Annotated[
+        Path | None, typer.Option(help="coefficient file (TOML); default: built-in catalogue")
+    ] = None,
+) -> None:
+    """List the catalogue's bench shafts with their eq. 3/4 stiffnesses."""
+    from fsarm_sim.plant.shaft import load_catalogue
+
+    cat = load_catalogue(shaft_file)
+    table = Table(title=f"shafts of {cat.source}")
+    for col in (
+        "name",
+        "D [mm]",
+        "L [mm]",
+        "K_sp(0)",
+        "K_sn(0)",
+        "K_sp(90°)",
+        "K_b",
+        "rating [N·m]",
+    ):
+        table.add_column(escape(col), justify="right")
+    for s in cat.shafts:
+        p = cat.shaft(s.diameter_mm, s.length_mm)
+        table.add_row(
+            s.name,
+            f"{s.diameter_mm:g}",
+            f"{s.length_mm:g}",
+            f"{p.k_series(0.0, 1):.2f}",
+            f"{p.k_series(0.0, -1):.2f}",
+            f"{p.k_series(math.pi / 2, 1):.2f}",
+            f"{p.kb:.2f}",
+            f"{p.rating_nm:.2f}",
+        )
+    console.print(table)
+    console.print("stiffness in N·m/rad; all coefficients are documented estimates (see the file)")
+
+
+@app.command("run")
+def run_cmd(
+    scenario: Annotated[str, typer.Argument(help="scenario name (see `fsarm scenarios`)")],
+    diameter_mm: Annotated[float, typer.Option(help="shaft diameter D, mm")] = 9.0,
+    length_mm: Annotated[float, typer.Option(help="shaft length L, mm")] = 450.0,
+    payload_kg: Annotated[
+        float | None, typer.Option(help="payload at the flange, kg (default: the scenario's)")
+    ] = None,
+    duration: Annotated[
+        float | None, typer.Option(help="simulated time, s (default: the scenario's)")
+    ] = None,
+    out: Annotated[Path, typer.Option(help="folder for the time series and its sidecar")] = Path(
+        "runs"
+    ),
+    json_file: Annotated[
+        Path | None, typer.Option("--json", help="write a JSON summary here")
+    ] = None,
+    fmt: Annotated[
+        str, typer.Option("--format", help="time-series format: csv or parquet")
+    ] = "csv",
+    shaft_file: Annotated[
+        Path | None, typer.Option(help="your own shaft coefficient file (TOML)")
+    ] = None,
+    extrapolate: Annotated[
+        bool, typer.Option(help="allow D/L outside the coefficient file's validity range")
+    ] = False,
+    series_hysteresis: Annotated[
+        bool | None,
+        typer.Option(
+            help="Maxwell-slip series hysteresis on/off "
+            "(default: the coefficient file's series.maxwell_slip.enabled)"
+        ),
+    ] = None,
+    integrator: Annotated[
+        str | None, typer.Option(help="Euler, RK4, implicit or implicitfast")
+    ] = None,
+    timestep: Annotated[
+        float | None, typer.Option(help="physics timestep, s (default 0.001)")
+    ] = None,
+    ctrl_dt: Annotated[float, typer.Option(help="control period, s")] = 0.001,
+    log_every: Annotated[int, typer.Option(help="log one row every N control ticks")] = 1,
+    backend: Annotated[
+        str, typer.Option(help="callback path: python (reference) or native")
+    ] = "native",
+    rrd: Annotated[
+        Path | None, typer.Option(help="write a Rerun recording (.rrd) of the run here")
+    ] = None,
+    rrd_rate: Annotated[
+        float | None, typer.Option(help="recording rate, rows per simulated s (default 100)")
+    ] = None,
+    spawn: Annotated[
+        bool, typer.Option(help="open the recording in the Rerun viewer if one can run here")
+    ] = False,
+    figures: Annotated[
+        Path | None, typer.Option(help="write the run's static figures (PNG) into this folder")
+    ] = None,
+    transmission: Annotated[
+        str, typer.Option(help="joint 3's transmission (see `fsarm transmissions`)")
+    ] = "flexible-shaft",
+    tr_param: Annotated[
+        list[str] | None,
+        typer.Option(help="override a transmission parameter, NAME=VALUE (repeatable)"),
+    ] = None,
+) -> None:
+    """Run a scenario headless, print tracking metrics, write its time series."""
+    from fsarm_sim.engine.model import Gains, SimConfig
+    from fsarm_sim.outputs import SafeWriter
+    from fsarm_sim.plant.shaft import load_catalogue
+    from fsarm_sim.records.timeseries import write_summary, write_timeseries
+    from fsarm_sim.sim.simulation import run_scenario
+
+    if backend not in ("python", "native"):
+        raise FsarmError(f"--backend must be 'python' or 'native', got {backend!r}")
+    from fsarm_sim.cli.review import check_review_options, review_outputs, run_output_plan
+
+    check_review_options(rrd_rate)
+    run_output_plan(
+        scenario, fmt, out=out, json_file=json_file, rrd=rrd, spawn=spawn, figures=figures
+    ).input("the coefficient file of --shaft-file", shaft_file).check()
+    shaft = load_catalogue(shaft_file).shaft(
+        diameter_mm, length_mm, extrapolate=extrapolate, series_hysteresis=series_hysteresis
+    )
+    from fsarm_sim.cli.transmissions import parse_params
+
+    cfg = SimConfig(
+        shaft=shaft,
+        gains=Gains(ctrl_dt_s=ctrl_dt),
+        timestep_s=timestep,
+        integrator=integrator,
+        transmission=transmission,
+        transmission_params=parse_params(tr_param or []),
+    )
+    try:
+        result = run_scenario(
+            scenario,
+            cfg,
+            duration_s=duration,
+            payload_kg=payload_kg,
+            backend=backend,  # type: ignore[arg-type]
+            log_every_ticks=log_every,
+        )
+    except KeyboardInterrupt:
+        err_console.print("[bold yellow]interrupted[/] before anything was recorded: no output")
+        raise typer.Exit(130) from None
+    m = result.metrics
+    if result.interrupted:
+        err_console.print(
+            f"[bold yellow]interrupted[/] at t = {result.duration_s:.3f} s: metrics and time series "
+            "cover the finished part only"
+        )
+    what = (
+        f"D={diameter_mm:g} mm, L={length_mm:g} mm"
+        if transmission == "flexible-shaft"
+        else f"transmission {transmission}"
+    )
+    table = Table(title=f"{scenario}: {what}, payload={result.config.payload_kg:g} kg")
+    table.add_column("metric")
+    for j in ("q1", "q2", "q3"):
+        table.add_column(j, justify="right")
+    for key, label in (("rmse_deg", r"RMSE \[deg]"), ("max_abs_err_deg", r"max |error| \[deg]")):
+        vals = m[key]
+        assert isinstance(vals, dict)
+        table.add_row(label, *(f"{vals[j]:.4f}" for j in ("q1", "q2", "q3")))
+    console.print(table)
+    for key, label in (
+        ("tau_estimate_rmse_nm", "joint-3 torque estimate error, RMSE [N·m]"),
+        ("tau_estimate_max_abs_err_nm", "joint-3 torque estimate error, max [N·m]"),
+        ("peak_shaft_torque_nm", "peak shaft torque [N·m]"),
+        ("peak_motor_torque_nm", "peak joint-3 motor torque [N·m]"),
+        ("peak_motor_speed_rad_s", "peak joint-3 motor speed [rad/s]"),
+        ("motor_energy_j", "joint-3 motor work [J]"),
+        ("realtime_factor", "real-time factor"),
+    ):
+        console.print(f"{label:<45} {m[key]:.4g}", markup=False)
+    over = m["peak_shaft_torque_over_rating"]
+    if isinstance(over, float) and over > 1.0:
+        advice = (
+            f"for D = {diameter_mm:g} mm): choose a thicker shaft"
+            if transmission == "flexible-shaft"
+            else f"of {transmission})"
+        )
+        err_console.print(
+            f"[bold yellow]warning:[/] peak transmission torque is {over:.1f}x the nominal "
+            f"rating ({result.config.rating_nm():.2f} N·m {advice}"
+        )
+    writes = SafeWriter(lambda msg: err_console.print(f"[bold yellow]warning:[/] {escape(msg)}"))
+    path = writes.write(
+        out, lambda d: write_timeseries(result, d, fmt), "the time series (--out)", folder=True
+    )
+    if path is not None:
+        console.print(f"time series: {path}  (sidecar {path.with_suffix('.json')})")
+    if json_file is not None:
+
+        def summary(p: Path) -> Path:
+            write_summary(result, p)
+            return p
+
+        where = writes.write(json_file, summary, "the summary (--json)")
+        if where is not None:
+            console.print(f"summary: {where}")
+    review_outputs(
+        result,
+        rrd=rrd,
+        rrd_rate=rrd_rate,
+        spawn=spawn,
+        figures_dir=figures,
+        out=out,
+        console=console,
+        writes=writes,
+    )
+    writes.finish()
+    if result.interrupted:
+        raise typer.Exit(130)
+
+
+def _register_extensions() -> None:
+    """Commands defined in their own modules (one line each)."""
+    importlib.import_module("fsarm_sim.cli.review").register(app)
+    importlib.import_module("fsarm_sim.cli.speed").register(app)
+    importlib.import_module("fsarm_sim.cli.dynamics").register(app)
+    importlib.import_module("fsarm_sim.cli.sweep").register(app)
+    importlib.import_module("fsarm_sim.cli.discrepancy").register(app)
+    importlib.import_module("fsarm_sim.cli.transmissions").register(app)
+    importlib.import_module("fsarm_sim.cli.collision").register(app)
+    importlib.import_module("fsarm_sim.cli.reproduce").register(app)
+
+
+_register_extensions()
+
+
+def main() -> None:
+    """Entry point: named errors become one red line and exit code 2, never a traceback."""
+    try:
+        app()
+    except FsarmError as exc:
+        err_console.print(f"[bold red]error:[/] {escape(str(exc))}", soft_wrap=True)
+        raise SystemExit(2) from None

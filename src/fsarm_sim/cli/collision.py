@@ -1,0 +1,139 @@
+"""``fsarm collision``: sensorless collision detection and hand guiding at joint 3 (seed 004).
+
+Identifies the detection threshold on collision-free runs, then runs ``collision-hit`` (and its
+collision-free twin), ``fig14-sine`` and ``p2p-payload`` through Algorithm 1 and ``hand-guide``
+through Algorithm 2 (:mod:`fsarm_sim.studies.collision`); prints detection delay, false alarms and the
+hand-guided motion as tables, optionally as JSON.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
+from fsarm_sim.cli.console import make_console
+from fsarm_sim.errors import FsarmError
+from fsarm_sim.outputs import OutputPlan, safe_write, write_text
+
+
+def _fmt(x: float | None, scale: float = 1.0, digits: int = 3) -> str:
+    return "-" if x is None else f"{x * scale:.{digits}g}"
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("collision")
+    def collision_cmd(
+        transmission: Annotated[
+            str, typer.Option(help="joint 3's transmission (see `fsarm transmissions`)")
+        ] = "flexible-shaft",
+        tr_param: Annotated[
+            list[str] | None,
+            typer.Option(help="override a transmission parameter, NAME=VALUE (repeatable)"),
+        ] = None,
+        series_hysteresis: Annotated[
+            bool, typer.Option(help="flexible shaft: switch on Maxwell-slip series hysteresis")
+        ] = False,
+        backend: Annotated[
+            str, typer.Option(help="callback path: python (reference) or native")
+        ] = "native",
+        json_file: Annotated[
+            Path | None, typer.Option("--json", help="write the results as JSON here")
+        ] = None,
+    ) -> None:
+        """Collision detection (delay, false alarms) and hand guiding from the two encoders."""
+        from fsarm_sim.cli.transmissions import parse_params
+        from fsarm_sim.engine.model import SimConfig
+        from fsarm_sim.plant.shaft import load_catalogue
+        from fsarm_sim.studies.collision import run_battery
+
+        if backend not in ("python", "native"):
+            raise FsarmError(f"--backend must be 'python' or 'native', got {backend!r}")
+        OutputPlan().file("--json", json_file).check()
+        cfg = SimConfig(
+            shaft=load_catalogue().shaft(series_hysteresis=series_hysteresis),
+            transmission=transmission,
+            transmission_params=parse_params(tr_param or []),
+        )
+        cfg.validate()
+        bat = run_battery(cfg, backend)  # type: ignore[arg-type]
+        console = make_console()
+        cal = bat.calibration
+        console.print(
+            f"joint-3 external-torque observer (K_O = {bat.gain_rad_s:g} rad/s) on "
+            f"{transmission}: threshold delta_a = {cal.threshold_nm:.4g} N·m = "
+            f"{cal.margin:g} x {cal.max_abs_residual_nm:.4g} N·m (largest |r| of "
+            f"{', '.join(cal.runs)})",
+            markup=False,
+        )
+        table = Table(title="collision detection (seed 004 Algorithm 1)")
+        for col in (
+            "run",
+            "contact [s]",
+            "peak tau_ext [N·m]",
+            "peak |r| [N·m]",
+            "detected [s]",
+            "delay [ms]",
+            "false alarms",
+        ):
+            table.add_column(escape(col), justify="left" if col == "run" else "right")
+        for d in bat.detection:
+            contact = "-" if d.contact_s is None else f"{d.contact_s[0]:g}-{d.contact_s[1]:g}"
+            if d.skipped is not None:
+                table.add_row(escape(d.run), contact, "skipped", "", "", "", "")
+                continue
+            table.add_row(
+                escape(d.run),
+                contact,
+                f"{d.peak_external_nm:.3g}",
+                f"{d.peak_estimate_nm:.3g}",
+                _fmt(d.detected_s, digits=4),
+                _fmt(d.delay_s, 1e3),
+                str(d.false_alarms),
+            )
+        console.print(table)
+        for d in bat.detection:
+            if d.skipped is not None:
+                console.print(f"{d.run} skipped: {d.skipped}", markup=False)
+        g = bat.guiding
+        if g is None:
+            console.print(f"hand-guide skipped: {bat.guiding_skipped}", markup=False)
+            _write_json(json_file, bat.as_dict(), console)
+            return
+        gt = Table(title="hand guiding (seed 004 Algorithm 2, admittance on joint 3)")
+        for col in (
+            "push [s]",
+            "mean tau_ext [N·m]",
+            "travel [deg]",
+            "drift after release [deg]",
+            "max speed after release [deg/s]",
+        ):
+            gt.add_column(escape(col), justify="right")
+        for p in g.pushes:
+            gt.add_row(
+                f"{p['start_s']:g}-{p['end_s']:g}",
+                f"{p['mean_push_nm']:.3g}",
+                f"{math.degrees(p['travel_rad']):.3g}",
+                f"{math.degrees(p['drift_after_release_rad']):.3g}",
+                f"{math.degrees(p['speed_after_release_rad_s']):.3g}",
+            )
+        console.print(gt)
+        console.print(
+            f"work of the hand on joint 3: {g.human_work_j:.3g} J; final joint-3 speed "
+            f"{math.degrees(g.final_speed_rad_s):.3g} deg/s",
+            markup=False,
+        )
+        _write_json(json_file, bat.as_dict(), console)
+
+
+def _write_json(path: Path | None, data: dict[str, object], console: Console) -> None:
+    if path is not None:
+        text = json.dumps(data, indent=2)
+        where = safe_write(path, lambda p: write_text(p, text), "the results (--json)")
+        console.print(f"results: {where}", markup=False)

@@ -1,0 +1,173 @@
+"""``fsarm diagnose`` and ``fsarm synth``: the discrepancy workflow on the command line.
+
+Thin wrappers: argument parsing here, the work in :mod:`fsarm_sim.discrepancy` and
+:mod:`fsarm_sim.discrepancy.synth`. The library is imported inside the commands so that ``fsarm`` stays quick
+to start.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from fsarm_sim.cli.console import make_console
+from fsarm_sim.outputs import OutputPlan, SafeWriter
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("diagnose")
+    def diagnose_cmd(
+        data: Annotated[
+            Path, typer.Argument(help="dataset: NAME.csv / NAME.parquet (+ NAME.json)")
+        ],
+        json_file: Annotated[
+            Path | None, typer.Option("--json", help="write the machine-readable result here")
+        ] = None,
+        report: Annotated[
+            Path | None,
+            typer.Option("--report", help="folder for result.json, model.json and plots"),
+        ] = None,
+        model_file: Annotated[
+            Path | None, typer.Option("--model", help="write the final model (JSON) here")
+        ] = None,
+        max_effects: Annotated[int, typer.Option(help="most effects to add")] = 4,
+    ) -> None:
+        """Replay the nominal model on a record, name the missing effects, fit them.
+
+        Bench records and arm records (measured, synthetic, or written by `fsarm run` as they
+        are); columns the diagnosis does not read are listed, not refused."""
+        from fsarm_sim.discrepancy import diagnose_record
+        from fsarm_sim.discrepancy import report as rep
+        from fsarm_sim.records.measured import dataset_files, load_dataset
+
+        table, side = dataset_files(data)
+        OutputPlan().input(f"the dataset {table}", table).input(
+            f"the sidecar of the dataset {table}", side
+        ).file("--json", json_file).file("--model", model_file).folder(
+            "--report", report, rep.REPORT_FILES
+        ).check()
+        console = make_console()
+        err = make_console(stderr=True)
+        writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
+        ds = load_dataset(data)
+        diag = diagnose_record(ds, max_effects=max_effects)
+        rep.emit(
+            diag,
+            console,
+            json_file=json_file,
+            report=report,
+            model_file=model_file,
+            writes=writes,
+        )
+        writes.finish()
+
+    @app.command("synth")
+    def synth_cmd(
+        out: Annotated[
+            Path, typer.Argument(help="output NAME(.csv|.parquet); NAME.json beside it")
+        ],
+        setup: Annotated[
+            str, typer.Option(help="series_bench, parallel_bench or arm")
+        ] = "series_bench",
+        scenario: Annotated[
+            str, typer.Option(help="arm: the scenario run (see `fsarm scenarios`)")
+        ] = "fig14-sine",
+        noise_rad: Annotated[
+            float, typer.Option(help="arm: angle noise std, rad (plus 17-bit quantisation)")
+        ] = 2e-5,
+        effect: Annotated[
+            list[str] | None,
+            typer.Option(
+                "--effect",
+                help="hidden effect NAME[:VARIANT]=VALUES (repeatable), e.g. "
+                "coulomb_friction:shaft=0.2, backlash=0.03,0.0, delay=0.01, "
+                "hysteresis:maxwell_slip=12,0.008,6,0.025",
+            ),
+        ] = None,
+        model: Annotated[
+            Path | None, typer.Option("--model", help="truth model file (instead of --effect)")
+        ] = None,
+        load: Annotated[str, typer.Option(help="series bench: blocked or inertia")] = "blocked",
+        inertia: Annotated[float, typer.Option(help="stated load inertia, kg*m^2")] = 0.01,
+        true_inertia: Annotated[
+            float | None, typer.Option(help="acting load inertia (default: the stated one)")
+        ] = None,
+        stiffness_scale: Annotated[
+            float, typer.Option(help="true stiffness / catalogue stiffness")
+        ] = 1.0,
+        diameter_mm: Annotated[float, typer.Option("--diameter", help="shaft D, mm")] = 9.0,
+        length_mm: Annotated[float, typer.Option("--length", help="shaft L, mm")] = 450.0,
+        noise: Annotated[float, typer.Option(help="torque noise std / torque range")] = 0.003,
+        duration: Annotated[
+            float | None, typer.Option(help="s (default: 30; arm: the scenario's)")
+        ] = None,
+        rate: Annotated[float, typer.Option(help="sample rate, Hz")] = 1000.0,
+        trajectory: Annotated[
+            str, typer.Option(help="chirp, multisine, triangle, random, steps, biased_sine")
+        ] = "chirp",
+        amplitude: Annotated[float | None, typer.Option(help="input amplitude, rad")] = None,
+        bend_deg: Annotated[float, typer.Option(help="series bench: held bend angle, deg")] = 0.0,
+        seed: Annotated[int, typer.Option(help="random seed")] = 0,
+    ) -> None:
+        """Write a SYNTHETIC measured-format dataset with chosen hidden effects and noise."""
+        from fsarm_sim.discrepancy import synth
+        from fsarm_sim.discrepancy.arm_synth import ArmRecording
+        from fsarm_sim.errors import InvalidParameterError
+        from fsarm_sim.plant.shaft import load_catalogue
+        from fsarm_sim.records.measured import output_files, write_dataset
+
+        for opt, v in (
+            ("--inertia", inertia),
+            ("--true-inertia", true_inertia),
+            ("--stiffness-scale", stiffness_scale),
+            ("--amplitude", amplitude),
+        ):
+            if v is not None and not (math.isfinite(v) and v > 0):
+                raise InvalidParameterError(f"{opt} must be a finite number > 0, got {v!r}")
+        for opt, v in (("--noise", noise), ("--noise-rad", noise_rad)):
+            if not (math.isfinite(v) and v >= 0):
+                raise InvalidParameterError(f"{opt} must be a finite number >= 0, got {v!r}")
+        table_out, side_out = output_files(out)
+        OutputPlan().file("OUT", table_out).file("the sidecar of OUT", side_out).input(
+            "the truth model of --model", model
+        ).check()
+        err = make_console(stderr=True)
+        writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
+        if setup != "arm" and load not in ("blocked", "inertia"):
+            raise InvalidParameterError(f"--load must be blocked or inertia, got {load!r}")
+        # the stated eq. 8 shaft; series hysteresis is an effect the truth lists
+        shaft = load_catalogue().shaft(diameter_mm, length_mm, series_hysteresis=False)
+        rec: synth.Recording | ArmRecording
+        if setup == "arm":
+            rec = ArmRecording(
+                scenario=scenario, duration_s=duration, noise_rad=noise_rad, seed=seed
+            )
+        else:
+            rec = synth.Recording(
+                duration_s=30.0 if duration is None else duration,
+                rate_hz=rate,
+                noise=noise,
+                trajectory=trajectory,
+                amplitude=amplitude,
+                bend_rad=math.radians(bend_deg),
+                seed=seed,
+            )
+        cols, side, hidden = synth.synthesize_setup(
+            setup,
+            effect or [],
+            model_file=model,
+            shaft=shaft,
+            stiffness_scale=stiffness_scale,
+            load_inertia_kgm2=inertia if (setup == "series_bench" and load == "inertia") else None,
+            true_inertia_kgm2=true_inertia,
+            recording=rec,
+        )
+        written = writes.write(out, lambda p: write_dataset(p, cols, side), "the dataset (OUT)")
+        if written is not None:
+            typer.echo(
+                f"wrote {written[0]} and {written[1]} (SYNTHETIC; hidden: {hidden or 'none'})"
+            )
+        writes.finish()

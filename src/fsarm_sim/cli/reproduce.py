@@ -1,0 +1,179 @@
+"""``fsarm reproduce``: the seed papers' claims checked on the simulator (issue 12).
+
+Prints, per claim, where it is in the paper, the paper's value, ours, the tolerance and the
+verdict, then a summary by paper and verdict. It is a report: exit code 0 whatever the verdicts,
+2 on bad input, 1 when an experiment itself failed to run, 130 on Ctrl-C (the JSON report then
+holds every finished claim).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.markup import escape
+from rich.table import Table
+
+from fsarm_sim.cli.console import make_console
+from fsarm_sim.errors import FsarmError
+from fsarm_sim.outputs import OutputPlan, SafeWriter
+
+console = make_console()
+err_console = make_console(stderr=True)
+
+STYLE = {
+    "reproduced": "green",
+    "partly": "yellow",
+    "contradicted": "bold red",
+    "not_implemented": "cyan",
+    "uncheckable": "magenta",
+}
+
+
+def parse_papers(values: list[str] | None) -> list[str]:
+    """``--paper`` values -> the papers' ids (000..004), in the order given, without repeats."""
+    from fsarm_sim.studies.reproduce.claims import PAPERS
+
+    out: list[str] = []
+    for v in values or []:
+        key = v.strip()
+        if key.isdigit() and len(key) <= 3:
+            key = key.zfill(3)
+        if key not in PAPERS:
+            raise FsarmError(
+                f"--paper must be one of {', '.join(PAPERS)} (a seed paper), got {v!r}"
+            )
+        if key not in out:
+            out.append(key)
+    return out
+
+
+def _paper_table(paper: str, results: list[object]) -> Table:
+    from fsarm_sim.studies.reproduce.claims import PAPERS, Result
+
+    table = Table(title=f"seed {paper}: {PAPERS[paper]}", show_lines=False, expand=True)
+    table.add_column("claim", ratio=4, overflow="fold")
+    table.add_column("where", ratio=2, overflow="fold")
+    table.add_column("paper", ratio=3, overflow="fold")
+    table.add_column("ours", ratio=4, overflow="fold")
+    table.add_column("tolerance", ratio=3, overflow="fold")
+    table.add_column("verdict", ratio=2)
+    for r in results:
+        assert isinstance(r, Result)
+        c = r.claim
+        ours = r.ours_text if r.verdict not in ("not_implemented", "uncheckable") else r.why
+        style = STYLE[r.verdict]
+        table.add_row(
+            escape(c.id),
+            escape(c.locator),
+            escape(c.paper_text),
+            escape(ours),
+            escape(c.tolerance.text(c.unit)),
+            f"[{style}]{r.verdict}[/]",
+        )
+    return table
+
+
+def _summary_table(summary: dict[str, dict[str, int]]) -> Table:
+    from fsarm_sim.studies.reproduce.claims import VERDICTS
+
+    table = Table(title="fsarm reproduce: summary by paper and verdict")
+    table.add_column("paper")
+    for v in VERDICTS:
+        table.add_column(f"[{STYLE[v]}]{v}[/]", justify="right")
+    table.add_column("total", justify="right")
+    for paper, row in summary.items():
+        table.add_row(
+            "all" if paper == "all" else paper,
+            *(str(row[v]) for v in VERDICTS),
+            str(row["total"]),
+            end_section=paper == list(summary)[-2] if len(summary) > 1 else False,
+        )
+    return table
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("reproduce")
+    def reproduce_cmd(
+        paper: Annotated[
+            list[str] | None,
+            typer.Option(
+                "--paper",
+                help="only this seed paper: 000, 001, 002, 003 or 004 (repeatable; default all)",
+            ),
+        ] = None,
+        json_file: Annotated[
+            Path | None,
+            typer.Option("--json", help="write the report here (rewritten as each claim finishes)"),
+        ] = None,
+        quick: Annotated[
+            bool, typer.Option(help="a subset with shorter experiments (well under a minute)")
+        ] = False,
+    ) -> None:
+        """Check the seed papers' claims on the simulator with the papers' own procedures.
+
+        Per claim: where it is in the paper, the paper's value, ours, the tolerance and a verdict
+        (reproduced, partly, contradicted, not_implemented, uncheckable); then a summary by paper
+        and verdict. Exit code 0 whatever the verdicts (it is a report), 1 if an experiment
+        failed to run, 2 on bad input, 130 on Ctrl-C (--json keeps every finished claim).
+        """
+        from fsarm_sim.studies.reproduce import runner
+        from fsarm_sim.studies.reproduce.claims import Context, Result
+
+        papers = parse_papers(paper)
+        OutputPlan().file("--json", json_file).check()
+        runner.check_registry()
+        claims = runner.select(papers or None, quick)
+        report = runner.Report(
+            papers=papers or list(runner.REGISTRY), quick=quick, backend="native"
+        )
+        writes = SafeWriter(lambda msg: err_console.print(f"warning: {msg}", markup=False))
+        write_failed = [False]
+
+        def on_result(rep: runner.Report, res: Result) -> None:
+            err_console.print(
+                f"[{len(rep.results)}/{rep.planned}] {escape(res.claim.id)}: "
+                f"[{STYLE[res.verdict]}]{res.verdict}[/] ({res.seconds:.1f} s)",
+                highlight=False,
+            )
+            if json_file is not None and not write_failed[0]:
+                try:
+                    runner.write_json(json_file, rep)
+                except OSError as exc:  # keep running; the final write rescues the report
+                    write_failed[0] = True
+                    err_console.print(
+                        f"warning: cannot write {json_file} ({exc}); the report is written at "
+                        "the end",
+                        markup=False,
+                    )
+
+        ctx = Context(quick=quick, backend="native")
+        runner.run(claims, ctx, report, on_result)
+        by_paper: dict[str, list[object]] = {}
+        for r in report.results:
+            by_paper.setdefault(r.claim.paper, []).append(r)
+        for p, results in by_paper.items():
+            console.print(_paper_table(p, results))
+        console.print(_summary_table(report.summary()))
+        total = f"{len(report.results)} of {report.planned} claims in {report.elapsed_s:.1f} s"
+        console.print(f"{total}{' (quick)' if quick else ''}", markup=False)
+        if json_file is not None:
+            where = writes.write(
+                json_file, lambda p_: runner.write_json(p_, report), "the report (--json)"
+            )
+            if where is not None:
+                console.print(f"report: {where}", markup=False)
+        if report.interrupted:
+            err_console.print(
+                "[bold yellow]interrupted[/]: the report holds the claims finished so far"
+            )
+        writes.finish()
+        if report.interrupted:
+            raise typer.Exit(130)
+        if report.failed:
+            err_console.print(
+                f"[bold red]{len(report.failed)} experiment(s) failed to run[/]: "
+                + escape(", ".join(report.failed))
+            )
+            raise typer.Exit(1)

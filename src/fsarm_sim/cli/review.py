@@ -1,0 +1,174 @@
+"""Review outputs of the CLI: Rerun recordings and static figures.
+
+* ``fsarm run SCENARIO --rrd FILE [--rrd-rate HZ] [--spawn] [--figures DIR]`` (options of ``run``,
+  handled by :func:`review_outputs` after the run, so they cannot change its results);
+* ``fsarm figures --out DIR``: every scenario's static figures in one command.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated
+
+import typer
+from rich.console import Console
+
+from fsarm_sim.cli.console import make_console
+from fsarm_sim.errors import InvalidParameterError
+from fsarm_sim.outputs import OutputPlan, SafeWriter
+
+if TYPE_CHECKING:
+    from fsarm_sim.sim.simulation import RunResult
+
+
+def run_output_plan(
+    scenario: str,
+    fmt: str,
+    *,
+    out: Path,
+    json_file: Path | None,
+    rrd: Path | None,
+    spawn: bool,
+    figures: Path | None,
+) -> OutputPlan:
+    """The files ``fsarm run`` will write, checked (paths, collisions) before the run."""
+    from fsarm_sim.records.timeseries import FORMATS
+    from fsarm_sim.sim import scenarios
+
+    if fmt not in FORMATS:
+        raise InvalidParameterError(f"--format must be one of {', '.join(FORMATS)}, got {fmt!r}")
+    name = scenarios.get(scenario).name
+    plan = OutputPlan().folder(
+        "--out",
+        out,
+        {f"{name}.{fmt}": "the time series", f"{name}.json": "the time series' sidecar"},
+    )
+    plan.file("--json", json_file)
+    if rrd is not None:
+        plan.file("--rrd", rrd)
+    elif spawn:
+        plan.file("--spawn's recording", out / f"{name}.rrd")
+    if figures is not None:
+        from fsarm_sim.review.figures import FIGURE_KINDS
+
+        plan.folder(
+            "--figures", figures, {f"{name}_{k}.png": f"the {k} figure" for k in FIGURE_KINDS}
+        )
+    return plan
+
+
+def check_review_options(rrd_rate: float | None) -> None:
+    """Fail before the run, not after it, on a bad ``--rrd-rate``."""
+    if rrd_rate is not None and (not math.isfinite(rrd_rate) or rrd_rate <= 0.0):
+        raise InvalidParameterError(
+            f"--rrd-rate must be a finite number of Hz > 0, got {rrd_rate!r}"
+        )
+
+
+def review_outputs(
+    result: RunResult,
+    *,
+    rrd: Path | None,
+    rrd_rate: float | None,
+    spawn: bool,
+    figures_dir: Path | None,
+    out: Path,
+    console: Console,
+    writes: SafeWriter | None = None,
+) -> None:
+    """Write the recording / figures a ``run`` asked for and report where they are (through
+    ``writes``: a failed write goes to a rescue folder instead of being lost)."""
+    w = writes if writes is not None else SafeWriter()
+    if rrd is not None or spawn:
+        from fsarm_sim.review.recording import DEFAULT_RATE_HZ, record_run, spawn_viewer
+
+        rate = DEFAULT_RATE_HZ if rrd_rate is None else rrd_rate
+        path = w.write(
+            rrd if rrd is not None else out / f"{result.scenario}.rrd",
+            lambda p: record_run(result, p, rate),
+            "the Rerun recording (--rrd)",
+        )
+        if path is not None:
+            console.print(f"rerun recording: {path}")
+            if spawn:
+                console.print(spawn_viewer(path), markup=False)
+    if figures_dir is not None:
+        from fsarm_sim.review.figures import run_figures
+
+        paths = w.write(
+            figures_dir, lambda d: run_figures(result, d), "the figures (--figures)", folder=True
+        )
+        if paths is not None:
+            console.print(f"figures: {', '.join(str(p) for p in paths)}", markup=False)
+    if writes is None:
+        w.finish()
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("figures")
+    def figures_cmd(
+        out: Annotated[Path, typer.Option(help="folder for the figures")] = Path("figures"),
+        scenario: Annotated[
+            list[str] | None,
+            typer.Option(help="scenario to draw (repeatable; default: every registered one)"),
+        ] = None,
+        fmt: Annotated[
+            list[str] | None,
+            typer.Option("--format", help="png, svg or pdf (repeatable; default png)"),
+        ] = None,
+        dpi: Annotated[int, typer.Option(help="resolution of raster formats")] = 110,
+        width: Annotated[float, typer.Option(help="figure width, inches")] = 6.4,
+        height: Annotated[float, typer.Option(help="figure height, inches")] = 4.0,
+        duration: Annotated[
+            float | None, typer.Option(help="simulated time per scenario, s (default: its own)")
+        ] = None,
+        diameter_mm: Annotated[float, typer.Option(help="shaft diameter D, mm")] = 9.0,
+        length_mm: Annotated[float, typer.Option(help="shaft length L, mm")] = 450.0,
+    ) -> None:
+        """Run every scenario and write its figures: tracking (Fig. 14 style), torque vs twist
+        (Fig. 6/7) and bending moment vs bend (Fig. 9), as <out>/<scenario>_<kind>.<format>."""
+        from fsarm_sim.engine.model import SimConfig
+        from fsarm_sim.plant.shaft import load_catalogue
+        from fsarm_sim.review.figures import FIGURE_KINDS, all_scenario_figures, check_output
+        from fsarm_sim.sim import scenarios
+
+        for v, name in ((width, "--width"), (height, "--height")):
+            if not math.isfinite(v) or not 0.5 <= v <= 40.0:
+                raise InvalidParameterError(f"{name} must be between 0.5 and 40 inches, got {v!r}")
+        names = scenario or list(scenarios.REGISTRY)
+        for n in names:
+            scenarios.get(n)  # unknown names fail before any run
+        formats = fmt or ["png"]
+        check_output(formats, dpi)
+        OutputPlan().folder(
+            "--out",
+            out,
+            {
+                f"{n}_{k}.{f}": f"the {k} figure of {n} ({f})"
+                for n in dict.fromkeys(names)
+                for k in FIGURE_KINDS
+                for f in formats
+            },
+        ).check()
+        cfg = SimConfig(shaft=load_catalogue().shaft(diameter_mm, length_mm))
+        console = make_console()
+        err = make_console(stderr=True)
+        writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
+        written = writes.write(
+            out,
+            lambda d: all_scenario_figures(
+                d,
+                cfg,
+                scenarios=names,
+                duration_s=duration,
+                formats=formats,
+                dpi=dpi,
+                size_in=(width, height),
+            ),
+            "the figures (--out)",
+            folder=True,
+        )
+        for name, paths in (written or {}).items():
+            console.print(f"{name}: {', '.join(str(p) for p in paths)}", markup=False)
+        writes.finish()

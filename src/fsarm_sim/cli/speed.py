@@ -1,0 +1,45 @@
+"""``fsarm bench-speed``: the speed benchmark of issue 4 (:mod:`fsarm_sim.studies.speed`). Thin: options
+in, the report printed (and written as JSON)."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+# The benchmark (and the simulator) is imported inside the command, so that registering it keeps
+# `fsarm` quick to start.
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("bench-speed")
+    def bench_speed_cmd(
+        reps: Annotated[int, typer.Option(help="repetitions of each per-step timing")] = 15,
+        quick: Annotated[bool, typer.Option(help="fewer repetitions, shorter runs")] = False,
+        max_workers: Annotated[
+            int | None, typer.Option(help="largest number of batch workers (default: all cores)")
+        ] = None,
+        json_file: Annotated[
+            Path | None, typer.Option("--json", help="also write the numbers as JSON here")
+        ] = None,
+    ) -> None:
+        """Time raw MuJoCo vs the Python and native callbacks, real-time factor, batch scaling."""
+        from fsarm_sim.outputs import OutputPlan, safe_write, write_text
+        from fsarm_sim.studies.speed import format_report, measure_speed
+
+        OutputPlan().file("--json", json_file).check()
+        report = (
+            measure_speed(
+                reps=5, rtf_reps=2, rtf_duration_s=2.0, batch_reps=2, max_workers=max_workers
+            )
+            if quick
+            else measure_speed(reps=reps, max_workers=max_workers)
+        )
+        typer.echo(format_report(report))
+        if json_file is not None:
+            text = json.dumps(asdict(report), indent=2)
+            where = safe_write(json_file, lambda p: write_text(p, text), "the numbers (--json)")
+            typer.echo(f"numbers: {where}")

@@ -1,0 +1,571 @@
+"""CLI commands: ``select-shaft``, ``sweep``, ``sweep-report``, ``bench series|parallel``,
+``campaign``. Thin: parse, call :mod:`fsarm_sim.studies.shaft_selection`, :mod:`fsarm_sim.studies.sweep`,
+:mod:`fsarm_sim.studies.campaign`, print tables."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+from rich.markup import escape
+from rich.table import Table
+
+from fsarm_sim.cli.console import make_console
+from fsarm_sim.errors import FsarmError
+from fsarm_sim.outputs import OutputPlan, SafeWriter
+
+console = make_console()
+
+
+def _floats(text: str | None, what: str) -> tuple[float, ...] | None:
+    if text is None:
+        return None
+    try:
+        vals = tuple(float(x) for x in text.split(",") if x.strip())
+    except ValueError:
+        raise FsarmError(f"{what}: expected comma-separated numbers, got {text!r}") from None
+    if not vals or not all(math.isfinite(v) for v in vals):
+        raise FsarmError(f"{what}: expected finite numbers, got {text!r}")
+    return vals
+
+
+def _print_series_table(name: str, fits: Any) -> None:
+    from fsarm_sim.studies.campaign import series_table_rows
+
+    table = Table(
+        title=f"{escape(name)}: series test fits (Table I-like; K in N·m/rad, RMSE in N·m)"
+    )
+    rows = series_table_rows(fits)
+    cols = ("bend_deg", "K_sp", "K_sn", "RMSE_p", "RMSE_n", "eq1_J", "eq1_B_p", "eq1_B_n")
+    for c in cols:
+        table.add_column(escape(c), justify="right")
+    for r in rows:
+        table.add_row(*(f"{r[c]:.4g}" for c in cols))
+    console.print(table)
+
+
+def _print_parallel_table(name: str, fits: Any) -> None:
+    table = Table(title=f"{escape(name)}: parallel test fits (K_b in N·m/rad)")
+    cols = (
+        ("torsion", "torsion"),
+        ("kb_linear", "K_b eq.2"),
+        ("rmse_linear", "RMSE"),
+        ("kb_pos_bend", "K_b φ>0"),
+        ("kb_neg_bend", "K_b φ<0"),
+        ("kb_cubic", "K_b cubic"),
+        ("beta_cubic", "β [1/rad²]"),
+        ("loop_energy_j", "loop [J]"),
+        ("moment_at_max_bend_nm", "|M| at max bend"),
+    )
+    for _, label in cols:
+        table.add_column(escape(label), justify="right")
+    for f in fits:
+        table.add_row(
+            *(
+                str(getattr(f, k)) if isinstance(getattr(f, k), bool) else f"{getattr(f, k):.4g}"
+                for k, _ in cols
+            )
+        )
+    console.print(table)
+
+
+def _print_comparisons(comparisons: Any, fits: Any) -> None:
+    table = Table(title="re-fit vs the catalogue coefficients the simulator was given")
+    for col in (
+        "equation",
+        "n",
+        "fit RMSE",
+        "surface RMS err",
+        "surface max err",
+        "rel RMS",
+        "rel max",
+    ):
+        table.add_column(escape(col), justify="right")
+    for eq, c in comparisons.items():
+        f = fits[eq]
+        table.add_row(
+            escape(eq),
+            str(f.n),
+            f"{f.rmse:.3g}",
+            f"{c.surface_rms_error:.3g}",
+            f"{c.surface_max_abs_error:.3g}",
+            f"{100 * c.surface_rms_rel_error:.3g} %",
+            f"{100 * c.surface_max_rel_error:.3g} %",
+        )
+    console.print(table)
+    for eq, c in comparisons.items():
+        parts = ", ".join(
+            f"{n}: {100 * r:+.2g} %"
+            for n, r in zip(fits[eq].names, c.coefficient_rel_error, strict=True)
+        )
+        console.print(f"  {eq} coefficients (refit − catalogue)/catalogue: {parts}", markup=False)
+
+
+def _write_folder(out: Path, write: Any, what: str) -> None:
+    """``write(folder)`` into ``out``; a failed write goes to a rescue folder (named error)."""
+    err = make_console(stderr=True)
+    writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
+    where = writes.write(out, write, what, folder=True)
+    if where is not None:
+        console.print(f"table and figure in {where}", markup=False)
+    writes.finish()
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("select-shaft")
+    def select_shaft_cmd(
+        k_des: Annotated[float, typer.Option(help="desired stiffness K_des, N·m/rad")],
+        kind: Annotated[str, typer.Option(help="series (eq. 3) or parallel (eq. 4)")] = "series",
+        bend_deg: Annotated[float, typer.Option(help="series: bend angle for K_des, deg")] = 0.0,
+        torque_nm: Annotated[
+            float,
+            typer.Option(help="torque the shaft must carry, N·m (arm: joint-3 torque / i_G2)"),
+        ] = 0.0,
+        l_min: Annotated[float | None, typer.Option(help="robot's L_min, mm")] = None,
+        l_max: Annotated[float | None, typer.Option(help="robot's L_max, mm")] = None,
+        side: Annotated[
+            int, typer.Option(help="series: +1 winding (K_sp), -1 unwinding (K_sn)")
+        ] = 1,
+        diameters: Annotated[
+            str | None,
+            typer.Option(
+                help="available diameters, mm, comma-separated (default: the catalogue's)"
+            ),
+        ] = None,
+        seed: Annotated[int, typer.Option(help="seed of Algorithm 1's random start length")] = 0,
+        tolerance: Annotated[float, typer.Option(help="accepted |K − K_des| / K_des")] = 0.01,
+        nearest: Annotated[
+            bool, typer.Option(help="accept the nearest shaft if none reaches K_des")
+        ] = False,
+        shaft_file: Annotated[Path | None, typer.Option(help="coefficient file (TOML)")] = None,
+    ) -> None:
+        """Choose a shaft for a desired stiffness: Algorithm 1 (seed 000) and the closed-form selector."""
+        from fsarm_sim.plant.shaft import load_catalogue
+        from fsarm_sim.studies.shaft_selection import SelectionRequest, algorithm1, select_shaft
+
+        cat = load_catalogue(shaft_file)
+        lrange = None
+        if l_min is not None or l_max is not None:
+            lrange = (
+                l_min if l_min is not None else cat.length_range[0],
+                l_max if l_max is not None else cat.length_range[1],
+            )
+        req = SelectionRequest(
+            k_des=k_des,
+            kind=kind,  # type: ignore[arg-type]
+            bend_rad=math.radians(bend_deg),
+            torque_nm=torque_nm,
+            length_range_mm=lrange,
+            side=side,
+            diameters_mm=_floats(diameters, "--diameters"),
+        )
+        alg = algorithm1(cat, req, seed=seed, tolerance=tolerance)
+        table = Table(
+            title=f"shaft for K_des = {k_des:g} N·m/rad ({kind}, bend {bend_deg:g}°, torque ≥ {torque_nm:g} N·m)"
+        )
+        for col in (
+            "method",
+            "D [mm]",
+            "L [mm]",
+            "K [N·m/rad]",
+            "K − K_des",
+            "rating [N·m]",
+            "reaches K_des",
+        ):
+            table.add_column(escape(col), justify="right")
+
+        def row(s: Any) -> None:
+            table.add_row(
+                escape(s.method.split(" (")[0]),
+                f"{s.diameter_mm:g}",
+                f"{s.length_mm:.1f}",
+                f"{s.k_nm_per_rad:.4g}",
+                f"{s.error_nm_per_rad:+.3g} ({100 * s.relative_error:+.2g} %)",
+                f"{s.rating_nm:.3g}",
+                "yes" if s.feasible else "no",
+            )
+
+        row(alg)
+        try:
+            best = select_shaft(cat, req, tolerance=tolerance, nearest=nearest)
+        except FsarmError:
+            console.print(table)
+            raise
+        row(best)
+        console.print(table)
+        console.print(
+            f"Algorithm 1 lands {alg.length_mm - best.length_mm:+.1f} mm and "
+            f"{alg.k_nm_per_rad - best.k_nm_per_rad:+.3g} N·m/rad from the closed-form choice "
+            f"(D {alg.diameter_mm:g} vs {best.diameter_mm:g} mm; {alg.iterations} iterations)",
+            markup=False,
+        )
+
+    @app.command("sweep")
+    def sweep_cmd(
+        store: Annotated[
+            Path | None, typer.Option(help="results store (SQLite, required); rerun to resume")
+        ] = None,
+        spec: Annotated[Path | None, typer.Option(help="sweep spec (TOML)")] = None,
+        grid: Annotated[
+            list[str] | None,
+            typer.Option(help="FIELD=VALUES to sweep: start:stop:count or v1,v2,... (repeatable)"),
+        ] = None,
+        set_: Annotated[
+            list[str] | None, typer.Option("--set", help="FIELD=VALUE fixed (repeatable)")
+        ] = None,
+        outputs: Annotated[
+            str | None, typer.Option(help="comma-separated: bench,tracking,bandwidth,relief")
+        ] = None,
+        name: Annotated[str | None, typer.Option(help="sweep name stored with each point")] = None,
+        executor: Annotated[str, typer.Option(help="local (process pool) or dask")] = "local",
+        workers: Annotated[
+            int | None, typer.Option(help="worker processes (default: all cores)")
+        ] = None,
+        scheduler: Annotated[
+            str | None, typer.Option(help="Dask scheduler address, e.g. tcp://host:8786")
+        ] = None,
+        shaft_file: Annotated[Path | None, typer.Option(help="coefficient file (TOML)")] = None,
+        extrapolate: Annotated[
+            bool, typer.Option(help="allow shafts outside the validity box")
+        ] = False,
+        out: Annotated[
+            Path | None, typer.Option(help="after the run: re-fit eq. 3/4 and write plots here")
+        ] = None,
+        retry_failed: Annotated[
+            bool, typer.Option(help="recompute points that failed before")
+        ] = False,
+        dry_run: Annotated[
+            bool, typer.Option(help="validate and count points, run nothing")
+        ] = False,
+        progress: Annotated[bool, typer.Option(help="progress bar with ETA")] = True,
+        list_fields: Annotated[
+            bool, typer.Option(help="list the sweepable fields and exit")
+        ] = False,
+    ) -> None:
+        """Sweep shafts, bends, payloads, gains and scenarios; store every point as it finishes."""
+        from fsarm_sim.records.store import ResultStore, point_key
+        from fsarm_sim.studies import sweep as sw
+
+        if list_fields:
+            table = Table(title="sweep fields")
+            for col in ("field", "unit", "default", "meaning"):
+                table.add_column(col)
+            for f in sw.fields().values():
+                table.add_row(f.name, f.unit, str(f.default), escape(f.help))
+            console.print(table)
+            return
+        if store is None:
+            raise FsarmError("--store FILE is required: every finished point is written there")
+        OutputPlan().file("--store", store).folder("--out", out).input(
+            "the sweep spec of --spec", spec
+        ).input("the coefficient file of --shaft-file", shaft_file).check()
+        data = sw.load_spec_file(spec) if spec is not None else None
+        the_spec = sw.build_spec(
+            data,
+            grid=grid or (),
+            fixed=set_ or (),
+            name=name,
+            outputs=outputs.split(",") if outputs else None,
+            shaft_file=str(shaft_file) if shaft_file is not None else None,
+            extrapolate=extrapolate or None,
+        )
+        pts = sw.points(the_spec)
+        if dry_run:
+            done = failed = 0
+            if store.exists():
+                with ResultStore(store) as rs:
+                    keys, errors = rs.keys(), rs.errors()
+                done = sum(point_key(p) in keys for p in pts)
+                failed = sum(point_key(p) in errors for p in pts)
+            console.print(
+                f"{the_spec.name}: {len(pts)} points valid, {done} already in {store}"
+                + (f" ({failed} of them failed; --retry-failed reruns them)" if failed else ""),
+                markup=False,
+            )
+            return
+        report = sw.run_sweep(
+            the_spec,
+            store,
+            executor=executor,
+            workers=workers,
+            scheduler=scheduler,
+            retry_failed=retry_failed,
+            progress=progress,
+        )
+        console.print(
+            f"{report.name}: {report.total} points, {report.already} already stored, "
+            f"{report.computed} computed, {report.failed} failed in {report.wall_s:.1f} s "
+            f"({report.points_per_s:.3g} points/s) -> {store}",
+            markup=False,
+        )
+        if report.failed_before:
+            console.print(
+                f"{report.failed_before} of the {report.already} stored point(s) had failed in an "
+                "earlier run and were not rerun",
+                markup=False,
+            )
+        for e in report.errors[:5]:
+            console.print(f"  failed: {e}", markup=False)
+        if len(report.errors) > 5:
+            console.print(f"  ... and {len(report.errors) - 5} more", markup=False)
+        if out is not None:
+            _report(store, out, the_spec.name)
+        if report.failed or report.failed_before:
+            raise FsarmError(
+                f"{report.failed + report.failed_before} point(s) of {report.name} failed "
+                f"({report.failed} in this run, {report.failed_before} stored by an earlier run); "
+                "they are stored with their error, --retry-failed reruns them"
+            )
+
+    def _report(store: Path, out: Path, sweep: str | None) -> None:
+        from fsarm_sim.studies import sweep as sw
+
+        res = sw.analyze(store, out, sweep)
+        if res.comparisons:
+            _print_comparisons(res.comparisons, res.fits)
+        for eq, f in res.fits.items():
+            if eq not in res.comparisons:
+                console.print(f"{eq}: RMSE {f.rmse:.3g} N·m/rad over {f.n} points", markup=False)
+        for s in res.skipped:
+            console.print(f"skipped: {s}", markup=False)
+        console.print(f"{res.n_points} points analysed; files in {out}", markup=False)
+
+    @app.command("sweep-report")
+    def sweep_report_cmd(
+        store: Annotated[Path, typer.Option(help="results store (SQLite)")],
+        out: Annotated[Path, typer.Option(help="folder for tables and plots")],
+        name: Annotated[str | None, typer.Option(help="only this sweep's points")] = None,
+    ) -> None:
+        """Re-fit eq. 3/4 to a stored sweep and plot its metrics (maps, 3-D surfaces)."""
+        from fsarm_sim.records.store import check_store_file
+
+        if not store.is_file():
+            raise FsarmError(f"results store not found: {store}")
+        check_store_file(store)
+        OutputPlan().folder("--out", out).input("the results store of --store", store).check()
+        _report(store, out, name)
+
+    bench_app = typer.Typer(
+        help="Simulated test-bench experiments of seed 000 Sec. III.", no_args_is_help=True
+    )
+    app.add_typer(bench_app, name="bench")
+
+    def _settings(**kw: Any) -> Any:
+        from fsarm_sim.studies.campaign import BenchSettings
+
+        return BenchSettings(**{k: v for k, v in kw.items() if v is not None})
+
+    @bench_app.command("series")
+    def bench_series_cmd(
+        diameter_mm: Annotated[float, typer.Option(help="shaft diameter D, mm")] = 9.0,
+        length_mm: Annotated[float, typer.Option(help="shaft length L, mm")] = 450.0,
+        bends: Annotated[str, typer.Option(help="bend angles, deg")] = "0,15,30,45,60,75,90",
+        chirp_s: Annotated[float | None, typer.Option(help="chirp length, s")] = None,
+        amplitude_fraction: Annotated[
+            float | None, typer.Option(help="chirp amplitude / rating")
+        ] = None,
+        series_hysteresis: Annotated[
+            bool | None, typer.Option(help="Maxwell-slip hysteresis on/off (default: catalogue's)")
+        ] = None,
+        out: Annotated[
+            Path | None, typer.Option(help="folder for the table (CSV) and Fig. 6 loops")
+        ] = None,
+        workers: Annotated[
+            int | None, typer.Option(help="worker processes (default: all cores)")
+        ] = None,
+        shaft_file: Annotated[Path | None, typer.Option(help="coefficient file (TOML)")] = None,
+    ) -> None:
+        """Series test: chirp into the torque controller at each bend; eq. 8/eq. 1 fits per sign."""
+        from fsarm_sim.plant.shaft import load_catalogue
+        from fsarm_sim.studies import campaign as cp
+
+        OutputPlan().folder("--out", out).input(
+            "the coefficient file of --shaft-file", shaft_file
+        ).check()
+        cat = load_catalogue(shaft_file)
+        cat.shaft(diameter_mm, length_mm)
+        s = _settings(
+            chirp_s=chirp_s,
+            amplitude_fraction=amplitude_fraction,
+            series_hysteresis=series_hysteresis,
+        )
+        s.validate()
+        bend_list = cp.check_bends(_floats(bends, "--bends") or (), cat)
+        name, result = cp.run_one_shaft(
+            cat,
+            diameter_mm,
+            length_mm,
+            shaft_file,
+            s,
+            lambda sh, text: cp.series_tasks(sh, bend_list, s, text, True),
+            workers,
+        )
+        fits = result.series[name]
+        _print_series_table(name, fits)
+        if name in result.trends:
+            tr = result.trends[name]
+            console.print(
+                f"bend trend (eq. 8 f_p): K_sp = {tr.k0_pos:.4g} {tr.slope_pos:+.4g}·|φ|, "
+                f"K_sn = {tr.k0_neg:.4g} {tr.slope_neg:+.4g}·|φ|  (N·m/rad, φ in rad)",
+                markup=False,
+            )
+        if out is not None:
+            _write_folder(
+                out,
+                lambda d: cp.write_series_test(result, name, d),
+                "the table and figure (--out)",
+            )
+
+    @bench_app.command("parallel")
+    def bench_parallel_cmd(
+        diameter_mm: Annotated[float, typer.Option(help="shaft diameter D, mm")] = 9.0,
+        length_mm: Annotated[float, typer.Option(help="shaft length L, mm")] = 450.0,
+        period_s: Annotated[float | None, typer.Option(help="bending cycle period, s")] = None,
+        amplitude_deg: Annotated[float | None, typer.Option(help="bend amplitude, deg")] = None,
+        torsion_fraction: Annotated[
+            float | None, typer.Option(help="held twist torque / rating")
+        ] = None,
+        out: Annotated[
+            Path | None, typer.Option(help="folder for the table and Fig. 9 loop")
+        ] = None,
+        workers: Annotated[
+            int | None, typer.Option(help="worker processes (default: all cores)")
+        ] = None,
+        shaft_file: Annotated[Path | None, typer.Option(help="coefficient file (TOML)")] = None,
+    ) -> None:
+        """Parallel test: bend both ways with and without torsion; eq. 2 K_b fits of the moment loop."""
+        from fsarm_sim.plant.shaft import load_catalogue
+        from fsarm_sim.studies import campaign as cp
+
+        OutputPlan().folder("--out", out).input(
+            "the coefficient file of --shaft-file", shaft_file
+        ).check()
+        cat = load_catalogue(shaft_file)
+        p = cat.shaft(diameter_mm, length_mm)
+        s = _settings(
+            bend_period_s=period_s,
+            bend_amplitude_deg=amplitude_deg,
+            torsion_fraction=torsion_fraction,
+        )
+        s.validate()
+        name, result = cp.run_one_shaft(
+            cat,
+            diameter_mm,
+            length_mm,
+            shaft_file,
+            s,
+            lambda sh, text: cp.parallel_tasks(sh, s, text, True),
+            workers,
+        )
+        fits = result.parallel[name]
+        _print_parallel_table(name, fits)
+        console.print(
+            f"catalogue (eq. 4) K_b = {p.kb:.4g} N·m/rad, stiffening β = {p.beta:g} /rad²; "
+            f"static relief at 90° = {p.static_relief_nm(math.pi / 2):.3g} N·m",
+            markup=False,
+        )
+        if out is not None:
+            _write_folder(
+                out,
+                lambda d: cp.write_parallel_test(result, name, d),
+                "the table and figure (--out)",
+            )
+
+    @app.command("campaign")
+    def campaign_cmd(
+        out: Annotated[Path, typer.Option(help="output folder (tables, campaign.json, figures)")],
+        shafts: Annotated[
+            str | None, typer.Option(help="comma-separated shaft names (default: all nine)")
+        ] = None,
+        bends: Annotated[str, typer.Option(help="bend angles, deg")] = "0,15,30,45,60,75,90",
+        chirp_s: Annotated[float | None, typer.Option(help="series chirp length, s")] = None,
+        period_s: Annotated[float | None, typer.Option(help="parallel bending period, s")] = None,
+        series_hysteresis: Annotated[
+            bool | None, typer.Option(help="Maxwell-slip hysteresis on/off (default: catalogue's)")
+        ] = None,
+        executor: Annotated[str, typer.Option(help="local (process pool) or dask")] = "local",
+        workers: Annotated[
+            int | None, typer.Option(help="worker processes (default: all cores)")
+        ] = None,
+        scheduler: Annotated[str | None, typer.Option(help="Dask scheduler address")] = None,
+        shaft_file: Annotated[Path | None, typer.Option(help="coefficient file (TOML)")] = None,
+        progress: Annotated[bool, typer.Option(help="progress bar with ETA")] = True,
+    ) -> None:
+        """The nine-shaft bench campaign: both tests per shaft, eq. 3/4 re-fit, error vs catalogue."""
+        from fsarm_sim.plant.shaft import load_catalogue
+        from fsarm_sim.studies import campaign as cp
+
+        OutputPlan().folder("--out", out).input(
+            "the coefficient file of --shaft-file", shaft_file
+        ).check()
+        cat = load_catalogue(shaft_file)
+        chosen = list(cat.shafts)
+        if shafts:
+            wanted = [s.strip() for s in shafts.split(",") if s.strip()]
+            names = {s.name: s for s in cat.shafts}
+            missing = [w for w in wanted if w not in names]
+            if missing:
+                raise FsarmError(f"unknown shaft(s) {missing}; the catalogue has {sorted(names)}")
+            chosen = [names[w] for w in wanted]
+        s = _settings(chirp_s=chirp_s, bend_period_s=period_s, series_hysteresis=series_hysteresis)
+        bend_list = cp.check_bends(_floats(bends, "--bends") or (), cat)
+        n_tasks = len(chosen) * (len(bend_list) + 2)
+        bar = None
+        if progress:
+            from rich.progress import (
+                BarColumn,
+                MofNCompleteColumn,
+                Progress,
+                TextColumn,
+                TimeRemainingColumn,
+            )
+
+            bar = Progress(
+                TextColumn("bench runs"),
+                BarColumn(),
+                MofNCompleteColumn(),
+                TextColumn("ETA"),
+                TimeRemainingColumn(),
+                console=make_console(stderr=True),
+            )
+            task_id = bar.add_task("runs", total=n_tasks)
+            bar.start()
+        try:
+            result = cp.run_campaign(
+                shaft_file,
+                shafts=chosen,
+                bends_deg=bend_list,
+                settings=s,
+                executor=executor,
+                workers=workers,
+                scheduler=scheduler,
+                on_done=(lambda _o: bar.advance(task_id)) if bar is not None else None,
+            )
+        finally:
+            if bar is not None:
+                bar.stop()
+        err = make_console(stderr=True)
+        writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
+        written = writes.write(
+            out,
+            lambda d: (d, cp.write_campaign(result, cat, d)),
+            "the campaign's files (--out)",
+            folder=True,
+        )
+        proto = "MF09-450" if "MF09-450" in result.series else next(iter(result.series), None)
+        if proto is not None:
+            _print_series_table(proto, result.series[proto])
+        if proto in result.parallel:
+            _print_parallel_table(proto, result.parallel[proto])
+        _print_comparisons(result.comparisons, result.fits)
+        for e in result.errors:
+            console.print(f"error: {e}", markup=False)
+        if written is not None:
+            console.print(f"{len(written[1])} files in {written[0]}", markup=False)
+        writes.finish()
+        if result.errors:
+            raise FsarmError(
+                f"{len(result.errors)} bench run(s) of the campaign failed (listed above)"
+            )

@@ -1,0 +1,203 @@
+"""``fsarm transmissions``, ``fsarm compare-transmissions``, ``fsarm transparency``."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.markup import escape
+from rich.table import Table
+
+from fsarm_sim.cli.console import make_console
+from fsarm_sim.errors import InvalidParameterError
+from fsarm_sim.outputs import OutputPlan, SafeWriter, safe_write, write_text
+
+console = make_console()
+
+
+def parse_params(items: list[str]) -> tuple[tuple[str, float], ...]:
+    """``NAME=VALUE`` strings -> ((name, value), ...); InvalidParameterError on a malformed one."""
+    out = []
+    for item in items:
+        name, sep, value = item.partition("=")
+        try:
+            v = float(value)
+        except ValueError:
+            v = math.nan
+        if not sep or not name.strip() or not math.isfinite(v):
+            raise InvalidParameterError(
+                f"--tr-param must be NAME=VALUE with a finite number, got {item!r}"
+            )
+        out.append((name.strip(), v))
+    return tuple(out)
+
+
+SCALAR_GAINS = (
+    "torque_bandwidth_rad_s",
+    "torque_integral_rad_s",
+    "torque_derivative",
+    "speed_kp",
+    "speed_ki",
+)
+
+
+def parse_gains(items: list[str]) -> dict[str, float]:
+    """``NAME=VALUE`` for the scalar torque/speed-loop gains of :class:`fsarm_sim.engine.model.Gains`."""
+    out = dict(parse_params(items))
+    for name in out:
+        if name not in SCALAR_GAINS:
+            raise InvalidParameterError(
+                f"--gain {name!r} is not a tunable gain; allowed: {', '.join(SCALAR_GAINS)}"
+            )
+    return out
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("transmissions")
+    def transmissions_cmd(
+        name: Annotated[
+            str | None, typer.Argument(help="show one transmission's parameters")
+        ] = None,
+    ) -> None:
+        """List joint 3's transmissions (or one with its parameters and their sources)."""
+        from fsarm_sim.plant import transmissions
+
+        if name is None:
+            table = Table(title="joint-3 transmissions (fsarm run --transmission NAME)")
+            for col in ("name", "title", "source", "states", "over joint 2"):
+                table.add_column(col)
+            for n in transmissions.names():
+                tr = transmissions.get(n)
+                table.add_row(
+                    n,
+                    tr.title,
+                    tr.source,
+                    ", ".join(tr.states) or "-",
+                    "yes" if tr.routed_over_joint2 else "no",
+                )
+            console.print(table)
+            return
+        tr = transmissions.get(name)
+        table = Table(title=f"{name}: {tr.title}")
+        for col in ("parameter", "value", "unit", "source"):
+            table.add_column(col)
+        for p in tr.params:
+            table.add_row(p.name, f"{p.value:.6g}", escape(p.unit), escape(p.source))
+        console.print(table)
+
+    @app.command("compare-transmissions")
+    def compare_cmd(
+        scenario: Annotated[str, typer.Option(help="scenario to run")] = "fig14-sine",
+        only: Annotated[
+            list[str] | None, typer.Option(help="compare only these (repeatable)")
+        ] = None,
+        payload_kg: Annotated[float | None, typer.Option(help="payload, kg")] = None,
+        duration: Annotated[float | None, typer.Option(help="simulated time, s")] = None,
+        quick: Annotated[
+            bool, typer.Option(help="tracking only: skip bandwidth/impedance")
+        ] = False,
+        gain: Annotated[
+            list[str] | None,
+            typer.Option(help="joint-3 loop gain for all, NAME=VALUE (repeatable)"),
+        ] = None,
+        json_file: Annotated[Path | None, typer.Option("--json", help="write rows here")] = None,
+    ) -> None:
+        """Tracking RMSE, peak torque, motor work, bandwidth and impedance across transmissions."""
+        from fsarm_sim.engine.model import PAYLOAD_MAX_KG, Gains, SimConfig
+        from fsarm_sim.sim.simulation import check_duration
+        from fsarm_sim.studies.comparison import COLUMNS, compare, fmt
+
+        if duration is not None:
+            check_duration(duration)
+        if payload_kg is not None and not (
+            math.isfinite(payload_kg) and 0.0 <= payload_kg <= PAYLOAD_MAX_KG
+        ):
+            raise InvalidParameterError(
+                f"--payload-kg must be between 0 and {PAYLOAD_MAX_KG:g} kg, got {payload_kg!r}"
+            )
+        OutputPlan().file("--json", json_file).check()
+        base = SimConfig(gains=Gains(**parse_gains(gain or [])))  # type: ignore[arg-type]
+        rows = compare(
+            only or None,
+            scenario,
+            payload_kg=payload_kg,
+            duration_s=duration,
+            base=base,
+            analyses=not quick,
+        )
+        table = Table(title=f"transmissions on {scenario}")
+        table.add_column("transmission")
+        for _, label, _ in COLUMNS:
+            table.add_column(escape(label), justify="right")
+        notes = []
+        for r in rows:
+            if r.error:
+                notes.append(f"{r.transmission}: {r.error}")
+                table.add_row(r.transmission, "[red]failed[/]", *[""] * (len(COLUMNS) - 1))
+            else:
+                table.add_row(r.transmission, *(fmt(r.metrics.get(k), p) for k, _, p in COLUMNS))
+        console.print(table)
+        for note in notes:
+            console.print(f"[red]failed[/] {escape(note)}")
+        err = make_console(stderr=True)
+        writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
+        if json_file is not None:
+            text = json.dumps([r.as_dict() for r in rows], indent=2)
+            where = writes.write(json_file, lambda p: write_text(p, text), "the rows (--json)")
+            if where is not None:
+                console.print(f"rows: {where}", markup=False)
+        writes.finish()
+        if notes:
+            err.print(f"{len(notes)} of {len(rows)} transmission(s) failed", markup=False)
+            raise typer.Exit(code=1)
+
+    @app.command("transparency")
+    def transparency_cmd(
+        transmission: Annotated[
+            str, typer.Option(help="joint 3's transmission")
+        ] = "flexible-shaft",
+        bend: Annotated[
+            list[float] | None, typer.Option(help="bend angles, deg (repeatable)")
+        ] = None,
+        fixed_gains: Annotated[
+            bool, typer.Option(help="torque PID gains fixed at the straight stiffness (seed 001)")
+        ] = False,
+        json_file: Annotated[Path | None, typer.Option("--json", help="write results here")] = None,
+    ) -> None:
+        """Torque-loop bandwidth and output impedance vs bend (seed 001 Sec. 4.1.2, 4.2)."""
+        from fsarm_sim.engine.model import Gains, SimConfig
+        from fsarm_sim.studies.transparency import DEFAULT_BENDS_DEG, versus_bend
+
+        OutputPlan().file("--json", json_file).check()
+        cfg = SimConfig(transmission=transmission, gains=Gains(gain_schedule=not fixed_gains))
+        points = versus_bend(cfg, tuple(bend) if bend else DEFAULT_BENDS_DEG)
+        mode = "fixed" if fixed_gains else "scheduled"
+        table = Table(title=f"{transmission}: torque loop vs bend ({mode} gains)")
+        for col in ("bend [deg]", "bandwidth [Hz]", "|Z| low f [N·m/rad]", "passive K [N·m/rad]"):
+            table.add_column(escape(col), justify="right")
+        for p in points:
+            table.add_row(
+                f"{p.bend_deg:g}",
+                f"{p.bandwidth.bandwidth_hz:.2f}",
+                f"{p.impedance.low_freq_nm_per_rad:.2f}",
+                f"{p.impedance.passive_nm_per_rad:.1f}",
+            )
+        console.print(table)
+        if json_file is not None:
+            text = json.dumps(
+                [
+                    {
+                        "bend_deg": p.bend_deg,
+                        "bandwidth_hz": p.bandwidth.bandwidth_hz,
+                        "impedance_low_nm_per_rad": p.impedance.low_freq_nm_per_rad,
+                        "passive_stiffness_nm_per_rad": p.impedance.passive_nm_per_rad,
+                    }
+                    for p in points
+                ],
+                indent=2,
+            )
+            where = safe_write(json_file, lambda q: write_text(q, text), "the results (--json)")
+            console.print(f"results: {where}", markup=False)

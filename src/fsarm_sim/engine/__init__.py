@@ -1,0 +1,1 @@
+"""MuJoCo glue: model building, callbacks (thread-safe), native compilation."""

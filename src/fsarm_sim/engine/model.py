@@ -1,0 +1,558 @@
+"""Build a configured MuJoCo model of the arm: MJCF + shaft + payload + gains + reference.
+
+The MJCF (``models/fsarm/fsarm.xml``) is the one place where geometry, masses, inertias, gear
+ratios and limits are written. This module reads them back by name from the compiled model and
+adds what belongs to one run: the payload mass, the shaft parameters, controller gains and the
+reference table (see :mod:`fsarm_sim.kernels.layout` for where each lands).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from importlib import resources
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+from fsarm_sim.engine import callbacks
+from fsarm_sim.errors import InvalidParameterError, ModelStructureError
+from fsarm_sim.kernels import layout as L
+from fsarm_sim.plant import transmissions
+from fsarm_sim.plant.shaft import ShaftParams, load_catalogue
+from fsarm_sim.plant.transmissions import flexible_shaft
+from fsarm_sim.plant.transmissions.base import Transmission, TransmissionError
+
+PAYLOAD_MAX_KG = 15.0  # seed 000 Table III
+# A payload is a 15-kg-class block bolted to the flange: a cylinder r = 60 mm, h = 100 mm with its
+# centre 50 mm beyond the flange (estimate; gives tau_3 ~ 66 N*m at rated payload with the arm
+# horizontal, close to Table III's 67 N*m).
+PAYLOAD_COM_OFFSET_M = 0.05
+PAYLOAD_RADIUS_M = 0.06
+PAYLOAD_HEIGHT_M = 0.10
+
+
+def model_path(name: str = "fsarm") -> Path:
+    """Path of a packaged MJCF (``fsarm``, ``series_bench``, ``parallel_bench``)."""
+    folder = "fsarm" if name == "fsarm" else "bench"
+    file = "fsarm.xml" if name == "fsarm" else f"{name}.xml"
+    return Path(str(resources.files("fsarm_sim.models").joinpath(folder, file)))
+
+
+@dataclass(frozen=True)
+class Gains:
+    """Controller settings. Defaults were tuned on ``fig14-sine`` (README: Tuning)."""
+
+    ctrl_dt_s: float = 0.001  # 1 kHz (seed 001 ran both loops at 1 kHz)
+    wn_rad_s: tuple[float, float, float] = (20.0, 20.0, 25.0)  # position loops, natural frequency
+    zeta: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    # torque PID (Fig. 13), scheduled on the controller's eq. 8 stiffness K(phi_B, side):
+    # kp = w_t / K, ki = w_t w_i / K, kd = d / K  (controllers/joint3_torque.py)
+    torque_bandwidth_rad_s: float = 60.0  # w_t: well below the speed loop's ~300 rad/s
+    torque_integral_rad_s: float = 10.0  # w_i
+    torque_derivative: float = 0.0  # d (off: differentiating the encoder twist is noisy)
+    speed_kp: float = 0.009  # N*m per rad/s, motor side (EPOS-like speed loop)
+    speed_ki: float = 0.3  # N*m per rad
+    speed_ff: bool = (
+        True  # add measured shaft-output speed to omega_d (see controllers/joint3_torque.py)
+    )
+    bend_compensation: bool = True  # joint-2 loop adds the modeled elastic bending moment
+    # True: torque-PID gains follow the transmission's stiffness at the current twist and bend;
+    # False: fixed gains for its stiffness at zero twist, straight (as seed 001's RTCA PID)
+    gain_schedule: bool = True
+
+    def validate(self) -> None:
+        values = {
+            "ctrl_dt_s": self.ctrl_dt_s,
+            "torque_bandwidth_rad_s": self.torque_bandwidth_rad_s,
+            "torque_integral_rad_s": self.torque_integral_rad_s,
+            "torque_derivative": self.torque_derivative,
+            "speed_kp": self.speed_kp,
+            "speed_ki": self.speed_ki,
+            **{f"wn_rad_s[{i}]": v for i, v in enumerate(self.wn_rad_s)},
+            **{f"zeta[{i}]": v for i, v in enumerate(self.zeta)},
+        }
+        for name, v in values.items():
+            if not math.isfinite(v) or v < 0.0:
+                raise InvalidParameterError(f"gain {name} must be a finite number >= 0, got {v!r}")
+        if self.ctrl_dt_s <= 0.0:
+            raise InvalidParameterError(f"ctrl_dt_s must be > 0, got {self.ctrl_dt_s!r}")
+
+
+@dataclass(frozen=True)
+class Effects:
+    """Which shaft effects act on the plant. Slip hysteresis also needs non-zero element stiffness."""
+
+    series: bool = True
+    bending: bool = True
+    conduit: bool = True
+    slip: bool = True
+    coupling: bool = True  # energy-consistency term of eq. 8 on joint 2 (physics.py)
+    control: bool = True
+    # effects the discrepancy workflow names on the arm (0: off); each acts on the plant only,
+    # the controllers do not know it
+    payload_error_kg: float = 0.0  # unstated payload mass (effects.payload_error)
+    backlash_width_rad: float = (
+        0.0  # play in joint 3's transmission, on the twist (effects.backlash)
+    )
+    backlash_center_rad: float = 0.0
+    q3_friction_nm: float = 0.0  # Coulomb friction at joint 3 (MuJoCo dof frictionloss), N*m
+    q3_damping_nms: float = 0.0  # extra viscous damping at joint 3 (added to dof damping)
+
+    def validate(self) -> None:
+        if not math.isfinite(self.payload_error_kg) or abs(self.payload_error_kg) > PAYLOAD_MAX_KG:
+            raise InvalidParameterError(
+                f"payload_error_kg must be within +-{PAYLOAD_MAX_KG:g} kg, got {self.payload_error_kg!r}"
+            )
+        for name in ("backlash_width_rad", "q3_friction_nm", "q3_damping_nms"):
+            v = getattr(self, name)
+            if not math.isfinite(v) or v < 0.0:
+                raise InvalidParameterError(f"{name} must be a finite number >= 0, got {v!r}")
+        if not math.isfinite(self.backlash_center_rad) or abs(self.backlash_center_rad) > 0.5:
+            raise InvalidParameterError(
+                f"backlash_center_rad must be within +-0.5 rad, got {self.backlash_center_rad!r}"
+            )
+
+
+@dataclass(frozen=True)
+class SimConfig:
+    """Everything that defines one simulated run except its reference."""
+
+    shaft: ShaftParams = field(default_factory=lambda: load_catalogue().shaft())
+    payload_kg: float = 0.0
+    gains: Gains = field(default_factory=Gains)
+    effects: Effects = field(default_factory=Effects)
+    controller_shaft: ShaftParams | None = None  # the controller's eq. 8 model; None: same as shaft
+    timestep_s: float | None = None  # None: the MJCF's (1 ms)
+    integrator: str | None = None  # "Euler", "RK4", "implicit", "implicitfast"; None: the MJCF's
+    joint_damping: bool = True  # harmonic-drive/hypoid/motor viscous damping of the MJCF
+    # joint 3's transmission (fsarm_sim.plant.transmissions): name, parameter overrides of its plant
+    # law, and of the controller's copy (None: the controller knows the plant's law exactly).
+    # The flexible shaft takes its numbers from ``shaft`` / ``controller_shaft`` instead.
+    transmission: str = transmissions.DEFAULT
+    transmission_params: tuple[tuple[str, float], ...] = ()
+    controller_transmission_params: tuple[tuple[str, float], ...] | None = None
+
+    def with_(self, **changes: object) -> SimConfig:
+        return replace(self, **changes)  # type: ignore[arg-type]
+
+    def validate(self) -> None:
+        if not math.isfinite(self.payload_kg) or not 0.0 <= self.payload_kg <= PAYLOAD_MAX_KG:
+            raise InvalidParameterError(
+                f"payload must be between 0 and {PAYLOAD_MAX_KG:g} kg (seed 000 Table III), got {self.payload_kg!r}"
+            )
+        self.gains.validate()
+        self.effects.validate()
+        tr = self.transmission_model()
+        if tr.name != transmissions.DEFAULT:
+            tr.block(dict(self.transmission_params))
+            tr.block(dict(self.controller_transmission_params or self.transmission_params))
+        elif self.transmission_params or self.controller_transmission_params:
+            raise InvalidParameterError(
+                "the flexible shaft takes its parameters from SimConfig.shaft, not "
+                "transmission_params"
+            )
+        if self.timestep_s is not None and (
+            not math.isfinite(self.timestep_s) or self.timestep_s <= 0.0
+        ):
+            raise InvalidParameterError(f"timestep must be > 0 s, got {self.timestep_s!r}")
+        if self.integrator is not None and self.integrator not in INTEGRATORS:
+            raise InvalidParameterError(
+                f"integrator must be one of {sorted(INTEGRATORS)}, got {self.integrator!r}"
+            )
+
+    def transmission_model(self) -> Transmission:
+        """Joint 3's transmission (TransmissionError names the known ones)."""
+        return transmissions.get(self.transmission)
+
+    def rating_nm(self) -> float:
+        """Torque rating of joint 3's transmission (shaft side), N*m."""
+        return self.transmission_model().rating_nm(self.transmission_blocks()[0])
+
+    def transmission_blocks(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """(plant, controller) parameter blocks of joint 3's transmission."""
+        tr = self.transmission_model()
+        if tr.name == transmissions.DEFAULT:
+            plant = shaft_block(self.shaft)
+            if not self.effects.slip:  # Maxwell-slip elements switched off on the plant
+                plant[flexible_shaft.I_SLIP_K : flexible_shaft.I_SLIP_F] = 0.0
+            return plant, shaft_block(self.controller_shaft or self.shaft)
+        plant = tr.block(dict(self.transmission_params))
+        ctrl = tr.block(dict(self.controller_transmission_params or self.transmission_params))
+        return plant, ctrl
+
+
+def shaft_block(sh: ShaftParams) -> npt.NDArray[np.float64]:
+    """The flexible shaft's block (transmissions.flexible_shaft order) from a catalogue shaft."""
+    out = np.zeros(L.N_TR)
+    n = flexible_shaft.N_SLIP
+    out[: flexible_shaft.I_SLIP_K] = (
+        sh.k_pos,
+        sh.s_pos,
+        sh.k_neg,
+        sh.s_neg,
+        sh.damping_pos,
+        sh.damping_neg,
+        sh.rating_nm,
+    )
+    out[flexible_shaft.I_SLIP_K : flexible_shaft.I_SLIP_K + n] = sh.slip_k
+    out[flexible_shaft.I_SLIP_F : flexible_shaft.I_SLIP_F + n] = sh.slip_f
+    out[flexible_shaft.I_SLIP_RN] = sh.slip_unwinding_ratio
+    out[flexible_shaft.I_BEND_MU] = sh.bend_friction_per_rad
+    return out
+
+
+INTEGRATORS = {
+    "Euler": mujoco.mjtIntegrator.mjINT_EULER,
+    "RK4": mujoco.mjtIntegrator.mjINT_RK4,
+    "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
+    "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
+}
+
+
+@dataclass(frozen=True)
+class ArmStructure:
+    """Indices and ratios read from the compiled MJCF."""
+
+    qadr: tuple[int, int, int, int]  # q1, q2, q3, rotor
+    dof: tuple[int, int, int, int]
+    coef_m: float  # 1 / i_G1
+    coef_s: float  # i_G2
+    act_branch: tuple[int, int]
+    act_slip: int
+    ctrl: tuple[int, int, int]
+    madr: tuple[int, int, int]
+    tau_max: tuple[float, float, float]  # j1, j2 joint torque; j3 motor (rotor) torque
+    motor_speed_limit: float
+    twist_tendon: int
+
+    @property
+    def i_g1(self) -> float:
+        return 1.0 / self.coef_m
+
+    @property
+    def i_g2(self) -> float:
+        return self.coef_s
+
+
+def _id(model: mujoco.MjModel, kind: mujoco.mjtObj, name: str) -> int:
+    i = mujoco.mj_name2id(model, kind, name)
+    if i < 0:
+        raise ModelStructureError(
+            f"the MJCF has no {kind.name[6:].lower()} named '{name}', which fsarm-sim needs"
+        )
+    return int(i)
+
+
+def fixed_tendon(model: mujoco.MjModel, name: str) -> dict[int, float]:
+    t = _id(model, mujoco.mjtObj.mjOBJ_TENDON, name)
+    adr, num = int(model.tendon_adr[t]), int(model.tendon_num[t])
+    out: dict[int, float] = {}
+    for w in range(adr, adr + num):
+        if model.wrap_type[w] != mujoco.mjtWrap.mjWRAP_JOINT:
+            raise ModelStructureError(f"tendon '{name}' must be a fixed tendon of joints")
+        out[int(model.wrap_objid[w])] = float(model.wrap_prm[w])
+    return out
+
+
+def read_structure(model: mujoco.MjModel) -> ArmStructure:
+    """Find joints, gear ratios, states and limits by name; check they are consistent."""
+    J = mujoco.mjtObj.mjOBJ_JOINT
+    joints = [_id(model, J, n) for n in ("q1", "q2", "q3", "j3_rotor")]
+    rotor, q3 = joints[3], joints[2]
+    tm, ts, tw = (
+        fixed_tendon(model, "theta_m"),
+        fixed_tendon(model, "theta_s"),
+        fixed_tendon(model, "shaft_twist"),
+    )
+    if set(tm) != {rotor} or set(ts) != {q3}:
+        raise ModelStructureError("tendon 'theta_m' must use only j3_rotor and 'theta_s' only q3")
+    coef_m, coef_s = tm[rotor], ts[q3]
+    if coef_m <= 0.0 or coef_s <= 0.0:
+        raise ModelStructureError(
+            "gear-ratio coefficients of 'theta_m' and 'theta_s' must be positive"
+        )
+    if set(tw) != {rotor, q3} or abs(tw[rotor] - coef_m) > 1e-12 or abs(tw[q3] + coef_s) > 1e-12:
+        raise ModelStructureError(
+            "tendon 'shaft_twist' must equal theta_m - theta_s (same coefficients)"
+        )
+    A = mujoco.mjtObj.mjOBJ_ACTUATOR
+    br = [_id(model, A, f"conduit_branch{i}") for i in (1, 2)]
+    slips = [_id(model, A, f"shaft_slip{i}") for i in (1, 2, 3)]
+    slip_adr = [int(model.actuator_actadr[a]) for a in slips]
+    if slip_adr != [slip_adr[0], slip_adr[0] + 1, slip_adr[0] + 2]:
+        raise ModelStructureError("the three shaft_slip actuators must be consecutive")
+    motors = [_id(model, A, n) for n in ("j1_motor", "j2_motor", "j3_motor")]
+    tau_max = tuple(
+        float(max(abs(model.actuator_ctrlrange[a, 0]), abs(model.actuator_ctrlrange[a, 1])))
+        for a in motors
+    )
+    speed = model.numeric("j3_motor_speed_limit").data
+    dofs = [int(model.jnt_dofadr[j]) for j in joints]
+    madr = [int(model.M_rowadr[d] + model.M_rownnz[d] - 1) for d in dofs[:3]]
+    return ArmStructure(
+        qadr=tuple(int(model.jnt_qposadr[j]) for j in joints),  # type: ignore[arg-type]
+        dof=tuple(dofs),  # type: ignore[arg-type]
+        coef_m=coef_m,
+        coef_s=coef_s,
+        act_branch=(int(model.actuator_actadr[br[0]]), int(model.actuator_actadr[br[1]])),
+        act_slip=slip_adr[0],
+        ctrl=tuple(motors),  # type: ignore[arg-type]
+        madr=tuple(madr),  # type: ignore[arg-type]
+        tau_max=tau_max,  # type: ignore[arg-type]
+        motor_speed_limit=float(speed[0]),
+        twist_tendon=_id(model, mujoco.mjtObj.mjOBJ_TENDON, "shaft_twist"),
+    )
+
+
+def build_spec(
+    config: SimConfig, ref_table: npt.NDArray[np.float64], path: Path | None = None
+) -> mujoco.MjSpec:
+    """The MjSpec of one run (payload, state ranges, parameter/reference storage) before compiling.
+
+    ``build_spec(...).to_xml()`` is the exact MJCF of the run: feed it to Pinocchio so both
+    engines read the same numbers.
+    """
+    spec = mujoco.MjSpec.from_file(str(path or model_path()))
+    if config.payload_kg > 0.0:
+        m, r, h = config.payload_kg, PAYLOAD_RADIUS_M, PAYLOAD_HEIGHT_M
+        body = spec.body("payload")
+        body.mass = m
+        body.ipos = [0.0, 0.0, PAYLOAD_COM_OFFSET_M]
+        body.inertia = [
+            m * (3 * r * r + h * h) / 12.0,
+            m * (3 * r * r + h * h) / 12.0,
+            m * r * r / 2.0,
+        ]
+        body.explicitinertial = True
+    sh = config.shaft
+    if sh.inertia_kgm2 > 0.0:
+        # eq. 1 J: the shaft's own inertia, lumped half at each end (the standard discretization
+        # of a torsional shaft; a rigidly spinning shaft then has kinetic energy J w^2 / 2).
+        # As joint armature both MuJoCo and Pinocchio read it. (A tendon armature J on
+        # shaft_twist would be wrong twice over: it gives a rigid spin no energy, and MuJoCo 3.17
+        # drops its coupling term between the rotor and q3, which sit on different branches.)
+        with callbacks.suspended():
+            st = read_structure(mujoco.MjSpec.from_file(str(path or model_path())).compile())
+        spec.joint("j3_rotor").armature += 0.5 * sh.inertia_kgm2 * st.coef_m**2
+        spec.joint("q3").armature += 0.5 * sh.inertia_kgm2 * st.coef_s**2
+    tr = config.transmission_model()
+    # the slip slots carry the transmission's own states (the shaft's Maxwell-slip elements...)
+    for i, lim in enumerate(tr.state_limits(config.transmission_blocks()[0])):
+        act = spec.actuator(f"shaft_slip{i + 1}")
+        if lim is None:
+            act.actlimited = mujoco.mjtLimited.mjLIMITED_FALSE
+        else:
+            act.actlimited = mujoco.mjtLimited.mjLIMITED_TRUE
+            act.actrange = [lim[0], lim[1]]
+    spec.add_numeric(name=L.PARAMS_NAME, size=L.N_PARAMS, data=np.zeros(L.N_PARAMS))
+    spec.add_numeric(name=L.REF_NAME, size=ref_table.size, data=ref_table.ravel())
+    spec.nuserdata = L.N_USERDATA
+    return spec
+
+
+def build_model(
+    config: SimConfig, ref_table: npt.NDArray[np.float64], path: Path | None = None
+) -> mujoco.MjModel:
+    """Compile the arm for one run and write its parameters into ``fsarm_params``.
+
+    ``ref_table`` has one row per control tick: ``q_ref[3], qd_ref[3], qdd_ref[3]``.
+    """
+    config.validate()
+    ref = np.ascontiguousarray(ref_table, dtype=np.float64)
+    if ref.ndim != 2 or ref.shape[1] != L.REF_COLS or ref.shape[0] < 1:
+        raise InvalidParameterError(
+            f"reference table must have shape (n_ticks >= 1, {L.REF_COLS}), got {ref.shape}"
+        )
+    if not np.all(np.isfinite(ref)):
+        raise InvalidParameterError("reference table contains NaN or infinite values")
+    if config.transmission_model().routed_over_joint2:  # phi_B = q2: the file's bend range
+        config.shaft.check_bend(ref[:, 1], "joint 2's reference q2 (the shaft's bend phi_B)")
+    with callbacks.suspended():
+        model = build_spec(config, ref, path).compile()
+    if config.timestep_s is not None:
+        model.opt.timestep = config.timestep_s
+    if config.integrator is not None:
+        model.opt.integrator = INTEGRATORS[config.integrator]
+    ratio = config.gains.ctrl_dt_s / model.opt.timestep
+    if ratio < 1.0 - 1e-9 or abs(ratio - round(ratio)) > 1e-6:
+        raise InvalidParameterError(
+            f"control period {config.gains.ctrl_dt_s:g} s must be a whole multiple of the physics "
+            f"timestep {model.opt.timestep:g} s"
+        )
+    if not config.joint_damping:
+        model.dof_damping[:] = 0.0
+    st = read_structure(model)
+    model.dof_frictionloss[st.dof[2]] += config.effects.q3_friction_nm
+    model.dof_damping[st.dof[2]] += config.effects.q3_damping_nms
+    write_params(model, st, config, ref.shape[0])
+    omega = shaft_mode_rad_s(model, st, max_stiffness(config), ref[0, :3])
+    if config.effects.series and omega * model.opt.timestep > MAX_OMEGA_DT:
+        raise InvalidParameterError(
+            f"timestep {model.opt.timestep:g} s is too large for the shaft: its stiffest mode is "
+            f"{omega:.0f} rad/s and omega*dt must stay below {MAX_OMEGA_DT:g}; "
+            f"use a timestep of at most {MAX_OMEGA_DT / omega:.2g} s"
+        )
+    return model
+
+
+MAX_OMEGA_DT = (
+    1.0  # explicit springs: stable below 2 (Euler) / 2.8 (RK4); 1 keeps phase errors small
+)
+
+
+def max_stiffness(config: SimConfig) -> float:
+    """Largest stiffness joint 3's transmission can show (N*m/rad, shaft side).
+
+    Flexible shaft: the stiffer eq. 3 side straight plus the slip elements; any other: the
+    largest stiffness of its law over its valid twist range and the bends joint 2 can reach.
+    """
+    return config.transmission_model().max_stiffness(config.transmission_blocks()[0])
+
+
+def shaft_mode_rad_s(
+    model: mujoco.MjModel, st: ArmStructure, k: float, q: npt.NDArray[np.float64]
+) -> float:
+    """Frequency of the rotor-against-load transmission mode at pose ``q`` with stiffness ``k``.
+
+    Two inertias on one spring: w^2 = K (c_m^2 / I_rotor + c_s^2 / M_33), with the twist
+    coefficients c_m = 1/i_G1 and c_s = i_G2 of the tendon.
+    """
+    data = mujoco.MjData(model)
+    data.qpos[list(st.qadr[:3])] = q
+    mujoco.mj_kinematics(model, data)
+    mujoco.mj_comPos(model, data)
+    mujoco.mj_crb(model, data)
+    full = np.zeros((model.nv, model.nv))
+    mujoco.mj_fullM(model, data, full)
+    inv = st.coef_m**2 / full[st.dof[3], st.dof[3]] + st.coef_s**2 / full[st.dof[2], st.dof[2]]
+    return float(np.sqrt(k * inv))
+
+
+def write_params(model: mujoco.MjModel, st: ArmStructure, config: SimConfig, n_ticks: int) -> None:
+    """Fill ``fsarm_params`` (layout.P_*)."""
+    p = model.numeric(L.PARAMS_NAME).data
+    sh, cm_sh, g, fx = (
+        config.shaft,
+        config.controller_shaft or config.shaft,
+        config.gains,
+        config.effects,
+    )
+    on = {True: 1.0, False: 0.0}
+    p[:] = 0.0
+    p[L.P_MAGIC] = L.MAGIC
+    p[L.P_QADR_Q1], p[L.P_QADR_Q2], p[L.P_QADR_Q3], p[L.P_QADR_ROT] = st.qadr
+    p[L.P_DOF_Q1], p[L.P_DOF_Q2], p[L.P_DOF_Q3], p[L.P_DOF_ROT] = st.dof
+    p[L.P_COEF_M], p[L.P_COEF_S] = st.coef_m, st.coef_s
+    p[L.P_ACT_BR1], p[L.P_ACT_BR2] = st.act_branch
+    p[L.P_ACT_SLIP1] = st.act_slip
+    p[L.P_CTRL_J1], p[L.P_CTRL_J2], p[L.P_CTRL_J3] = st.ctrl
+    p[L.P_MADR_Q1], p[L.P_MADR_Q2], p[L.P_MADR_Q3] = st.madr
+    p[L.P_KB], p[L.P_BETA] = sh.kb, sh.beta
+    p[L.P_BR_K1], p[L.P_BR_K2] = sh.conduit_k
+    p[L.P_BR_TAU1], p[L.P_BR_TAU2] = sh.conduit_tau
+    p[L.P_EN_SERIES] = on[fx.series]
+    p[L.P_EN_BEND] = on[fx.bending]
+    p[L.P_EN_CONDUIT] = on[fx.conduit]
+    p[L.P_EN_COUPLING] = on[fx.coupling]
+    p[L.P_EN_CONTROL] = on[fx.control]
+    p[L.P_CTRL_DT] = g.ctrl_dt_s
+    p[L.P_N_TICKS] = n_ticks
+    p[L.P_TIMESTEP] = model.opt.timestep
+    p[L.P_STEPS_PER_TICK] = max(1, round(g.ctrl_dt_s / model.opt.timestep))
+    p[L.P_WN1], p[L.P_WN2], p[L.P_WN3] = g.wn_rad_s
+    p[L.P_ZETA1], p[L.P_ZETA2], p[L.P_ZETA3] = g.zeta
+    p[L.P_TAU_BW], p[L.P_TAU_WI] = g.torque_bandwidth_rad_s, g.torque_integral_rad_s
+    p[L.P_TAU_KDN] = g.torque_derivative
+    p[L.P_SPD_KP], p[L.P_SPD_KI] = g.speed_kp, g.speed_ki
+    p[L.P_OMEGA_MAX] = st.motor_speed_limit
+    p[L.P_TAU1_MAX], p[L.P_TAU2_MAX], p[L.P_TAU_MOT_MAX] = st.tau_max
+    p[L.P_CM_KB], p[L.P_CM_BETA] = cm_sh.kb, cm_sh.beta
+    p[L.P_CM_BEND_COMP] = on[g.bend_compensation]
+    p[L.P_SPEED_FF] = on[g.speed_ff]
+    p[L.P_GAIN_SCHED] = on[g.gain_schedule]
+    p[L.P_SETUP] = L.SETUP_ARM
+    p[L.P_RK4] = on[model.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4]
+    write_transmission(p, config)
+    write_arm_effects(model, p, config.effects)
+
+
+def write_transmission(p: npt.NDArray[np.float64], config: SimConfig) -> None:
+    """Joint 3's transmission: id, plant and controller blocks; shaft-only effects off if absent."""
+    tr = config.transmission_model()
+    plant, ctrl = config.transmission_blocks()
+    p[L.P_TRANS] = tr.kind
+    p[L.P_TR : L.P_TR + L.N_TR] = plant
+    p[L.P_TRC : L.P_TRC + L.N_TR] = ctrl
+    p[L.P_TR_K0] = reference_stiffness(config)
+    if not tr.routed_over_joint2:  # no shaft over joint 2: no bending moment to feel or cancel
+        p[L.P_EN_BEND] = p[L.P_EN_CONDUIT] = p[L.P_EN_COUPLING] = 0.0
+        p[L.P_CM_KB] = p[L.P_CM_BETA] = 0.0
+
+
+REFERENCE_TORQUE_FRACTION = 0.3  # of the rating: the operating point fixed gains are tuned for
+
+
+def reference_stiffness(config: SimConfig) -> float:
+    """The controller's stiffness at its nominal operating point, straight (N*m/rad).
+
+    The twist that holds 30 % of the rating on the positive side (the bias of the bandwidth
+    test, arm_metrics), unbent: fixed torque-PID gains are tuned for it (``gain_schedule=False``)
+    and the scheduler never goes below :data:`layout.STIFFNESS_FLOOR` of it. For the linear eq. 8
+    shaft this is simply K_sp(0); for stiffening laws (RTCA, QA-Joint) it avoids tuning on the
+    near-zero stiffness at zero twist.
+    """
+    tr = config.transmission_model()
+    _, ctrl = config.transmission_blocks()
+    try:
+        x = tr.twist_for_torque(ctrl, REFERENCE_TORQUE_FRACTION * tr.rating_nm(ctrl), 0.0)
+    except TransmissionError:
+        x = 0.0
+    return max(tr.stiffness(ctrl, x, 0.0), 0.0)
+
+
+def write_arm_effects(model: mujoco.MjModel, p: npt.NDArray[np.float64], fx: Effects) -> None:
+    """Plant-only arm effects (payload error, backlash); geometry read from the compiled MJCF."""
+    p[L.P_PAY_DM] = fx.payload_error_kg
+    p[L.P_BL_WIDTH] = fx.backlash_width_rad
+    p[L.P_BL_CENTER] = fx.backlash_center_rad
+    l2, l3 = payload_lever_arms_m(model)
+    p[L.P_PAY_L2], p[L.P_PAY_L3] = l2, l3
+    p[L.P_GRAVITY] = float(np.linalg.norm(model.opt.gravity))
+
+
+def payload_lever_arms_m(model: mujoco.MjModel) -> tuple[float, float]:
+    """(joint 2 -> joint 3, joint 3 -> payload centre of mass) distances at the zero pose, m.
+
+    (0, 0) for a model without the arm's joint 2 / payload (the benches).
+    """
+    J = mujoco.mjtObj.mjOBJ_JOINT
+    if (
+        mujoco.mj_name2id(model, J, "q2") < 0
+        or mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "payload") < 0
+    ):
+        return 0.0, 0.0
+    data = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, data)
+    a2 = data.xanchor[_id(model, J, "q2")]
+    a3 = data.xanchor[_id(model, J, "q3")]
+    b = _id(model, mujoco.mjtObj.mjOBJ_BODY, "payload")
+    com = data.xpos[b] + data.xmat[b].reshape(3, 3) @ np.array([0.0, 0.0, PAYLOAD_COM_OFFSET_M])
+    return float(np.linalg.norm(a3 - a2)), float(np.linalg.norm(com - a3))
+
+
+def params(model: mujoco.MjModel) -> npt.NDArray[np.float64] | None:
+    """The parameter vector of an fsarm model, or None for any other model."""
+    try:
+        p = model.numeric(L.PARAMS_NAME).data
+    except KeyError:
+        return None
+    if p.size != L.N_PARAMS or p[L.P_MAGIC] != L.MAGIC:
+        return None
+    return p
+
+
+def reference(model: mujoco.MjModel) -> npt.NDArray[np.float64]:
+    return model.numeric(L.REF_NAME).data

@@ -1,0 +1,1 @@
+"""Where parameters and states live (layout) and the array kernels the callbacks run."""

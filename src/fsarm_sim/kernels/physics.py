@@ -1,0 +1,695 @@
+"""Array kernels the callbacks run: shaft forces, state rates, and the control tick.
+
+Each kernel takes the parameter vector (``layout.P_*``), MuJoCo's state arrays and output arrays;
+no MuJoCo objects, no Python objects. The Python callbacks (:mod:`fsarm_sim.engine.callbacks`) call them
+as they are; the native path compiles the very same functions with Numba.
+
+Where the shaft's reaction torques land: the twist is the fixed tendon
+``theta_m - theta_s = rotor / i_G1 - i_G2 q3``; its torque enters as generalized forces on the
+rotor joint (``-tau / i_G1``) and on q3 (``+i_G2 tau``) and nowhere else. Joint-space forces are
+internal between a joint's parent and child bodies, so the reaction of the motor/gearbox acts on
+link 1 (the rotor's parent) and the reaction of the hypoid acts on link 2 (q3's parent): the
+world sees no torque from the shaft, which ``tests/test_physics.py`` checks through conservation
+of angular momentum about joint 1's axis.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import numpy.typing as npt
+
+from fsarm_sim.controllers.joint3_torque import scheduled_gains, speed_loop, torque_pid
+from fsarm_sim.controllers.joint_position import clamp, computed_torque
+from fsarm_sim.kernels.layout import (
+    A_COUNT,
+    A_MAX_ERR,
+    A_MAX_TAU_EST,
+    A_MOTOR_WORK,
+    A_PEAK_MOTOR_TORQUE,
+    A_PEAK_ROTOR_SPEED,
+    A_PEAK_SHAFT_TORQUE,
+    A_PEAK_TAU2,
+    A_PEAK_TWIST,
+    A_SQ_ERR,
+    A_SQ_TAU_EST,
+    L_OMEGA_D,
+    L_PID_D,
+    L_PID_I,
+    L_PID_P,
+    L_TAU_BEND,
+    L_TAU_CONDUIT,
+    L_TAU_D_JOINT,
+    L_TAU_D_SHAFT,
+    L_TAU_MODEL,
+    L_TAU_SHAFT,
+    N_ACC,
+    N_MEM,
+    N_TR,
+    P_ACT_BR1,
+    P_ACT_BR2,
+    P_ACT_SLIP1,
+    P_BEND_FIXED,
+    P_BETA,
+    P_BL_CENTER,
+    P_BL_WIDTH,
+    P_BR_K1,
+    P_BR_K2,
+    P_BR_TAU1,
+    P_BR_TAU2,
+    P_CM_BEND_COMP,
+    P_CM_BETA,
+    P_CM_KB,
+    P_COEF_M,
+    P_COEF_S,
+    P_CTRL_DT,
+    P_CTRL_J1,
+    P_CTRL_J2,
+    P_CTRL_J3,
+    P_DOF_Q1,
+    P_DOF_Q2,
+    P_DOF_Q3,
+    P_DOF_ROT,
+    P_EN_BEND,
+    P_EN_CONDUIT,
+    P_EN_CONTROL,
+    P_EN_COUPLING,
+    P_EN_SERIES,
+    P_GAIN_SCHED,
+    P_GRAVITY,
+    P_KB,
+    P_MADR_Q1,
+    P_MADR_Q2,
+    P_MADR_Q3,
+    P_N_TICKS,
+    P_OMEGA_MAX,
+    P_PAY_DM,
+    P_PAY_L2,
+    P_PAY_L3,
+    P_QADR_Q1,
+    P_QADR_Q2,
+    P_QADR_Q3,
+    P_QADR_ROT,
+    P_RK4,
+    P_SPD_KI,
+    P_SPD_KP,
+    P_SPEED_FF,
+    P_STEPS_PER_TICK,
+    P_TAU1_MAX,
+    P_TAU2_MAX,
+    P_TAU_BW,
+    P_TAU_KDN,
+    P_TAU_MOT_MAX,
+    P_TAU_WI,
+    P_TIMESTEP,
+    P_TR,
+    P_TR_K0,
+    P_TRANS,
+    P_TRC,
+    P_WN1,
+    P_WN2,
+    P_WN3,
+    P_ZETA1,
+    P_ZETA2,
+    P_ZETA3,
+    REF_COLS,
+    STIFFNESS_FLOOR,
+    TR_FLEXIBLE_SHAFT,
+    TR_MAGNETIC_SPRING,
+    TR_QA_JOINT,
+    TR_RTCA,
+    U_ACC,
+    U_ACC_PRE,
+    U_LOG,
+    U_MEM,
+    U_OUT,
+    U_PRE,
+    U_STEP,
+    U_STEP_T,
+    U_TICK,
+    U_TICK_STEP,
+)
+from fsarm_sim.plant.effects import (
+    backlash,
+    bending,
+    conduit_viscoelastic,
+    payload_error,
+)
+from fsarm_sim.plant.transmissions import (
+    flexible_shaft,
+    magnetic_spring,
+    qa_joint,
+    rtca,
+    tendon_sheath,
+)
+
+FloatArray = npt.NDArray[np.float64]
+# A call is "at" a physics step when its time is within this fraction of a timestep of the step's
+# time: RK4's half-step stages (h/2 away) are never steps, while rounding of data.time (about
+# 1e-16 * t per step) stays far below it.
+STEP_TOLERANCE = 0.25
+
+
+def coord(x: FloatArray, index: float) -> float:
+    """x[index], or 0 for an absent joint (index -1)."""
+    i = int(index)
+    return x[i] if i >= 0 else 0.0
+
+
+def bend_angle(prm: FloatArray, qpos: FloatArray) -> float:
+    """phi_B: the joint-2 angle on the arm, the held bend angle on a series bench."""
+    i = int(prm[P_QADR_Q2])
+    return qpos[i] if i >= 0 else prm[P_BEND_FIXED]
+
+
+def add_force(qfrc: FloatArray, index: float, value: float) -> None:
+    """qfrc[index] += value, unless the joint is absent."""
+    i = int(index)
+    if i >= 0:
+        qfrc[i] += value
+
+
+def twist_angle(prm: FloatArray, qpos: FloatArray) -> float:
+    """Shaft twist theta_m - theta_s (rad), from the tendon coefficients."""
+    return prm[P_COEF_M] * coord(qpos, prm[P_QADR_ROT]) - prm[P_COEF_S] * coord(
+        qpos, prm[P_QADR_Q3]
+    )
+
+
+def twist_and_rate(prm: FloatArray, qpos: FloatArray, qvel: FloatArray) -> tuple[float, float]:
+    """Shaft twist (rad) and its rate (rad/s)."""
+    rate = prm[P_COEF_M] * coord(qvel, prm[P_DOF_ROT]) - prm[P_COEF_S] * coord(qvel, prm[P_DOF_Q3])
+    return twist_angle(prm, qpos), rate
+
+
+def transmitted_twist(prm: FloatArray, x: float, rate: float) -> tuple[float, float]:
+    """Twist and rate reaching the transmission's law through a backlash, if one is switched on."""
+    w = prm[P_BL_WIDTH]
+    if w > 0.0:
+        c = prm[P_BL_CENTER]
+        return backlash.transmitted_deflection_rad(x, w, c), backlash.transmitted_rate(
+            x, rate, w, c
+        )
+    return x, rate
+
+
+# Dispatch on the integer transmission id (layout.TR_*, the index in
+# layout.TRANSMISSION_MODULES): one branch per registered transmission; the last is the fallback,
+# and tests/test_layout.py checks that every id reaches its own module.
+def tr_torque(
+    kind: float, tr: FloatArray, x: float, rate: float, bend: float, act: FloatArray, a0: int
+) -> float:
+    """True torque of transmission ``kind``."""
+    k = int(kind)
+    if k == TR_FLEXIBLE_SHAFT:
+        return flexible_shaft.torque_nm(tr, x, rate, bend, act, a0)
+    if k == TR_RTCA:
+        return rtca.torque_nm(tr, x, rate, bend, act, a0)
+    if k == TR_QA_JOINT:
+        return qa_joint.torque_nm(tr, x, rate, bend, act, a0)
+    if k == TR_MAGNETIC_SPRING:
+        return magnetic_spring.torque_nm(tr, x, rate, bend, act, a0)
+    return tendon_sheath.torque_nm(tr, x, rate, bend, act, a0)
+
+
+def tr_sensor_torque(kind: float, tr: FloatArray, x: float, bend: float) -> float:
+    """Virtual torque sensor of transmission ``kind``: its elastic law on the encoder twist."""
+    k = int(kind)
+    if k == TR_FLEXIBLE_SHAFT:
+        return flexible_shaft.sensor_torque_nm(tr, x, bend)
+    if k == TR_RTCA:
+        return rtca.sensor_torque_nm(tr, x, bend)
+    if k == TR_QA_JOINT:
+        return qa_joint.sensor_torque_nm(tr, x, bend)
+    if k == TR_MAGNETIC_SPRING:
+        return magnetic_spring.sensor_torque_nm(tr, x, bend)
+    return tendon_sheath.sensor_torque_nm(tr, x, bend)
+
+
+def tr_stiffness(kind: float, tr: FloatArray, x: float, bend: float) -> float:
+    """d(sensor torque)/d(twist) of transmission ``kind``."""
+    k = int(kind)
+    if k == TR_FLEXIBLE_SHAFT:
+        return flexible_shaft.stiffness_nm_per_rad(tr, x, bend)
+    if k == TR_RTCA:
+        return rtca.stiffness_nm_per_rad(tr, x, bend)
+    if k == TR_QA_JOINT:
+        return qa_joint.stiffness_nm_per_rad(tr, x, bend)
+    if k == TR_MAGNETIC_SPRING:
+        return magnetic_spring.stiffness_nm_per_rad(tr, x, bend)
+    return tendon_sheath.stiffness_nm_per_rad(tr, x, bend)
+
+
+def tr_state_rate(
+    kind: float,
+    tr: FloatArray,
+    x: float,
+    rate: float,
+    bend: float,
+    act: FloatArray,
+    a0: int,
+    i: int,
+) -> float:
+    """d(act[a0 + i])/dt of transmission ``kind``."""
+    k = int(kind)
+    if k == TR_FLEXIBLE_SHAFT:
+        return flexible_shaft.state_rate(tr, x, rate, bend, act, a0, i)
+    if k == TR_RTCA:
+        return rtca.state_rate(tr, x, rate, bend, act, a0, i)
+    if k == TR_QA_JOINT:
+        return qa_joint.state_rate(tr, x, rate, bend, act, a0, i)
+    if k == TR_MAGNETIC_SPRING:
+        return magnetic_spring.state_rate(tr, x, rate, bend, act, a0, i)
+    return tendon_sheath.state_rate(tr, x, rate, bend, act, a0, i)
+
+
+def tr_potential(
+    kind: float, tr: FloatArray, x: float, bend: float, act: FloatArray, a0: int
+) -> float:
+    """Stored energy of transmission ``kind``."""
+    k = int(kind)
+    if k == TR_FLEXIBLE_SHAFT:
+        return flexible_shaft.potential_j(tr, x, bend, act, a0)
+    if k == TR_RTCA:
+        return rtca.potential_j(tr, x, bend, act, a0)
+    if k == TR_QA_JOINT:
+        return qa_joint.potential_j(tr, x, bend, act, a0)
+    if k == TR_MAGNETIC_SPRING:
+        return magnetic_spring.potential_j(tr, x, bend, act, a0)
+    return tendon_sheath.potential_j(tr, x, bend, act, a0)
+
+
+def tr_output_torque(kind: float, tr: FloatArray, theta_s: float, theta_s_dot: float) -> float:
+    """Torque on transmission ``kind``'s output side against the frame (bearing friction,
+    eccentric mass: seed 003 model F), N*m at theta_s; 0 for the others."""
+    if int(kind) == TR_MAGNETIC_SPRING:
+        return magnetic_spring.output_side_torque_nm(tr, theta_s, theta_s_dot)
+    return 0.0
+
+
+def shaft_torque(prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray) -> float:
+    """True torque carried by joint 3's transmission (N*m).
+
+    Flexible shaft (default): eq. 8 + eq. 1 damping + Maxwell-slip elements. Any other
+    transmission: its own law (:mod:`fsarm_sim.plant.transmissions`).
+    """
+    if prm[P_EN_SERIES] < 0.5:
+        return 0.0
+    twist, rate = twist_and_rate(prm, qpos, qvel)
+    twist, rate = transmitted_twist(prm, twist, rate)
+    bend = bend_angle(prm, qpos)
+    return tr_torque(
+        prm[P_TRANS], prm[P_TR : P_TR + N_TR], twist, rate, bend, act, int(prm[P_ACT_SLIP1])
+    )
+
+
+def tr_bend_torque(
+    kind: float, tr: FloatArray, x: float, bend: float, act: FloatArray, a0: int
+) -> float:
+    """-dV/dphi_B of transmission ``kind`` (its ``bend_torque_nm``)."""
+    k = int(kind)
+    if k == TR_FLEXIBLE_SHAFT:
+        return flexible_shaft.bend_torque_nm(tr, x, bend, act, a0)
+    if k == TR_RTCA:
+        return rtca.bend_torque_nm(tr, x, bend, act, a0)
+    if k == TR_QA_JOINT:
+        return qa_joint.bend_torque_nm(tr, x, bend, act, a0)
+    if k == TR_MAGNETIC_SPRING:
+        return magnetic_spring.bend_torque_nm(tr, x, bend, act, a0)
+    return tendon_sheath.bend_torque_nm(tr, x, bend, act, a0)
+
+
+def bend_coupling_torque(prm: FloatArray, qpos: FloatArray, act: FloatArray) -> float:
+    """-dV/dphi_B on joint 2, V the transmission's stored energy (its ``potential_j``).
+
+    A transmission routed over joint 2 whose law depends on the bend stores energy that changes
+    when joint 2 moves at constant twist; this torque is its reaction, so the arm conserves energy
+    (tests/test_energy_check.py, ``fsarm check-dynamics``). Every transmission states it through
+    the interface (``bend_torque_nm``; tests check it against the derivative of ``potential_j``).
+    """
+    x = twist_angle(prm, qpos)
+    if prm[P_BL_WIDTH] > 0.0:
+        x = backlash.transmitted_deflection_rad(x, prm[P_BL_WIDTH], prm[P_BL_CENTER])
+    return tr_bend_torque(
+        prm[P_TRANS],
+        prm[P_TR : P_TR + N_TR],
+        x,
+        bend_angle(prm, qpos),
+        act,
+        int(prm[P_ACT_SLIP1]),
+    )
+
+
+def bending_torques(
+    prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray
+) -> tuple[float, float]:
+    """(total, conduit part) of the torque the bent shaft puts on joint 2 (N*m)."""
+    bend = bend_angle(prm, qpos)
+    total = 0.0
+    conduit = 0.0
+    if prm[P_EN_BEND] > 0.5:
+        total -= bending.elastic_moment_nm(bend, prm[P_KB], prm[P_BETA])
+    if prm[P_EN_CONDUIT] > 0.5:
+        conduit -= conduit_viscoelastic.branch_moment_nm(
+            bend, act[int(prm[P_ACT_BR1])], prm[P_BR_K1]
+        )
+        conduit -= conduit_viscoelastic.branch_moment_nm(
+            bend, act[int(prm[P_ACT_BR2])], prm[P_BR_K2]
+        )
+        total += conduit
+    if prm[P_EN_SERIES] > 0.5 and prm[P_EN_COUPLING] > 0.5:
+        total += bend_coupling_torque(prm, qpos, act)
+    return total, conduit
+
+
+def passive_forces(
+    prm: FloatArray,
+    qpos: FloatArray,
+    qvel: FloatArray,
+    act: FloatArray,
+    qfrc: FloatArray,
+    log: FloatArray,
+) -> None:
+    """mjcb_passive body: *add* the shaft's generalized forces to ``qfrc`` (qfrc_passive)."""
+    tau = shaft_torque(prm, qpos, qvel, act)
+    add_force(qfrc, prm[P_DOF_ROT], -prm[P_COEF_M] * tau)
+    add_force(qfrc, prm[P_DOF_Q3], prm[P_COEF_S] * tau)
+    if prm[P_TRANS] > 0.5:
+        cs = prm[P_COEF_S]
+        add_force(
+            qfrc,
+            prm[P_DOF_Q3],
+            cs
+            * tr_output_torque(
+                prm[P_TRANS],
+                prm[P_TR : P_TR + N_TR],
+                cs * coord(qpos, prm[P_QADR_Q3]),
+                cs * coord(qvel, prm[P_DOF_Q3]),
+            ),
+        )
+    total, conduit = bending_torques(prm, qpos, qvel, act)
+    add_force(qfrc, prm[P_DOF_Q2], total)
+    if prm[P_PAY_DM] != 0.0 and prm[P_QADR_Q2] >= 0.0:
+        # an unstated payload mass: the plant feels its gravity, the controllers do not know it
+        tau2, tau3 = payload_error.gravity_torques_nm(
+            prm[P_PAY_DM],
+            qpos[int(prm[P_QADR_Q2])],
+            qpos[int(prm[P_QADR_Q3])],
+            prm[P_PAY_L2],
+            prm[P_PAY_L3],
+            prm[P_GRAVITY],
+        )
+        add_force(qfrc, prm[P_DOF_Q2], tau2)
+        add_force(qfrc, prm[P_DOF_Q3], tau3)
+    log[L_TAU_SHAFT] = tau
+    log[L_TAU_BEND] = total
+    log[L_TAU_CONDUIT] = conduit
+
+
+def state_rate(
+    prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray, act_adr: int
+) -> float:
+    """mjcb_act_dyn body: d(act[act_adr])/dt for the internal states."""
+    bend = bend_angle(prm, qpos)
+    if act_adr == int(prm[P_ACT_BR1]):
+        return conduit_viscoelastic.branch_rate(bend, act[act_adr], prm[P_BR_TAU1])
+    if act_adr == int(prm[P_ACT_BR2]):
+        return conduit_viscoelastic.branch_rate(bend, act[act_adr], prm[P_BR_TAU2])
+    twist, rate = twist_and_rate(prm, qpos, qvel)
+    twist, rate = transmitted_twist(prm, twist, rate)
+    a0 = int(prm[P_ACT_SLIP1])
+    return tr_state_rate(
+        prm[P_TRANS], prm[P_TR : P_TR + N_TR], twist, rate, bend, act, a0, act_adr - a0
+    )
+
+
+def shaft_potential(prm: FloatArray, qpos: FloatArray, act: FloatArray) -> float:
+    """Energy stored in the enabled shaft elements (J), for energy bookkeeping."""
+    twist = twist_angle(prm, qpos)
+    if prm[P_BL_WIDTH] > 0.0:
+        twist = backlash.transmitted_deflection_rad(twist, prm[P_BL_WIDTH], prm[P_BL_CENTER])
+    bend = bend_angle(prm, qpos)
+    v = 0.0
+    if prm[P_EN_SERIES] > 0.5:
+        v += tr_potential(
+            prm[P_TRANS], prm[P_TR : P_TR + N_TR], twist, bend, act, int(prm[P_ACT_SLIP1])
+        )
+    if prm[P_EN_BEND] > 0.5:
+        v += bending.potential_j(bend, prm[P_KB], prm[P_BETA])
+    if prm[P_EN_CONDUIT] > 0.5:
+        v += conduit_viscoelastic.branch_potential_j(bend, act[int(prm[P_ACT_BR1])], prm[P_BR_K1])
+        v += conduit_viscoelastic.branch_potential_j(bend, act[int(prm[P_ACT_BR2])], prm[P_BR_K2])
+    return v
+
+
+def control_tick(
+    prm: FloatArray,
+    ref: FloatArray,
+    k: int,
+    qpos: FloatArray,
+    qvel: FloatArray,
+    bias: FloatArray,
+    mass: FloatArray,
+    mem_in: FloatArray,
+    mem_out: FloatArray,
+    out: FloatArray,
+    log: FloatArray,
+) -> None:
+    """One control tick: joints 1-2 position loops, joint-3 cascade of Fig. 13.
+
+    Reads memory ``mem_in`` (torque-PID integral, previous error, speed-loop integral, init flag),
+    writes ``mem_out``, motor commands ``out`` (joint-1 torque, joint-2 torque, joint-3 rotor torque)
+    and ``log``.
+    """
+    row = min(k, int(prm[P_N_TICKS]) - 1) * REF_COLS
+    dt = prm[P_CTRL_DT]
+    cm = prm[P_COEF_M]
+    cs = prm[P_COEF_S]
+    q2 = qpos[int(prm[P_QADR_Q2])]
+    q3 = qpos[int(prm[P_QADR_Q3])]
+    dof1 = int(prm[P_DOF_Q1])
+    dof2 = int(prm[P_DOF_Q2])
+    dof3 = int(prm[P_DOF_Q3])
+    # joints 1 and 2: computed-torque position loops
+    tau1 = computed_torque(
+        qpos[int(prm[P_QADR_Q1])],
+        qvel[dof1],
+        ref[row],
+        ref[row + 3],
+        ref[row + 6],
+        mass[int(prm[P_MADR_Q1])],
+        bias[dof1],
+        prm[P_WN1],
+        prm[P_ZETA1],
+    )
+    tau2 = computed_torque(
+        q2,
+        qvel[dof2],
+        ref[row + 1],
+        ref[row + 4],
+        ref[row + 7],
+        mass[int(prm[P_MADR_Q2])],
+        bias[dof2],
+        prm[P_WN2],
+        prm[P_ZETA2],
+    )
+    if prm[P_CM_BEND_COMP] > 0.5:
+        tau2 += bending.elastic_moment_nm(q2, prm[P_CM_KB], prm[P_CM_BETA])
+    out[0] = clamp(tau1, prm[P_TAU1_MAX])
+    out[1] = clamp(tau2, prm[P_TAU2_MAX])
+    # joint 3, outer loop: desired joint torque -> desired shaft torque
+    tau_d_joint = computed_torque(
+        q3,
+        qvel[dof3],
+        ref[row + 2],
+        ref[row + 5],
+        ref[row + 8],
+        mass[int(prm[P_MADR_Q3])],
+        bias[dof3],
+        prm[P_WN3],
+        prm[P_ZETA3],
+    )
+    tau_d = tau_d_joint / cs
+    # virtual torque sensor: eq. 8 on the two encoders and the joint-2 encoder
+    theta_m = cm * qpos[int(prm[P_QADR_ROT])]
+    theta_s = cs * q3
+    trc = prm[P_TRC : P_TRC + N_TR]
+    tau_m = tr_sensor_torque(prm[P_TRANS], trc, theta_m - theta_s, q2)
+    k_model = max(
+        tr_stiffness(prm[P_TRANS], trc, theta_m - theta_s, q2), STIFFNESS_FLOOR * prm[P_TR_K0]
+    )
+    omega_ff = cs * qvel[dof3] if prm[P_SPEED_FF] > 0.5 else 0.0
+    omega_max_shaft = prm[P_OMEGA_MAX] * cm
+    if prm[P_GAIN_SCHED] < 0.5:  # fixed gains, tuned at zero twist, straight (seed 001's PID)
+        k_model = prm[P_TR_K0]
+    kp, ki, kd = scheduled_gains(prm[P_TAU_BW], prm[P_TAU_WI], prm[P_TAU_KDN], k_model)
+    omega_d, integ, err, p_term, i_term, d_term = torque_pid(
+        tau_d,
+        tau_m,
+        mem_in[0],
+        mem_in[1],
+        mem_in[3],
+        dt,
+        kp,
+        ki,
+        kd,
+        omega_ff,
+        omega_max_shaft,
+    )
+    omega_motor = qvel[int(prm[P_DOF_ROT])]
+    tau_mot, s_integ = speed_loop(
+        omega_d / cm, omega_motor, mem_in[2], dt, prm[P_SPD_KP], prm[P_SPD_KI], prm[P_TAU_MOT_MAX]
+    )
+    out[2] = tau_mot
+    mem_out[0] = integ
+    mem_out[1] = err
+    mem_out[2] = s_integ
+    mem_out[3] = 1.0
+    log[L_TAU_D_JOINT] = tau_d_joint
+    log[L_TAU_D_SHAFT] = tau_d
+    log[L_TAU_MODEL] = tau_m
+    log[L_OMEGA_D] = omega_d
+    log[L_PID_P] = p_term
+    log[L_PID_I] = i_term
+    log[L_PID_D] = d_term
+
+
+def accumulate_metrics(
+    prm: FloatArray,
+    ref: FloatArray,
+    k: int,
+    qpos: FloatArray,
+    qvel: FloatArray,
+    pre: FloatArray,
+    acc: FloatArray,
+    out: FloatArray,
+    log: FloatArray,
+) -> None:
+    """Run metrics of one physics step: ``acc`` = ``pre`` + this step's sample.
+
+    Sampled at the start of every step (the state the step integrates from) against the reference
+    row of the current control tick ``k`` (the reference the controllers track); the torque
+    estimate and motor commands are the ones held over the step. Independent of any logging.
+    """
+    row = min(k, int(prm[P_N_TICKS]) - 1) * REF_COLS
+    acc[A_COUNT] = pre[A_COUNT] + 1.0
+    for j in range(3):
+        i = int(prm[P_QADR_Q1 + j])
+        e = qpos[i] - ref[row + j] if i >= 0 else 0.0
+        acc[A_SQ_ERR + j] = pre[A_SQ_ERR + j] + e * e
+        acc[A_MAX_ERR + j] = max(pre[A_MAX_ERR + j], abs(e))
+    te = log[L_TAU_MODEL] - log[L_TAU_SHAFT]
+    acc[A_SQ_TAU_EST] = pre[A_SQ_TAU_EST] + te * te
+    acc[A_MAX_TAU_EST] = max(pre[A_MAX_TAU_EST], abs(te))
+    omega_rotor = coord(qvel, prm[P_DOF_ROT])
+    tau_motor = out[2]
+    acc[A_PEAK_MOTOR_TORQUE] = max(pre[A_PEAK_MOTOR_TORQUE], abs(tau_motor))
+    acc[A_PEAK_ROTOR_SPEED] = max(pre[A_PEAK_ROTOR_SPEED], abs(omega_rotor))
+    acc[A_PEAK_SHAFT_TORQUE] = max(pre[A_PEAK_SHAFT_TORQUE], abs(log[L_TAU_SHAFT]))
+    acc[A_PEAK_TWIST] = max(pre[A_PEAK_TWIST], abs(twist_angle(prm, qpos)))
+    acc[A_PEAK_TAU2] = max(pre[A_PEAK_TAU2], abs(out[1]))
+    acc[A_MOTOR_WORK] = pre[A_MOTOR_WORK] + max(tau_motor * omega_rotor, 0.0) * prm[P_TIMESTEP]
+
+
+def control(
+    prm: FloatArray,
+    ref: FloatArray,
+    time: float,
+    qpos: FloatArray,
+    qvel: FloatArray,
+    bias: FloatArray,
+    mass: FloatArray,
+    userdata: FloatArray,
+    ctrl: FloatArray,
+) -> None:
+    """mjcb_control body: run the controllers on their clock ticks, hold the outputs between.
+
+    **The clock counts steps.** MuJoCo adds ``h`` to ``data.time`` every step, and that sum
+    drifts by rounding (about 1e-4 s after an hour at h = 10 us), so "time is a multiple of the
+    control period" stops matching after long enough. Instead, a call is *at a physics step* when
+    its time is within ``STEP_TOLERANCE * h`` of the previous step's time (the same step again)
+    or at least ``(1 - STEP_TOLERANCE) * h`` after it (a new step, whose index is counted from the
+    previous one by the elapsed time over ``h``: an interval, free of the drift). The very first
+    call, or a call whose time went back, is placed on the step grid of its own time. Control tick
+    ``k`` is step ``k * P_STEPS_PER_TICK``.
+
+    The first call of a new step snapshots the run metrics, and the first call of a new tick the
+    controller memory; every later call at the same step recomputes from the snapshot. So extra
+    ``mj_forward`` calls, finite differencing that perturbs the state (``mjd_transitionFD`` does
+    not restore ``userdata``) and RK4's stage at t+h are all harmless: the last call before
+    integration - ``mj_step``'s own forward at the start of the step - always has the final word,
+    with the true state. Calls between steps (RK4's half-step stages) apply the held outputs
+    unchanged, and so does RK4's last stage, which lands on the next step with a predicted state.
+    """
+    if prm[P_EN_CONTROL] < 0.5:
+        return
+    h = prm[P_TIMESTEP]
+    tol = STEP_TOLERANCE * h
+    at_step = False
+    new_step = False
+    s = 0.0
+    last = userdata[U_STEP] - 1.0  # index of the last step seen, -1: none yet
+    if last >= 0.0 and time > userdata[U_STEP_T] - tol:
+        elapsed = time - userdata[U_STEP_T]
+        if elapsed < tol:
+            at_step = True
+            s = last
+        elif elapsed > h - tol:
+            at_step = True
+            new_step = True
+            s = last + math.floor(elapsed / h + 0.5)
+    else:  # first call, or time was set back: the step grid of this call's own time
+        x = math.floor(time / h + 0.5)
+        if x >= 0.0 and abs(time - x * h) < tol:
+            at_step = True
+            new_step = True
+            s = x
+            last = -1.0
+    if at_step:
+        predicted = False
+        if new_step:
+            for i in range(N_ACC):
+                userdata[U_ACC_PRE + i] = userdata[U_ACC + i]
+            userdata[U_STEP] = s + 1.0
+            userdata[U_STEP_T] = time
+            # Under RK4 the first call at a step that follows the last one seen is the 4th stage
+            # of the step that ends on it, with a predicted state: keep the held output there
+            # (zero-order hold); mj_step's own forward at that time redoes it from the true state.
+            predicted = prm[P_RK4] > 0.5 and last >= 0.0
+        per_tick = prm[P_STEPS_PER_TICK]
+        k = int(math.floor(s / per_tick))  # noqa: RUF046  the tick this step belongs to (int for Numba)
+        if k + 1.0 > userdata[U_TICK]:
+            for i in range(N_MEM):
+                userdata[U_PRE + i] = userdata[U_MEM + i]
+            userdata[U_TICK] = k + 1.0
+            userdata[U_TICK_STEP] = s
+        if not predicted:
+            if s == userdata[U_TICK_STEP]:
+                control_tick(
+                    prm,
+                    ref,
+                    int(userdata[U_TICK]) - 1,
+                    qpos,
+                    qvel,
+                    bias,
+                    mass,
+                    userdata[U_PRE : U_PRE + N_MEM],
+                    userdata[U_MEM : U_MEM + N_MEM],
+                    userdata[U_OUT : U_OUT + 3],
+                    userdata[U_LOG:],
+                )
+            accumulate_metrics(
+                prm,
+                ref,
+                int(userdata[U_TICK]) - 1,
+                qpos,
+                qvel,
+                userdata[U_ACC_PRE : U_ACC_PRE + N_ACC],
+                userdata[U_ACC : U_ACC + N_ACC],
+                userdata[U_OUT : U_OUT + 3],
+                userdata[U_LOG:],
+            )
+    ctrl[int(prm[P_CTRL_J1])] = userdata[U_OUT]
+    ctrl[int(prm[P_CTRL_J2])] = userdata[U_OUT + 1]
+    ctrl[int(prm[P_CTRL_J3])] = userdata[U_OUT + 2]

@@ -1,0 +1,1 @@
+"""Physical laws: effects, transmissions and the shaft catalogue (pure, compilable)."""

@@ -1,0 +1,258 @@
+"""Registry of the effects the discrepancy workflow (and ``fsarm synth``) know: name -> module,
+variants, parameters with bounds, and how each variant enters each setup.
+
+Effect names are the shared vocabulary of ``specs/measured-data.md``. A *variant* says where the
+effect acts; the workflow reports the effect name and, in its parameters, the variant. Bounds are
+the search box of the fit and the range ``fsarm synth`` accepts; they are generous on purpose
+(records made outside the project) and stated in SI units.
+
+Sources of the bounds (estimates): torques up to the 20 N*m torque-sensor range of the benches
+(seed 000 Sec. III-A, DBRK-20); deflections up to the validity range of the shaft (+-120 deg bend,
+twist of a few tenths of a rad at rated torque); delays up to 0.1 s (a slow DAQ buffer); time
+constants of visco-elastic branches 5 ms .. 20 s (Fig. 9's 0.1-1 Hz bending rates in the middle).
+This module holds data only - no fitting code (that is :mod:`fsarm_sim.discrepancy.candidates`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+SERIES = "series_bench"
+PARALLEL = "parallel_bench"
+ARM = "arm"
+
+
+@dataclass(frozen=True)
+class Param:
+    name: str
+    unit: str
+    lower: float
+    upper: float
+    meaning: str
+
+
+@dataclass(frozen=True)
+class Variant:
+    key: str  # e.g. "shaft", "load"
+    setups: tuple[str, ...]
+    enters: str  # how it enters the setups' models
+    params: tuple[Param, ...]
+    needs_inertia_load: bool = False  # series bench: only when the output drives a load
+    fittable: bool = True  # False: a synthetic-truth law only (fsarm synth), never a candidate
+
+
+@dataclass(frozen=True)
+class Effect:
+    name: str
+    module: str  # fsarm_sim.plant.effects.<module>
+    meaning: str
+    variants: tuple[Variant, ...] = field(default=())
+
+    def variant(self, key: str) -> Variant:
+        for v in self.variants:
+            if v.key == key:
+                return v
+        raise KeyError(f"effect {self.name!r} has no variant {key!r}; known: {self.variant_keys()}")
+
+    def variant_keys(self) -> list[str]:
+        return [v.key for v in self.variants]
+
+
+_F = Param("f_c_nm", "N*m", 0.0, 20.0, "friction torque magnitude")
+_B = Param("b_nms", "N*m*s/rad", 0.0, 20.0, "damping coefficient")
+
+EFFECTS: tuple[Effect, ...] = (
+    Effect(
+        "coulomb_friction",
+        "coulomb_friction",
+        "friction torque of constant magnitude opposing motion",
+        (
+            Variant(
+                "shaft",
+                (SERIES, PARALLEL),
+                "in parallel with the shaft spring: +F sgn(rate of twist / bend) in the measured "
+                "torque, as a stiff presliding element (shaft core in its casing, joint bearing "
+                "ahead of the torque sensor)",
+                (_F,),
+            ),
+            Variant(
+                "load",
+                (SERIES,),
+                "on the load bearing: -F sgn(load speed), stick while |shaft torque| <= F",
+                (_F,),
+                needs_inertia_load=True,
+            ),
+        ),
+    ),
+    Effect(
+        "viscous_damping",
+        "viscous_damping",
+        "torque proportional to a velocity (twist/bend rate or load speed)",
+        (
+            Variant(
+                "shaft",
+                (SERIES, PARALLEL),
+                "in parallel with the shaft spring: +b * rate of twist / bend (seed 000 eq. 1 B)",
+                (_B,),
+            ),
+            Variant(
+                "load",
+                (SERIES,),
+                "on the load bearing: -b * load speed",
+                (_B,),
+                needs_inertia_load=True,
+            ),
+        ),
+    ),
+    Effect(
+        "backlash",
+        "backlash",
+        "dead band / free play in a coupling: no torque across a small angle range",
+        (
+            Variant(
+                "coupling",
+                (SERIES, PARALLEL),
+                "dead zone of width w centred at c on the measured deflection (twist or bend) "
+                "before the elastic law",
+                (
+                    Param("width_rad", "rad", 0.0, 0.5, "total play"),
+                    Param("center_rad", "rad", -0.25, 0.25, "middle of the gap"),
+                ),
+            ),
+        ),
+    ),
+    Effect(
+        "hysteresis",
+        "maxwell_slip / conduit_viscoelastic",
+        "multivalued torque-deflection loop not explained by viscous damping",
+        (
+            Variant(
+                "maxwell_slip",
+                (SERIES, PARALLEL),
+                "rate-independent: elasto-slip elements (k_i, slip deflection delta_i = f_i/k_i) "
+                "in parallel with the elastic law (seed 000 Sec. V, effects.maxwell_slip)",
+                (
+                    Param("k_nm_per_rad", "N*m/rad", 0.0, 500.0, "element stiffness (each)"),
+                    Param("delta_rad", "rad", 1e-4, 0.5, "element slip deflection (each)"),
+                ),
+            ),
+            Variant(
+                "viscoelastic",
+                (SERIES, PARALLEL),
+                "rate-dependent: Maxwell branches (k_i, tau_i) in parallel with the elastic law "
+                "(seed 000 Fig. 9 conduit, effects.conduit_viscoelastic)",
+                (
+                    Param("k_nm_per_rad", "N*m/rad", 0.0, 500.0, "branch stiffness (each)"),
+                    Param("tau_s", "s", 0.005, 20.0, "branch time constant (each)"),
+                ),
+            ),
+        ),
+    ),
+    Effect(
+        "nonlinear_stiffness",
+        "nonlinear_stiffness",
+        "torque-deflection curve bending away from the straight lines of eq. 8 / eq. 2",
+        (
+            Variant(
+                "poly",
+                (SERIES, PARALLEL),
+                "tau = K x + c2 r|r| + c3 r^3, r = x/x_ref, one (c2, c3) for both signs",
+                (
+                    Param("c2_nm", "N*m", -50.0, 50.0, "quadratic term's torque at x_ref"),
+                    Param("c3_nm", "N*m", -50.0, 50.0, "cubic term's torque at x_ref"),
+                ),
+            ),
+            Variant(
+                "poly_per_sign",
+                (SERIES,),
+                "as 'poly' with (c2, c3) per twist sign (eq. 8's two sides)",
+                (
+                    Param("c2_pos_nm", "N*m", -50.0, 50.0, "quadratic term, twist >= 0"),
+                    Param("c3_pos_nm", "N*m", -50.0, 50.0, "cubic term, twist >= 0"),
+                    Param("c2_neg_nm", "N*m", -50.0, 50.0, "quadratic term, twist < 0"),
+                    Param("c3_neg_nm", "N*m", -50.0, 50.0, "cubic term, twist < 0"),
+                ),
+            ),
+            Variant(
+                "masterflex08",
+                (SERIES,),
+                "the spring law is seed 001 Table 1's measured MasterFlex08 curve at "
+                "twist * twist_scale (865 mm / L for the same twist per length); synthetic truth",
+                (Param("twist_scale", "1", 0.1, 10.0, "twist scale onto the MasterFlex08"),),
+                fittable=False,
+            ),
+        ),
+    ),
+    Effect(
+        "delay",
+        "delay",
+        "one channel lags the others by a constant time",
+        (
+            Variant(
+                "input",
+                (SERIES, PARALLEL),
+                "the model is driven by u(t - d): d > 0 the measured output lags, d < 0 the "
+                "recorded input lags",
+                (Param("delay_s", "s", -0.1, 0.1, "time shift"),),
+            ),
+        ),
+    ),
+    Effect(
+        "sensor_offset",
+        "sensor_offset",
+        "a constant bias on a measured channel",
+        (
+            Variant(
+                "output",
+                (SERIES, PARALLEL),
+                "constant added to the measured torque / moment",
+                (Param("offset_nm", "N*m", -20.0, 20.0, "bias"),),
+            ),
+            Variant(
+                "input",
+                (SERIES, PARALLEL),
+                "constant added to the recorded deflection input (theta_m or phi_b)",
+                (Param("offset_rad", "rad", -0.5, 0.5, "bias"),),
+            ),
+        ),
+    ),
+    Effect(
+        "payload_error",
+        "payload_error",
+        "the payload differs from the stated one (arm only)",
+        (
+            Variant(
+                "mass",
+                (ARM,),
+                "extra mass at the payload's centre of mass: gravity torque on joints 2 and 3",
+                (Param("dm_kg", "kg", -15.0, 15.0, "mass error"),),
+            ),
+        ),
+    ),
+)
+
+BY_NAME: dict[str, Effect] = {e.name: e for e in EFFECTS}
+
+
+def names() -> list[str]:
+    """All effect names, in registry order."""
+    return [e.name for e in EFFECTS]
+
+
+def get(name: str) -> Effect:
+    """The effect of that name; KeyError lists the known names."""
+    if name not in BY_NAME:
+        raise KeyError(f"unknown effect {name!r}; known effects: {', '.join(names())}")
+    return BY_NAME[name]
+
+
+def applicable(setup: str, inertia_load: bool) -> list[tuple[str, str]]:
+    """Fittable (effect, variant) pairs that can act in a setup (series: blocked or inertia)."""
+    out = []
+    for e in EFFECTS:
+        for v in e.variants:
+            if not v.fittable:
+                continue
+            if setup in v.setups and (inertia_load or not v.needs_inertia_load):
+                out.append((e.name, v.key))
+    return out

@@ -1,0 +1,579 @@
+"""Shaft catalogue: coefficient files (seed 000 eq. 3/4) and the evaluated shaft parameters.
+
+A coefficient file is TOML with the keys of ``data/shafts.toml`` (the default catalogue).
+``load_catalogue(path)`` validates it; ``Catalogue.shaft(D, L)`` evaluates eq. 3 and eq. 4 for one
+shaft and refuses D or L outside the validity range unless ``extrapolate=True``.
+
+Parsing is strict (a setting is never silently ignored or misread):
+
+* only the sections and keys of :data:`SCHEMA` are allowed: a misspelt section or key is a
+  :class:`CoefficientFileError` naming the file, the section and the key, and listing the allowed
+  ones;
+* numbers must be TOML numbers (finite), booleans TOML booleans (``enabled = "false"`` - a
+  string - is refused, not read as true), names strings;
+* ``[meta].units`` (optional; when absent the file is read in the units below) must declare
+  exactly the units the coefficients are written in, :data:`UNITS`: diameter and length in mm,
+  bend in rad, stiffness in N*m/rad. A file declaring, e.g., ``diameter = "m"`` is refused: the
+  polynomials of eq. 3/4 are fitted in mm and would silently give wrong stiffnesses;
+* ``[series.maxwell_slip].enabled`` is the file's default for series hysteresis: it takes
+  effect wherever the caller leaves ``series_hysteresis`` as None (``Catalogue.shaft``; the CLI
+  when neither ``--series-hysteresis`` nor ``--no-series-hysteresis`` is given); an explicit
+  True/False from the caller wins. Switching it on with no element of non-zero stiffness is an
+  error (it would do nothing);
+* ``[validity].bend_rad`` bounds the bend angle |phi_B| everywhere it is used - bench, sweep and
+  arm runs (joint 2's reference, ``model.build_model``) - through one check,
+  :func:`check_bend_rad`.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import tomllib
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from fsarm_sim.errors import CoefficientFileError, ShaftRangeError
+from fsarm_sim.plant.effects import bending, series_stiffness
+
+DEFAULT_CATALOGUE = "shafts.toml"
+PROTOTYPE_DIAMETER_MM = 9.0  # seed 000 Sec. IV-A1: MasterFlex D = 9 mm, L = 450 mm
+PROTOTYPE_LENGTH_MM = 450.0
+
+
+@dataclass(frozen=True)
+class ShaftParams:
+    """Everything the simulator needs about one shaft, in SI units (N*m/rad, N*m*s/rad, kg*m^2)."""
+
+    diameter_mm: float
+    length_mm: float
+    k_pos: float  # eq. 3 winding side, bend-independent part
+    s_pos: float  # eq. 3 winding side, slope in |phi_B|
+    k_neg: float
+    s_neg: float
+    kb: float  # eq. 4
+    beta: float  # bending stiffening, 1/rad^2
+    conduit_k: tuple[float, float]  # Maxwell-branch stiffness, N*m/rad
+    conduit_tau: tuple[float, float]  # Maxwell-branch time constants, s
+    inertia_kgm2: float = 0.0  # eq. 1 J
+    damping_pos: float = 0.0  # eq. 1 B_p
+    damping_neg: float = 0.0  # eq. 1 B_n
+    slip_k: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    slip_f: tuple[float, float, float] = (0.0, 0.0, 0.0)  # straight, winding side
+    slip_unwinding_ratio: float = 1.0  # unwinding-side / winding-side slip torque
+    bend_friction_per_rad: float = 0.0  # capstan-like growth of the slip torques with |phi_B|
+    rating_nm: float = 0.0
+    bend_limit_rad: float = 2.0 * math.pi / 3.0
+    # where the numbers come from (named in errors); not part of equality
+    source: str = field(default="", compare=False)
+
+    def check_bend(self, bend_rad: float | Iterable[float], what: str = "bend angle") -> None:
+        """Raise ShaftRangeError for a bend angle beyond the file's ``validity.bend_rad``."""
+        check_bend_rad(bend_rad, self.bend_limit_rad, self.source or "the shaft", what)
+
+    def k_series(self, bend_rad: float, side: int) -> float:
+        """Eq. 3 stiffness at a bend angle for side +1 (winding) or -1 (unwinding)."""
+        twist = 1.0 if side >= 0 else -1.0
+        return series_stiffness.stiffness_nm_per_rad(
+            twist, bend_rad, self.k_pos, self.s_pos, self.k_neg, self.s_neg
+        )
+
+    def static_relief_nm(self, bend_rad: float) -> float:
+        """Static joint-2 torque relief from the bent shaft (elastic moment; branches relaxed)."""
+        return bending.elastic_moment_nm(bend_rad, self.kb, self.beta)
+
+
+@dataclass(frozen=True)
+class CatalogueShaft:
+    name: str
+    diameter_mm: float
+    length_mm: float
+
+
+@dataclass(frozen=True)
+class Catalogue:
+    """A validated coefficient file."""
+
+    source: str
+    p_pos: tuple[float, ...]
+    p_neg: tuple[float, ...]
+    q_bend: tuple[float, ...]
+    beta: float
+    conduit_fraction: tuple[float, float]
+    conduit_tau: tuple[float, float]
+    diameter_range: tuple[float, float]
+    length_range: tuple[float, float]
+    bend_range: tuple[float, float]
+    rating_coefficient: float
+    inertia_kgm2: float
+    damping_pos: float
+    damping_neg: float
+    slip_enabled: bool
+    slip_k_fraction: tuple[float, float, float]  # of the straight K_sp
+    slip_f_fraction: tuple[float, float, float]  # of the torque rating (straight, winding side)
+    slip_unwinding_ratio: float = 1.0  # unwinding-side / winding-side slip torque
+    bend_friction_per_rad: float = 0.0  # effects.bend_friction mu_b
+    shafts: tuple[CatalogueShaft, ...] = field(default=())
+
+    @property
+    def bend_limit_rad(self) -> float:
+        """Largest |phi_B| of ``validity.bend_rad`` (eq. 3/4 depend on |phi_B| only)."""
+        return max(abs(self.bend_range[0]), abs(self.bend_range[1]))
+
+    def check_bend(self, bend_rad: float | Iterable[float], what: str = "bend angle") -> None:
+        """Raise ShaftRangeError for a bend angle beyond ``validity.bend_rad``."""
+        check_bend_rad(bend_rad, self.bend_limit_rad, self.source, what)
+
+    def check_range(self, diameter_mm: float, length_mm: float, extrapolate: bool = False) -> None:
+        """Raise ShaftRangeError for a shaft outside the validity box (unless extrapolating)."""
+        for label, value, (lo, hi), unit in (
+            ("diameter", diameter_mm, self.diameter_range, "mm"),
+            ("length", length_mm, self.length_range, "mm"),
+        ):
+            if not math.isfinite(value) or value <= 0.0:
+                raise ShaftRangeError(
+                    f"shaft {label} must be a positive number, got {value!r} {unit}"
+                )
+            if not extrapolate and not lo <= value <= hi:
+                raise ShaftRangeError(
+                    f"shaft {label} {value:g} {unit} is outside the validity range "
+                    f"[{lo:g}, {hi:g}] {unit} of {self.source} (seed 000 eq. 3/4 were fitted there); "
+                    "pass extrapolate=True (CLI: --extrapolate) to use it anyway"
+                )
+
+    def rating_nm(self, diameter_mm: float) -> float:
+        """Nominal torque rating; depends on D only (seed 000 Sec. IV-A1)."""
+        return self.rating_coefficient * diameter_mm**3
+
+    def shaft(
+        self,
+        diameter_mm: float = PROTOTYPE_DIAMETER_MM,
+        length_mm: float = PROTOTYPE_LENGTH_MM,
+        *,
+        extrapolate: bool = False,
+        series_hysteresis: bool | None = None,
+    ) -> ShaftParams:
+        """Evaluate eq. 3 and eq. 4 for one shaft."""
+        self.check_range(diameter_mm, length_mm, extrapolate)
+        k_pos, s_pos = series_stiffness.eq3_base_and_slope(self.p_pos, diameter_mm, length_mm)
+        k_neg, s_neg = series_stiffness.eq3_base_and_slope(self.p_neg, diameter_mm, length_mm)
+        kb = bending.eq4_stiffness_nm_per_rad(self.q_bend, diameter_mm, length_mm)
+        bend_max = self.bend_limit_rad
+        k_min = min(k_pos + min(s_pos, 0.0) * bend_max, k_neg + min(s_neg, 0.0) * bend_max)
+        if k_min <= 0.0 or kb <= 0.0:
+            raise ShaftRangeError(
+                f"shaft D={diameter_mm:g} mm, L={length_mm:g} mm gives a non-positive stiffness "
+                f"(series min {k_min:.3g}, bending {kb:.3g} N*m/rad) with {self.source}: "
+                "the eq. 3/4 polynomials are not valid there"
+            )
+        slip_on = self.slip_enabled if series_hysteresis is None else bool(series_hysteresis)
+        if slip_on and max(self.slip_k_fraction) <= 0.0:
+            raise CoefficientFileError(
+                f"{self.source}: series hysteresis is switched on "
+                f"({'by the caller' if series_hysteresis else 'by series.maxwell_slip.enabled'})"
+                " but 'series.maxwell_slip.stiffness_fraction' gives no element a stiffness > 0, "
+                "so it would have no effect; give the elements' stiffness fractions"
+            )
+        return ShaftParams(
+            diameter_mm=diameter_mm,
+            length_mm=length_mm,
+            k_pos=k_pos,
+            s_pos=s_pos,
+            k_neg=k_neg,
+            s_neg=s_neg,
+            kb=kb,
+            beta=self.beta,
+            conduit_k=(self.conduit_fraction[0] * kb, self.conduit_fraction[1] * kb),
+            conduit_tau=self.conduit_tau,
+            inertia_kgm2=self.inertia_kgm2,
+            damping_pos=self.damping_pos,
+            damping_neg=self.damping_neg,
+            slip_k=_scaled(self.slip_k_fraction, k_pos) if slip_on else (0.0, 0.0, 0.0),
+            slip_f=_scaled(self.slip_f_fraction, self.rating_nm(diameter_mm)),
+            slip_unwinding_ratio=self.slip_unwinding_ratio,
+            bend_friction_per_rad=self.bend_friction_per_rad,
+            rating_nm=self.rating_nm(diameter_mm),
+            bend_limit_rad=bend_max,
+            source=self.source,
+        )
+
+
+def check_bend_rad(
+    bend_rad: float | Iterable[float], limit_rad: float, source: str, what: str = "bend angle"
+) -> None:
+    """The one bend-angle check (bench, sweep, arm runs): |phi_B| <= ``limit_rad``, the largest
+    |bend| of the coefficient file's ``validity.bend_rad``; ShaftRangeError names the worst value,
+    the range and the file."""
+    raw = bend_rad if isinstance(bend_rad, int | float | np.ndarray) else list(bend_rad)
+    values = np.atleast_1d(np.asarray(raw, dtype=np.float64)).ravel()
+    if values.size == 0:
+        return
+    if not np.all(np.isfinite(values)):
+        bad = float(values[~np.isfinite(values)][0])
+        raise ShaftRangeError(f"{what} must be a finite angle in rad, got {bad!r}")
+    worst = float(values[int(np.argmax(np.abs(values)))])
+    if abs(worst) > limit_rad + 1e-9:
+        raise ShaftRangeError(
+            f"{what}: {worst:.4g} rad ({math.degrees(worst):.1f} deg) is outside the validity "
+            f"range [-{limit_rad:.4g}, {limit_rad:.4g}] rad "
+            f"(+-{math.degrees(limit_rad):.0f} deg) of "
+            f"{source} (its validity.bend_rad: seed 000 eq. 3/4 were fitted there, Sec. IV-C); "
+            "keep |phi_B| within it or widen validity.bend_rad in your own coefficient file"
+        )
+
+
+# Every section ("" = the top level, "shafts[]" = each [[shafts]] entry) and the keys it may hold;
+# a key that is itself listed here is a sub-section (a table).
+SCHEMA: dict[str, tuple[str, ...]] = {
+    "": ("meta", "validity", "series", "bending", "rating", "shafts"),
+    "meta": ("name", "description", "source", "units"),
+    "meta.units": ("diameter", "length", "bend", "stiffness"),
+    "validity": ("diameter_mm", "length_mm", "bend_rad"),
+    "series": ("positive", "negative", "dynamic", "maxwell_slip"),
+    "series.positive": ("p",),
+    "series.negative": ("p",),
+    "series.dynamic": ("inertia_kgm2", "damping_pos_nms", "damping_neg_nms"),
+    "series.maxwell_slip": (
+        "enabled",
+        "stiffness_fraction",
+        "slip_torque_fraction",
+        "unwinding_ratio",
+        "bend_friction_per_rad",
+    ),
+    "bending": ("q", "stiffening_per_rad2", "conduit"),
+    "bending.conduit": ("branch_stiffness_fraction", "branch_time_constant_s"),
+    "rating": ("coefficient_nm_per_mm3",),
+    "shafts[]": ("name", "diameter_mm", "length_mm"),
+}
+# [meta].units: the units the coefficients are written in (the only ones accepted), with the
+# spellings accepted for each.
+UNITS: dict[str, tuple[str, ...]] = {
+    "diameter": ("mm",),
+    "length": ("mm",),
+    "bend": ("rad",),
+    "stiffness": ("N*m/rad", "N·m/rad", "Nm/rad", "N m/rad", "N.m/rad"),
+}
+
+
+def _type_name(value: Any) -> str:
+    if isinstance(value, bool):
+        return "a boolean"
+    if isinstance(value, str):
+        return "a string"
+    if isinstance(value, int | float):
+        return "a number"
+    if isinstance(value, list):
+        return "a list"
+    if isinstance(value, dict):
+        return "a table"
+    return type(value).__name__
+
+
+def _unknown(source: str, where: str, key: str, value: Any, allowed: tuple[str, ...]) -> str:
+    prefix = f"{where}." if where else ""
+    if isinstance(value, dict):
+        what = f"section '{prefix}{key}'"
+    else:
+        what = f"key '{key}' in section '{where}'" if where else f"top-level key '{key}'"
+    near = (
+        difflib.get_close_matches(key, allowed, n=1, cutoff=0.5)
+        or [a for a in allowed if a.startswith(key) or key.startswith(a)][:1]
+    )
+    hint = (
+        f" (did you mean '{prefix if isinstance(value, dict) else ''}{near[0]}'?)" if near else ""
+    )
+    place = f"section '{where}'" if where else "the top level"
+    return f"{source}: unknown {what}{hint}; allowed in {place}: {', '.join(allowed)}"
+
+
+def _check_keys(table: dict[str, Any], where: str, source: str) -> None:
+    """Refuse keys and sections that :data:`SCHEMA` does not list, recursively."""
+    schema_key = "shafts[]" if where.startswith("shafts[") else where
+    allowed = SCHEMA[schema_key]
+    for key, value in table.items():
+        if key not in allowed:
+            raise CoefficientFileError(_unknown(source, where, key, value, allowed))
+        sub = f"{where}.{key}" if where else key
+        if sub == "shafts":
+            if not isinstance(value, list):
+                raise CoefficientFileError(
+                    f"{source}: 'shafts' must be an array of tables (one table per shaft), "
+                    f"got {_type_name(value)}"
+                )
+            for i, entry in enumerate(value):
+                if not isinstance(entry, dict):
+                    raise CoefficientFileError(
+                        f"{source}: shafts[{i}] must be a table with name, diameter_mm, "
+                        f"length_mm, got {_type_name(entry)}"
+                    )
+                _check_keys(entry, f"shafts[{i}]", source)
+        elif sub in SCHEMA:
+            if not isinstance(value, dict):
+                raise CoefficientFileError(
+                    f"{source}: '{sub}' must be a table (a section) with keys "
+                    f"{', '.join(SCHEMA[sub])}, got {_type_name(value)} {value!r}"
+                )
+            _check_keys(value, sub, source)
+
+
+def _check_units(units: Any, source: str) -> None:
+    """``[meta].units`` must declare the units the coefficients are written in."""
+    if units is None:
+        return
+    assert isinstance(units, dict)  # _check_keys: a table with known keys only
+    for key, value in units.items():
+        accepted = UNITS[key]
+        if not isinstance(value, str) or value.strip() not in accepted:
+            raise CoefficientFileError(
+                f"{source}: 'meta.units.{key}' = {value!r} is not supported: the coefficients of "
+                f"a coefficient file are written with {key} in {accepted[0]!r} "
+                f"(accepted spellings: {', '.join(repr(a) for a in accepted)}); convert the "
+                "coefficients to these units and declare them"
+            )
+
+
+def _bool(value: Any, dotted: str, source: str) -> bool:
+    if not isinstance(value, bool):
+        raise CoefficientFileError(
+            f"{source}: '{dotted}' must be true or false (a TOML boolean, without quotes), "
+            f"got {_type_name(value)} {value!r}"
+        )
+    return value
+
+
+def _string(value: Any, dotted: str, source: str) -> str:
+    if not isinstance(value, str) or not value.strip():
+        raise CoefficientFileError(
+            f"{source}: '{dotted}' must be a non-empty string, got {_type_name(value)} {value!r}"
+        )
+    return value
+
+
+def _scaled(fractions: tuple[float, float, float], scale: float) -> tuple[float, float, float]:
+    return (fractions[0] * scale, fractions[1] * scale, fractions[2] * scale)
+
+
+def _get(table: dict[str, Any], dotted: str, source: str) -> Any:
+    node: Any = table
+    for key in dotted.split("."):
+        if not isinstance(node, dict) or key not in node:
+            raise CoefficientFileError(f"{source}: missing key '{dotted}'")
+        node = node[key]
+    return node
+
+
+def _floats(
+    value: Any, n: int, dotted: str, source: str, *, positive: bool = False
+) -> tuple[float, ...]:
+    if not isinstance(value, list) or len(value) != n:
+        raise CoefficientFileError(
+            f"{source}: '{dotted}' must be a list of {n} numbers, got {value!r}"
+        )
+    out = []
+    for i, v in enumerate(value):
+        if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(float(v)):
+            raise CoefficientFileError(
+                f"{source}: '{dotted}'[{i}] must be a finite number, got {v!r}"
+            )
+        if positive and float(v) < 0.0:
+            raise CoefficientFileError(f"{source}: '{dotted}'[{i}] must be >= 0, got {v!r}")
+        out.append(float(v))
+    return tuple(out)
+
+
+def _float(value: Any, dotted: str, source: str, *, minimum: float | None = None) -> float:
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, int | float)
+        or not math.isfinite(float(value))
+    ):
+        raise CoefficientFileError(f"{source}: '{dotted}' must be a finite number, got {value!r}")
+    if minimum is not None and float(value) < minimum:
+        raise CoefficientFileError(f"{source}: '{dotted}' must be >= {minimum}, got {value!r}")
+    return float(value)
+
+
+def _positive(value: Any, dotted: str, source: str) -> float:
+    v = _float(value, dotted, source)
+    if v <= 0.0:
+        raise CoefficientFileError(f"{source}: '{dotted}' must be > 0, got {value!r}")
+    return v
+
+
+def parse_catalogue(data: dict[str, Any], source: str) -> Catalogue:
+    """Validate a parsed coefficient table; every problem is a CoefficientFileError.
+
+    Strict: unknown sections/keys, wrong types and undeclared units are errors (module docstring).
+    """
+    if not isinstance(data, dict):
+        raise CoefficientFileError(f"{source}: must be a TOML table, got {_type_name(data)}")
+    _check_keys(data, "", source)
+    meta = data.get("meta", {})
+    for key in ("name", "description", "source"):
+        if key in meta:
+            _string(meta[key], f"meta.{key}", source)
+    _check_units(meta.get("units"), source)
+    p_pos = _floats(_get(data, "series.positive.p", source), 7, "series.positive.p", source)
+    p_neg = _floats(_get(data, "series.negative.p", source), 7, "series.negative.p", source)
+    q_bend = _floats(_get(data, "bending.q", source), 5, "bending.q", source)
+    beta = _float(
+        _get(data, "bending.stiffening_per_rad2", source),
+        "bending.stiffening_per_rad2",
+        source,
+        minimum=0.0,
+    )
+    frac = _floats(
+        _get(data, "bending.conduit.branch_stiffness_fraction", source),
+        2,
+        "bending.conduit.branch_stiffness_fraction",
+        source,
+        positive=True,
+    )
+    tau = _floats(
+        _get(data, "bending.conduit.branch_time_constant_s", source),
+        2,
+        "bending.conduit.branch_time_constant_s",
+        source,
+        positive=True,
+    )
+    if min(tau) <= 0.0:
+        raise CoefficientFileError(
+            f"{source}: 'bending.conduit.branch_time_constant_s' must be > 0, got {tau}"
+        )
+    d_rng = _floats(
+        _get(data, "validity.diameter_mm", source), 2, "validity.diameter_mm", source, positive=True
+    )
+    l_rng = _floats(
+        _get(data, "validity.length_mm", source), 2, "validity.length_mm", source, positive=True
+    )
+    b_rng = _floats(_get(data, "validity.bend_rad", source), 2, "validity.bend_rad", source)
+    for name, rng in (
+        ("validity.diameter_mm", d_rng),
+        ("validity.length_mm", l_rng),
+        ("validity.bend_rad", b_rng),
+    ):
+        if rng[0] >= rng[1]:
+            raise CoefficientFileError(
+                f"{source}: '{name}' must be [low, high] with low < high, got {list(rng)}"
+            )
+    rating = _float(
+        _get(data, "rating.coefficient_nm_per_mm3", source),
+        "rating.coefficient_nm_per_mm3",
+        source,
+        minimum=0.0,
+    )
+    dyn = data.get("series", {}).get("dynamic", {})
+    slip = data.get("series", {}).get("maxwell_slip", {})
+    slip_k = _floats(
+        slip.get("stiffness_fraction", [0.0, 0.0, 0.0]),
+        3,
+        "series.maxwell_slip.stiffness_fraction",
+        source,
+        positive=True,
+    )
+    slip_f = _floats(
+        slip.get("slip_torque_fraction", [0.0, 0.0, 0.0]),
+        3,
+        "series.maxwell_slip.slip_torque_fraction",
+        source,
+        positive=True,
+    )
+    for i, (k, f) in enumerate(zip(slip_k, slip_f, strict=True)):
+        if k > 0.0 and f <= 0.0:
+            raise CoefficientFileError(
+                f"{source}: Maxwell-slip element {i + 1} has stiffness_fraction {k:g} > 0 but "
+                f"slip_torque_fraction {f:g}: an element with stiffness needs a slip torque > 0 "
+                "(or set both to 0 to leave it out)"
+            )
+    slip_enabled = _bool(slip.get("enabled", False), "series.maxwell_slip.enabled", source)
+    if slip_enabled and max(slip_k) <= 0.0:
+        raise CoefficientFileError(
+            f"{source}: 'series.maxwell_slip.enabled' is true but no element has a "
+            "stiffness_fraction > 0, so series hysteresis would have no effect; give "
+            "stiffness_fraction and slip_torque_fraction (3 numbers each)"
+        )
+    unwinding = _float(
+        slip.get("unwinding_ratio", 1.0), "series.maxwell_slip.unwinding_ratio", source, minimum=0.0
+    )
+    if unwinding <= 0.0:
+        raise CoefficientFileError(
+            f"{source}: 'series.maxwell_slip.unwinding_ratio' must be > 0 (unwinding-side slip "
+            f"torque / winding-side), got {unwinding:g}"
+        )
+    shafts: list[CatalogueShaft] = []
+    for i, entry in enumerate(data.get("shafts", [])):
+        name = _string(entry.get("name", f"shaft{i}"), f"shafts[{i}].name", source)
+        if any(s.name == name for s in shafts):
+            raise CoefficientFileError(f"{source}: shafts[{i}].name {name!r} is used twice")
+        where = f"shafts[{i}] ({name})"
+        for key in ("diameter_mm", "length_mm"):
+            if key not in entry:
+                raise CoefficientFileError(f"{source}: {where} lacks '{key}'")
+        shafts.append(
+            CatalogueShaft(
+                name=name,
+                diameter_mm=_positive(entry["diameter_mm"], f"shafts[{i}].diameter_mm", source),
+                length_mm=_positive(entry["length_mm"], f"shafts[{i}].length_mm", source),
+            )
+        )
+    return Catalogue(
+        source=source,
+        p_pos=p_pos,
+        p_neg=p_neg,
+        q_bend=q_bend,
+        beta=beta,
+        conduit_fraction=(frac[0], frac[1]),
+        conduit_tau=(tau[0], tau[1]),
+        diameter_range=(d_rng[0], d_rng[1]),
+        length_range=(l_rng[0], l_rng[1]),
+        bend_range=(b_rng[0], b_rng[1]),
+        rating_coefficient=rating,
+        inertia_kgm2=_float(
+            dyn.get("inertia_kgm2", 0.0), "series.dynamic.inertia_kgm2", source, minimum=0.0
+        ),
+        damping_pos=_float(
+            dyn.get("damping_pos_nms", 0.0), "series.dynamic.damping_pos_nms", source, minimum=0.0
+        ),
+        damping_neg=_float(
+            dyn.get("damping_neg_nms", 0.0), "series.dynamic.damping_neg_nms", source, minimum=0.0
+        ),
+        slip_enabled=slip_enabled,
+        slip_k_fraction=(slip_k[0], slip_k[1], slip_k[2]),
+        slip_f_fraction=(slip_f[0], slip_f[1], slip_f[2]),
+        slip_unwinding_ratio=unwinding,
+        bend_friction_per_rad=_float(
+            slip.get("bend_friction_per_rad", 0.0),
+            "series.maxwell_slip.bend_friction_per_rad",
+            source,
+            minimum=0.0,
+        ),
+        shafts=tuple(shafts),
+    )
+
+
+def load_catalogue(path: str | Path | None = None) -> Catalogue:
+    """Load and validate a coefficient file; None loads the default (estimated) catalogue."""
+    if path is None:
+        text = resources.files("fsarm_sim.data").joinpath(DEFAULT_CATALOGUE).read_text("utf-8")
+        source = f"default catalogue ({DEFAULT_CATALOGUE})"
+    else:
+        p = Path(path)
+        if not p.is_file():
+            raise CoefficientFileError(
+                f"coefficient file not found: {p} (expected a TOML file like the default shafts.toml)"
+            )
+        try:
+            text = p.read_text("utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            raise CoefficientFileError(f"cannot read coefficient file {p}: {exc}") from exc
+        source = str(p)
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise CoefficientFileError(f"{source}: not valid TOML ({exc})") from exc
+    return parse_catalogue(data, source)

@@ -1,0 +1,393 @@
+"""Tendon-sheath transmission (seed 004): capstan friction along a bent sheath, tendon stretch, play.
+
+Source: seed 004_5af85f66df40f93c.txt ("Compliant control of single tendon-sheath actuators
+applied to a robotic manipulator"). Mapping onto joint 3: the motor pulley turns with ``theta_m``,
+the joint pulley with ``theta_s``; both pulleys get the radius ``r`` (the seed's joint pulley,
+r2 = 25 mm; the interface has no ratio, so the seed's r1 = 20 mm is not used). The sheath is
+routed over joint 2 (``ROUTED_OVER_JOINT2``): its total curvature angle is the sheath's own bend
+plus the bend joint 2 imposes, ``Theta = wrap + |phi_B|`` (separate arcs, curvature angles add).
+
+Capstan (eq. 6-8), uniform curvature over the sheath length ``L_s``: while the tendon slides, the
+tension at the actuator end is ``Phi = exp(+-mu Theta)`` times the one at the joint end.
+
+Stretch (eq. 9-11, Hooke): ``Delta L = Theta_dir F_m`` with ``F_m`` the actuator-end tension
+(eq. 10; eq. 11 with the inner integral's upper limit read as x - printed as L, garbled).
+Closed form for uniform curvature, the free tendon ``L_t - L_s`` split equally between the ends
+(estimate)::
+
+    C_pull = [ (L_t-L_s)/2 (1 + e^-mT) + L_s (1 - e^-mT)/(mT) ] / (E A)    (motor pulling, x' > 0)
+    C_rel  = [ (L_t-L_s)/2 (1 + e^+mT) + L_s (e^+mT - 1)/(mT) ] / (E A)    (releasing,     x' < 0)
+
+so that ``C_rel / C_pull = exp(mu Theta)`` exactly (the capstan ratio) and both tend to L_t/(E A)
+as mu -> 0. Twist -> stretch: ``Delta L = r x_eff``; torque = ``r F_m``; branch stiffnesses
+``K_pull = r^2 / C_pull`` (loading), ``K_rel = r^2 / C_rel`` (unloading); ``K_m``, ``K_d`` their
+mean and half-difference. Play: dead band of width ``w`` (the tendon loop's slack)::
+
+    x_eff = x - w/2 (x > w/2);  0 (|x| <= w/2);  x + w/2 (x < -w/2)
+
+Direction-dependent law (eq. 14, 19: one branch per direction of motion) as a smooth state: a
+Dahl element ``z`` (state slot 0, ``|z| <= 1``) tends to the sign of the twist rate::
+
+    tau   = scale (K_m x_eff + K_d |x_eff| z)            (z = +1: K_pull branch, -1: K_rel)
+    dz/dt = (x' - |x'| z) / (delta0 + K_d/K_m |x_eff|)      (K_d/K_m = tanh(mu Theta / 2))
+
+The presliding deflection grows with the load: after a reversal the joint-side tension holds
+while the actuator end relaxes through ``x (1 - e^-mT)`` (seed 004 phases C and F: the motor
+turns, the joint stays). With ``K_d/K_m |x|`` the Dahl loop has the area of that ideal
+stick-slip capstan loop within 16 % (tests), and the presliding stiffness stays below ~3.3 K_m;
+``delta0`` keeps it finite at zero twist.
+Energy: the elastic part ``K_m x_eff`` has the potential ``K_m x_eff^2 / 2``; the ``z`` part is
+friction and dissipates. The virtual torque sensor (what seed 004 estimates from the two encoders
+with its model, eq. 14) cannot tell the direction branch from the encoders' angles alone, so it
+uses the centre line ``K_m x_eff`` (Algorithm 1 picks the nearer branch; the centre is the best
+single guess).
+
+Limits of the mapping: the interface carries one torque for both ends, so the capstan loss
+between the ends (motor end ``e^(mu Theta)`` times the joint end while pulling) is not charged to
+the motor; the direction is the twist rate's, not the tendon's sliding velocity (which the
+interface does not give).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from fsarm_sim.plant.transmissions.base import (
+    Bounds,
+    FloatArray,
+    Param,
+    TransmissionError,
+    non_negative,
+    positive,
+)
+
+NAME = "tendon-sheath"
+TITLE = "Tendon-sheath: capstan friction along the bent sheath, tendon stretch, play (seed 004)"
+SOURCE = (
+    "seed 004 (tendon-sheath actuator): eq. 6-11 capstan friction and stretch, eq. 14-19 "
+    "direction-dependent position transmission, Tables 1-2, Sec. III geometry"
+)
+ROUTED_OVER_JOINT2 = True
+# estimate: elastic limit of drawn stainless wire ~0.3 % strain -> 3.6 mm on 1.2 m of tendon ->
+# 0.14 rad at r = 25 mm (about 16 N*m at the default stiffness)
+TWIST_RANGE_RAD = 0.15
+STATES: tuple[str, ...] = ("z_friction",)
+# parameter values that switch every dissipation of the law off (energy checks)
+CONSERVATIVE: dict[str, float] = {"mu": 0.0}
+
+# Seed 004 Tables 1-2: position transmission eq. 19, theta_1 = P th2^2 + Q th2 + M per direction
+# (R.C. = rotate clockwise, R.A. = counter-clockwise), with the maximal error M.E. (rad).
+# key -> {"RC": (P, Q, M, ME), "RA": (P, Q, M, ME)}
+TABLE_1_VELOCITY: dict[float, dict[str, tuple[float, float, float, float]]] = {
+    0.02: {"RC": (-0.145, 0.920, 0.225, 0.024), "RA": (-0.099, 0.914, 0.019, 0.021)},
+    0.04: {"RC": (-0.208, 0.912, 0.308, 0.034), "RA": (-0.033, 0.911, -0.055, 0.044)},
+    0.06: {"RC": (-0.251, 0.897, 0.361, 0.054), "RA": (-0.012, 0.904, -0.116, 0.055)},
+}
+TABLE_2_BEND: dict[float, dict[str, tuple[float, float, float, float]]] = {
+    math.pi / 2.0: {"RC": (-0.208, 0.916, 0.301, 0.033), "RA": (-0.030, 0.913, -0.063, 0.034)},
+    math.pi: {"RC": (-0.266, 0.911, 0.361, 0.031), "RA": (-0.055, 0.893, -0.123, 0.028)},
+    3.0 * math.pi / 2.0: {
+        "RC": (-0.307, 0.920, 0.414, 0.026),
+        "RA": (-0.048, 0.883, -0.171, 0.024),
+    },
+}
+
+# parameter block indices (order of PARAMS)
+I_MU = 0
+I_WRAP = 1
+I_RADIUS = 2
+I_TENDON_R = 3
+I_E = 4
+I_L_TENDON = 5
+I_L_SHEATH = 6
+I_BACKLASH = 7
+I_DELTA0 = 8
+I_SCALE = 9
+
+PARAMS: tuple[Param, ...] = (
+    Param(
+        "mu",
+        0.15,
+        "-",
+        "estimate: tendon/sheath friction coefficient, not given in seed 004; steel tendon in a "
+        "bare wound-steel sheath, typical 0.1-0.2",
+        non_negative(
+            "a Coulomb friction coefficient: >= 0 (friction only opposes sliding; < 0 would "
+            "drive the tendon), <= 1 (dry steel on steel ~0.8, lined sheaths 0.05-0.3)",
+            1.0,
+        ),
+    ),
+    Param(
+        "wrap_rad",
+        math.pi / 2.0,
+        "rad",
+        "seed 004 Sec. III: 'whole bending angle of the tendon sheath is designed to pi/2'",
+        non_negative(
+            "the sheath's own total curvature angle: >= 0 (curvature angles add as magnitudes), "
+            "<= 2 pi, one full loop (seed 004 Table 2 tests up to 3 pi/2)",
+            2.0 * math.pi,
+        ),
+    ),
+    Param(
+        "pulley_radius_m",
+        0.025,
+        "m",
+        "seed 004 Sec. III: joint pulley r2 = 25 mm (r1 = 20 mm)",
+        positive(
+            "a radius: > 0 (0 transmits no torque), <= 0.25 m, 10x the seed's 25 mm pulley and "
+            "beyond any joint pulley of an arm (catches mm given as m)",
+            0.25,
+        ),
+    ),
+    Param(
+        "tendon_radius_m",
+        0.6e-3,
+        "m",
+        "seed 004 Sec. III: stainless tendon radius 0.6 mm",
+        positive(
+            "a radius: > 0 (0 leaves no cross-section: infinite compliance), <= 10 mm "
+            "(seed 004: 0.6 mm; catches mm given as m)",
+            0.01,
+        ),
+    ),
+    Param(
+        "youngs_modulus_pa",
+        193e9,
+        "Pa",
+        "estimate: AISI 304 stainless steel; seed 004 gives no modulus (a stranded cable is softer)",
+        Bounds(
+            1e8,
+            1.2e12,
+            "a tendon material's modulus: >= 1e8 Pa (anything softer than nylon's 2-4 GPa is a "
+            "rubber band, not a tendon), <= 1.2e12 Pa, diamond's: nothing is stiffer",
+        ),
+    ),
+    Param(
+        "tendon_length_m",
+        1.2,
+        "m",
+        "seed 004 Sec. III: tendon 1.2 m",
+        positive("a length: > 0, <= 10 m (a tendon along an arm; seed 004: 1.2 m)", 10.0),
+    ),
+    Param(
+        "sheath_length_m",
+        0.8,
+        "m",
+        "seed 004 Sec. III: sheath 0.8 m",
+        non_negative(
+            "a length: >= 0 (0 = a bare tendon), <= 10 m; and at most tendon_length_m (the "
+            "tendon runs through the whole sheath)",
+            10.0,
+        ),
+    ),
+    Param(
+        "backlash_rad",
+        0.0,
+        "rad",
+        "dead band width; Tables 1-2 show none resolvable: the two branches of eq. 19 meet at "
+        "zero load (theta2 = pi/2) within 0.071 rad for the bend rows, so the seed's 'backlash' "
+        "(phases C, F) is the load-proportional capstan hysteresis carried by the friction state",
+        non_negative(
+            "a dead band width: >= 0, below the law's twist range TWIST_RANGE_RAD = 0.15 rad "
+            "(wider play leaves no elastic range)",
+            TWIST_RANGE_RAD,
+            hi_open=True,
+        ),
+    ),
+    Param(
+        "presliding_rad",
+        1e-3,
+        "rad",
+        "estimate: Dahl presliding floor at zero load (seed 004 uses static Coulomb friction)",
+        positive(
+            "> 0: the Dahl rate divides by it (0 is a division by zero), <= the twist range "
+            "0.15 rad (a larger 'presliding' deflection is the whole law)",
+            TWIST_RANGE_RAD,
+        ),
+    ),
+    Param(
+        "scale",
+        1.0,
+        "-",
+        "torque scale for the arm (1 = the seed's tendon and pulley)",
+        positive(
+            "a torque multiplier (tendons in parallel): > 0 (0 transmits nothing, < 0 reverses "
+            "the spring); a stiffness too high for the timestep is refused at build"
+        ),
+    ),
+)
+
+
+def validate(tr: FloatArray) -> None:
+    """Cross-parameter checks (each parameter's own range: ``PARAMS``' bounds, base.fill_block)."""
+    if tr[I_L_SHEATH] > tr[I_L_TENDON]:
+        raise TransmissionError(
+            f"transmission {NAME!r}: sheath_length_m = {float(tr[I_L_SHEATH])!r} m is longer "
+            f"than tendon_length_m = {float(tr[I_L_TENDON])!r} m; the tendon runs through the "
+            "whole sheath, "
+            "so sheath_length_m <= tendon_length_m"
+        )
+
+
+# ------------------------------------------------------------------ kernels (Numba-compilable)
+
+
+def total_wrap_rad(tr: Any, bend: float) -> float:
+    """Total curvature angle of the sheath: its own bend plus the bend over joint 2."""
+    return tr[I_WRAP] + abs(bend)
+
+
+def capstan_ratio(mu: float, wrap_rad: float) -> float:
+    """Eq. 7-8: tension ratio Phi_p = exp(mu Theta) between the ends while the tendon slides."""
+    return math.exp(mu * wrap_rad)
+
+
+def _axial_stiffness(tr: Any) -> float:
+    """E A of the tendon (N)."""
+    r = tr[I_TENDON_R]
+    return tr[I_E] * math.pi * r * r
+
+
+def _free_length(tr: Any) -> float:
+    lf = tr[I_L_TENDON] - tr[I_L_SHEATH]
+    return lf if lf > 0.0 else 0.0
+
+
+def _sheath_factor(m: float) -> float:
+    """(e^m - 1)/m, -> 1 as m -> 0 (eq. 11 integral over the sheath, uniform curvature)."""
+    if abs(m) < 1e-9:
+        return 1.0 + 0.5 * m
+    return math.expm1(m) / m
+
+
+def compliance_pull(tr: Any, bend: float) -> float:
+    """Eq. 11 Theta_p: stretch per actuator-end tension while the motor pulls (m/N)."""
+    m = tr[I_MU] * total_wrap_rad(tr, bend)
+    lf = _free_length(tr)
+    return (
+        0.5 * lf * (1.0 + math.exp(-m)) + tr[I_L_SHEATH] * _sheath_factor(-m)
+    ) / _axial_stiffness(tr)
+
+
+def compliance_release(tr: Any, bend: float) -> float:
+    """Eq. 11 Theta_r: stretch per actuator-end tension while the load pulls back (m/N)."""
+    m = tr[I_MU] * total_wrap_rad(tr, bend)
+    lf = _free_length(tr)
+    return (0.5 * lf * (1.0 + math.exp(m)) + tr[I_L_SHEATH] * _sheath_factor(m)) / _axial_stiffness(
+        tr
+    )
+
+
+def branch_stiffness_pull(tr: Any, bend: float) -> float:
+    """Loading branch: r^2 / C_pull (N*m/rad, no scale)."""
+    r = tr[I_RADIUS]
+    return r * r / compliance_pull(tr, bend)
+
+
+def branch_stiffness_release(tr: Any, bend: float) -> float:
+    """Unloading branch: r^2 / C_rel (N*m/rad, no scale)."""
+    r = tr[I_RADIUS]
+    return r * r / compliance_release(tr, bend)
+
+
+def _sheath_factor_slope(m: float) -> float:
+    """d/dm of (e^m - 1)/m (-> 1/2 as m -> 0)."""
+    if abs(m) < 1e-6:
+        return 0.5 + m / 3.0
+    return (m * math.exp(m) - math.expm1(m)) / (m * m)
+
+
+def bend_torque_nm(tr: Any, x: float, bend: float, act: Any, a0: int) -> float:
+    """-dV/dphi_B: the capstan factor e^(mu Theta) grows with the bend over joint 2, so the
+    branch stiffnesses (eq. 11) and the stored energy change with it at constant twist."""
+    if bend == 0.0 or tr[I_MU] == 0.0:
+        return 0.0
+    m = tr[I_MU] * total_wrap_rad(tr, bend)
+    lf = _free_length(tr)
+    ea = _axial_stiffness(tr)
+    r2 = tr[I_RADIUS] * tr[I_RADIUS]
+    c_p = compliance_pull(tr, bend)
+    c_r = compliance_release(tr, bend)
+    dc_p = (-0.5 * lf * math.exp(-m) - tr[I_L_SHEATH] * _sheath_factor_slope(-m)) / ea
+    dc_r = (0.5 * lf * math.exp(m) + tr[I_L_SHEATH] * _sheath_factor_slope(m)) / ea
+    dkm_dm = 0.5 * (-r2 * dc_p / (c_p * c_p) - r2 * dc_r / (c_r * c_r))
+    xe = effective_twist_rad(tr, x)
+    dm_db = tr[I_MU] * math.copysign(1.0, bend)
+    return -tr[I_SCALE] * 0.5 * xe * xe * dkm_dm * dm_db
+
+
+def effective_twist_rad(tr: Any, x: float) -> float:
+    """Twist reaching the tendon through the dead band of width backlash_rad (centred at 0)."""
+    half = 0.5 * tr[I_BACKLASH]
+    if x > half:
+        return x - half
+    if x < -half:
+        return x + half
+    return 0.0
+
+
+def sensor_torque_nm(tr: Any, x: float, bend: float) -> float:
+    km = 0.5 * (branch_stiffness_pull(tr, bend) + branch_stiffness_release(tr, bend))
+    return tr[I_SCALE] * km * effective_twist_rad(tr, x)
+
+
+def stiffness_nm_per_rad(tr: Any, x: float, bend: float) -> float:
+    if abs(x) < 0.5 * tr[I_BACKLASH]:  # inside the play (no play: never)
+        return 0.0
+    km = 0.5 * (branch_stiffness_pull(tr, bend) + branch_stiffness_release(tr, bend))
+    return tr[I_SCALE] * km
+
+
+def torque_nm(tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int) -> float:
+    kp = branch_stiffness_pull(tr, bend)
+    kr = branch_stiffness_release(tr, bend)
+    xe = effective_twist_rad(tr, x)
+    z = act[a0]
+    if z > 1.0:
+        z = 1.0
+    elif z < -1.0:
+        z = -1.0
+    return tr[I_SCALE] * (0.5 * (kp + kr) * xe + 0.5 * (kp - kr) * abs(xe) * z)
+
+
+def presliding_rad(tr: Any, x: float, bend: float) -> float:
+    """Dahl presliding deflection: delta0 + K_d/K_m |x_eff| (~ mu Theta |x| / 2, seed 004 C/F)."""
+    kp = branch_stiffness_pull(tr, bend)
+    kr = branch_stiffness_release(tr, bend)
+    return tr[I_DELTA0] + (kp - kr) / (kp + kr) * abs(effective_twist_rad(tr, x))
+
+
+def state_rate(tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int, i: int) -> float:
+    if i != 0:
+        return 0.0
+    z = act[a0]
+    if z > 1.0:
+        z = 1.0
+    elif z < -1.0:
+        z = -1.0
+    return (xdot - abs(xdot) * z) / presliding_rad(tr, x, bend)
+
+
+def potential_j(tr: Any, x: float, bend: float, act: Any, a0: int) -> float:
+    km = 0.5 * (branch_stiffness_pull(tr, bend) + branch_stiffness_release(tr, bend))
+    xe = effective_twist_rad(tr, x)
+    return tr[I_SCALE] * 0.5 * km * xe * xe
+
+
+# ------------------------------------------------------------------ Python side
+
+
+def state_limits(tr: Any) -> list[tuple[float, float] | None]:
+    """The Dahl state stays within [-1, 1]."""
+    return [(-1.0, 1.0)]
+
+
+def initial_states(tr: Any, x: float, bend: float) -> list[float]:
+    """Friction element relaxed."""
+    return [0.0]
+
+
+def position_transmission_rad(theta2_hat: float, p: float, q: float, m: float) -> float:
+    """Eq. 19: the motor angle the seed's fitted model predicts for joint-encoder reading th2."""
+    return p * theta2_hat * theta2_hat + q * theta2_hat + m

@@ -1,0 +1,1 @@
+"""One record schema, measured data, written runs, the results store."""

@@ -1,0 +1,1 @@
+"""The runner and its clock, scenarios, references, outer loops, batches of runs."""

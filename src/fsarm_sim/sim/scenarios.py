@@ -1,0 +1,205 @@
+"""Scenario registry: name -> reference trajectory, duration, payload.
+
+Add a scenario with ``@register``; every registered scenario is run by the generic tests.
+
+A scenario may also script the outside world and an outer control loop (both used only by
+:func:`fsarm_sim.sim.simulation.run_scenario`, once per control tick, and only when set):
+
+* ``disturbance`` - an external force on the arm (a hit, a hand on the flange), see
+  :class:`Disturbance`;
+* ``outer_loop`` - a factory ``Simulation -> (tick k -> None)`` that may rewrite the reference
+  rows from tick ``k`` on before the controller reads them (hand guiding, collision reaction;
+  :mod:`fsarm_sim.sim.outer_loops`, which, like this module, sits below the runner).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from fsarm_sim.errors import ScenarioNotFoundError
+from fsarm_sim.sim import references as R
+from fsarm_sim.sim.outer_loops import OuterLoop as OuterLoop
+from fsarm_sim.sim.outer_loops import TickHook as TickHook
+from fsarm_sim.sim.outer_loops import hand_guiding_loop, reaction_loop
+
+Array = npt.NDArray[np.float64]
+DEG = math.pi / 180.0
+
+
+@dataclass(frozen=True)
+class Disturbance:
+    """A scripted external force on the arm, applied at a site (e.g. ``flange``).
+
+    ``force_n(t)`` is the force (N) at time ``t`` expressed in the site's frame, applied at the
+    site's origin through ``data.qfrc_applied`` (``mj_applyFT``) and held over each control
+    period. ``window_s`` is the (start, end) of the contact, for detection statistics.
+    """
+
+    site: str
+    force_n: Callable[[float], tuple[float, float, float]]
+    window_s: tuple[float, float]
+
+
+@dataclass(frozen=True)
+class Scenario:
+    name: str
+    description: str
+    duration_s: float
+    payload_kg: float
+    reference: Callable[[Array], Array]  # tick times -> table (n, 9)
+    disturbance: Disturbance | None = None
+    outer_loop: OuterLoop | None = None
+
+
+REGISTRY: dict[str, Scenario] = {}
+
+
+def register(
+    name: str,
+    description: str,
+    duration_s: float,
+    payload_kg: float = 0.0,
+    *,
+    disturbance: Disturbance | None = None,
+    outer_loop: OuterLoop | None = None,
+) -> Callable[[Callable[[Array], Array]], Callable[[Array], Array]]:
+    def wrap(fn: Callable[[Array], Array]) -> Callable[[Array], Array]:
+        REGISTRY[name] = Scenario(
+            name, description, duration_s, payload_kg, fn, disturbance, outer_loop
+        )
+        return fn
+
+    return wrap
+
+
+def get(name: str) -> Scenario:
+    try:
+        return REGISTRY[name]
+    except KeyError:
+        raise ScenarioNotFoundError(
+            f"unknown scenario '{name}'; registered scenarios: {', '.join(sorted(REGISTRY))}"
+        ) from None
+
+
+FIG14_POSE_Q2 = (
+    45.0 * DEG
+)  # joint 2 holds 45 deg: the shaft is bent by phi_B = 45 deg (Fig. 7's bend)
+
+
+@register(
+    "fig14-sine",
+    "Seed 000 Fig. 14: joint 3 follows 0-90 deg, period 4 s (peak 71 deg/s ~ nominal 75 deg/s); "
+    "joints 1, 2 hold a pose that bends the shaft 45 deg",
+    duration_s=10.0,
+)
+def _fig14(t: Array) -> Array:
+    return R.stack(
+        (R.hold(t, 0.0), R.hold(t, FIG14_POSE_Q2), R.cosine_sweep(t, 0.0, 90.0 * DEG, 4.0))
+    )
+
+
+@register(
+    "p2p-payload",
+    "Multi-joint point-to-point with the rated 15 kg payload: minimum-jerk moves out and back "
+    "(2.5 s each) between a folded and a reaching pose",
+    duration_s=7.0,
+    payload_kg=15.0,
+)
+def _p2p(t: Array) -> Array:
+    a = (0.0, 15.0 * DEG, 60.0 * DEG)
+    b = (60.0 * DEG, 60.0 * DEG, 20.0 * DEG)
+    out = []
+    for j in range(3):
+        go = R.quintic(t, a[j], b[j], 0.5, 2.5)
+        back = R.quintic(t, 0.0, a[j] - b[j], 4.0, 2.5)
+        out.append((go[0] + back[0], go[1] + back[1], go[2] + back[2]))
+    return R.stack((out[0], out[1], out[2]))
+
+
+@register(
+    "step-q3",
+    "Joint-3 position step of 10 deg at t = 0.5 s (shaft bent 45 deg): torque and position loop response",
+    duration_s=2.0,
+)
+def _step_q3(t: Array) -> Array:
+    return R.stack(
+        (R.hold(t, 0.0), R.hold(t, FIG14_POSE_Q2), R.step(t, 30.0 * DEG, 40.0 * DEG, 0.5))
+    )
+
+
+@register(
+    "step-q2",
+    "Joint-2 position step of 10 deg at t = 0.5 s: bending torque and its hysteresis seen by joint 2",
+    duration_s=2.0,
+)
+def _step_q2(t: Array) -> Array:
+    return R.stack((R.hold(t, 0.0), R.step(t, 30.0 * DEG, 40.0 * DEG, 0.5), R.hold(t, 30.0 * DEG)))
+
+
+# --- contact scenarios: scripted external forces on the flange (seed 004 Sec. V, Fig. 12) ---
+
+
+def _raised_cosine_pulse(t: float, start: float, end: float, ramp: float, peak: float) -> float:
+    """``peak`` between start and end, with raised-cosine ramps of ``ramp`` s at both ends."""
+    if t <= start or t >= end:
+        return 0.0
+    edge = min(t - start, end - t)
+    return peak if edge >= ramp else peak * 0.5 * (1.0 - math.cos(math.pi * edge / ramp))
+
+
+# A hit: a raised-cosine (Hann) force pulse on the flange, against the motion (seed 004 Fig. 12a: a wooden
+# stick hits the load plate). Estimate (the seed gives no force): 100 N peak over 50 ms, i.e.
+# 40 N*m on joint 3 at the 0.4 m flange lever, well above a light touch and inside the joint's
+# 160 N*m drive limit.
+HIT_START_S = 1.2
+HIT_DURATION_S = 0.05
+HIT_PEAK_N = 100.0
+
+
+def _hit_force(t: float) -> tuple[float, float, float]:
+    """Flange frame: -x pushes joint 3 negative, against the upward sweep at t = 1.2 s."""
+    f = _raised_cosine_pulse(
+        t, HIT_START_S, HIT_START_S + HIT_DURATION_S, 0.5 * HIT_DURATION_S, 1.0
+    )
+    return (-HIT_PEAK_N * f, 0.0, 0.0)
+
+
+@register(
+    "collision-hit",
+    "Joint 3 sweeps 0-90 deg as in fig14-sine and is hit on the flange at t = 1.2 s (100 N, "
+    "50 ms); sensorless detection from the two encoders stops it (seed 004 Algorithm 1)",
+    duration_s=3.0,
+    disturbance=Disturbance("flange", _hit_force, (HIT_START_S, HIT_START_S + HIT_DURATION_S)),
+    outer_loop=reaction_loop,
+)
+def _collision_hit(t: Array) -> Array:
+    return _fig14(t)
+
+
+# Hand guiding: a hand pushes the flange perpendicular to link 3, lets go, pushes back, lets go.
+# Estimate (the seed gives no force): 25 N, a light one-hand push (10 N*m on joint 3), with
+# 0.1 s raised-cosine onsets.
+HAND_PUSHES = ((0.5, 1.5, 25.0), (2.5, 3.5, -25.0))  # (start s, end s, force N along flange x)
+HAND_RAMP_S = 0.1
+
+
+def _hand_force(t: float) -> tuple[float, float, float]:
+    f = sum(_raised_cosine_pulse(t, a, b, HAND_RAMP_S, p) for a, b, p in HAND_PUSHES)
+    return (f, 0.0, 0.0)
+
+
+@register(
+    "hand-guide",
+    "Hand guiding of joint 3 (seed 004 Algorithm 2): the arm holds a pose, a hand pushes the "
+    "flange with 25 N for 1 s, lets go, pushes back, lets go; joint 3 yields and then holds",
+    duration_s=4.5,
+    disturbance=Disturbance("flange", _hand_force, (HAND_PUSHES[0][0], HAND_PUSHES[-1][1])),
+    outer_loop=hand_guiding_loop,
+)
+def _hand_guide(t: Array) -> Array:
+    return R.stack((R.hold(t, 0.0), R.hold(t, FIG14_POSE_Q2), R.hold(t, 30.0 * DEG)))

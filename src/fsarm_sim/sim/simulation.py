@@ -1,0 +1,630 @@
+"""Scenario runner: owns the loop and the clocks, records time series, fails on MuJoCo warnings."""
+
+from __future__ import annotations
+
+import math
+import os
+import time as _time
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+from fsarm_sim.engine import callbacks
+from fsarm_sim.engine.model import ArmStructure, SimConfig, build_model, read_structure
+from fsarm_sim.errors import (
+    CallbackBypassError,
+    InvalidParameterError,
+    RunFailedError,
+    RunHealthError,
+    SimulationWarningError,
+)
+from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import physics
+from fsarm_sim.plant import transmissions
+from fsarm_sim.sim import scenarios
+
+Array = npt.NDArray[np.float64]
+Backend = callbacks.Backend
+DEFAULT_BACKEND = callbacks.DEFAULT_BACKEND
+MAX_DURATION_S = 3600.0
+DEFAULT_TIMESTEP_S = 0.001  # models/fsarm/fsarm.xml <option timestep>, used before a model exists
+# One hour at a 10 us timestep: the most physics steps one run may take (about 15 min native).
+MAX_STEPS = 360_000_000
+# A run may use at most this share of the memory available when it starts (reference table,
+# recorded rows and the columns made from them), so that it cannot fail half-way for memory.
+MEMORY_SHARE = 0.5
+WARNING_CHECK_EVERY = 500  # steps: MuJoCo warnings and the run's health are checked this often
+# A joint whose tracking error exceeds this has left any controlled motion (the worst seed
+# transmission, tendon-sheath hunting, stays below 15 deg): the run is reported as diverged.
+DIVERGENCE_LIMIT_RAD = math.radians(45.0)
+
+
+@dataclass
+class RunResult:
+    scenario: str
+    config: SimConfig
+    duration_s: float
+    columns: dict[str, Array]
+    metrics: dict[str, float | dict[str, float]] = field(default_factory=dict)
+    interrupted: bool = False  # Ctrl-C ended the run early; columns hold what was finished
+
+
+def check_duration(duration_s: float) -> float:
+    if (
+        not isinstance(duration_s, int | float)
+        or not math.isfinite(duration_s)
+        or duration_s <= 0.0
+    ):
+        raise InvalidParameterError(
+            f"duration must be a finite number of seconds > 0, got {duration_s!r}"
+        )
+    if duration_s > MAX_DURATION_S:
+        raise InvalidParameterError(
+            f"duration must be at most {MAX_DURATION_S:g} s per run, got {duration_s!r}"
+        )
+    return float(duration_s)
+
+
+def available_memory_bytes() -> int:
+    """Memory the kernel says is available now (MemAvailable), else the physical memory."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return int(os.sysconf("SC_PHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
+    except (OSError, ValueError, AttributeError):
+        return 8 << 30
+
+
+def check_run_size(
+    duration_s: float, timestep_s: float, ctrl_dt_s: float, log_every_ticks: int, n_cols: int
+) -> None:
+    """Refuse, before anything is allocated, a run that takes too many steps or will not fit.
+
+    Names the options to change. ``n_cols`` is the number of floats recorded per row.
+    """
+    n_steps = duration_s / timestep_s
+    if n_steps > MAX_STEPS:
+        raise InvalidParameterError(
+            f"{duration_s:g} s at a timestep of {timestep_s:g} s is {n_steps:.3g} physics steps; "
+            f"at most {MAX_STEPS:.3g} are allowed per run: raise --timestep or shorten --duration"
+        )
+    if duration_s < ctrl_dt_s * (1.0 - 1e-9):
+        raise InvalidParameterError(
+            f"duration {duration_s:g} s is shorter than one control period ({ctrl_dt_s:g} s): "
+            "a run must span at least one control tick (lower --ctrl-dt or raise --duration)"
+        )
+    n_ticks = duration_s / ctrl_dt_s + 1.0
+    rows = n_ticks / max(log_every_ticks, 1) if log_every_ticks > 0 else 0.0
+    # reference table (the model holds it twice while compiling) + recorded rows + columns
+    need = 8.0 * (3.0 * n_ticks * L.REF_COLS + rows * (n_cols + 40))
+    have = MEMORY_SHARE * available_memory_bytes()
+    if need > have:
+        raise InvalidParameterError(
+            f"this run needs about {need / 2**30:.1f} GiB ({n_ticks:.3g} control ticks, "
+            f"{rows:.3g} recorded rows) but only {have / 2**30:.1f} GiB may be used here: "
+            "raise --log-every, raise --ctrl-dt or shorten --duration"
+        )
+
+
+def check_clock(model: mujoco.MjModel, data: mujoco.MjData) -> None:
+    """Raise :class:`CallbackBypassError` if ``data`` was stepped without fsarm's callbacks.
+
+    The control clock (``physics.control``) notes the time of the last step it saw; after
+    ``mj_step`` with the callbacks active, ``data.time`` is at most one step past it. A larger gap
+    means MuJoCo stepped this model with no shaft and no controllers (e.g. ``mujoco.mj_step``
+    outside :func:`fsarm_sim.engine.callbacks.active`).
+    """
+    prm = model.numeric(L.PARAMS_NAME).data
+    if prm[L.P_EN_CONTROL] < 0.5:
+        return
+    h = float(model.opt.timestep)
+    # before the first step U_STEP_T holds the start time (initial_state, Simulation.start_at)
+    gap = float(data.time) - float(data.userdata[L.U_STEP_T])
+    if gap > 1.5 * h:
+        raise CallbackBypassError(
+            f"this fsarm model was stepped about {gap / h:.0f} steps (to t = {data.time:.6g} s) "
+            "without fsarm's callbacks, so the shaft and the controllers did not act: step it with "
+            "Simulation.step/run, or call mujoco.mj_step inside fsarm_sim.engine.callbacks.active()"
+        )
+
+
+def raise_on_warning(data: mujoco.MjData) -> None:
+    """Turn any MuJoCo warning into a SimulationWarningError naming it."""
+    hits = [
+        f"{mujoco.mjtWarning(i).name} (x{int(w.number)}, info {int(w.lastinfo)})"
+        for i, w in enumerate(data.warning)
+        if w.number > 0
+    ]
+    if hits:
+        raise SimulationWarningError(f"MuJoCo warned at t = {data.time:.4f} s: {'; '.join(hits)}")
+
+
+def initial_state(model: mujoco.MjModel, data: mujoco.MjData, st: ArmStructure) -> None:
+    """Start at the reference's first pose in static equilibrium.
+
+    The shaft is pre-twisted to carry joint 3's gravity torque, the conduit branches are relaxed,
+    and the speed-loop integrator already holds the motor torque that twist needs (bumpless start).
+    """
+    prm = model.numeric(L.PARAMS_NAME).data
+    ref = model.numeric(L.REF_NAME).data
+    mujoco.mj_resetData(model, data)
+    for j in range(3):
+        data.qpos[st.qadr[j]] = ref[j]
+    data.qvel[:] = 0.0
+    data.qpos[st.qadr[3]] = data.qpos[st.qadr[2]] * st.coef_s / st.coef_m
+    mujoco.mj_kinematics(model, data)
+    mujoco.mj_comPos(model, data)
+    mujoco.mj_rne(model, data, 0, data.qfrc_bias)  # gravity only (qvel = 0)
+    tau_shaft = float(data.qfrc_bias[st.dof[2]]) / st.coef_s
+    bend = data.qpos[st.qadr[1]]
+    twist = static_twist(prm, tau_shaft, bend)
+    data.qpos[st.qadr[3]] = (st.coef_s * data.qpos[st.qadr[2]] + twist) / st.coef_m
+    tr = transmissions.by_kind(prm[L.P_TRANS])
+    block = prm[L.P_TR : L.P_TR + L.N_TR]
+    for i, v in enumerate(tr.initial_states(block, twist, bend)):
+        data.act[st.act_slip + i] = v
+    data.act[st.act_branch[0]] = bend
+    data.act[st.act_branch[1]] = bend
+    if prm[L.P_SPD_KI] > 0.0:
+        data.userdata[L.U_MEM + 2] = st.coef_m * tau_shaft / prm[L.P_SPD_KI]
+    data.userdata[L.U_TICK] = 0.0
+    data.time = 0.0
+
+
+def static_twist(prm: Array, tau_shaft: float, bend: float) -> float:
+    """Twist at which joint 3's transmission holds ``tau_shaft`` statically (0: no spring)."""
+    if prm[L.P_EN_SERIES] < 0.5:
+        return 0.0
+    tr = transmissions.by_kind(prm[L.P_TRANS])
+    twist = tr.twist_for_torque(prm[L.P_TR : L.P_TR + L.N_TR], tau_shaft, bend)
+    if prm[L.P_BL_WIDTH] > 0.0:  # the play must be taken up first, on the loaded flank
+        c, w = prm[L.P_BL_CENTER], prm[L.P_BL_WIDTH]
+        twist += c + (0.5 * w if twist > 0.0 else -0.5 * w if twist < 0.0 else 0.0)
+    return twist
+
+
+class Simulation:
+    """One configured model and data, stepped with fsarm's callbacks."""
+
+    def __init__(
+        self, config: SimConfig, ref_table: Array, backend: Backend = DEFAULT_BACKEND
+    ) -> None:
+        self.config = config
+        self.model = build_model(config, ref_table)
+        self.data = mujoco.MjData(self.model)
+        self.structure = read_structure(self.model)
+        if backend not in ("python", "native"):
+            raise InvalidParameterError(f"backend must be 'python' or 'native', got {backend!r}")
+        self.backend: Backend = backend
+        self.interrupted = False
+        self._rows = 0
+        self._step0 = 0
+        self._stride = 1
+        # per-control-tick Python hooks (scripted disturbances, outer loops); none: the loop is
+        # exactly the hook-free one
+        self.hooks: list[scenarios.TickHook] = []
+        initial_state(self.model, self.data, self.structure)
+
+    @property
+    def params(self) -> Array:
+        return self.model.numeric(L.PARAMS_NAME).data
+
+    def step(self, n: int = 1) -> None:
+        """``n`` physics steps with fsarm's callbacks active."""
+        check_clock(self.model, self.data)
+        with callbacks.active(self.backend):
+            mujoco.mj_step(self.model, self.data, nstep=n)
+
+    def start_at(self, time_s: float) -> None:
+        """Start the run's clock at ``time_s`` instead of 0 (the first control tick is then the
+        reference row of that time); only before the first step."""
+        if self.data.userdata[L.U_STEP] > 0.0:
+            raise InvalidParameterError("start_at() is only allowed before the first step")
+        if not math.isfinite(time_s) or time_s < 0.0:
+            raise InvalidParameterError(
+                f"start time must be a finite number >= 0 s, got {time_s!r}"
+            )
+        self.data.time = float(time_s)
+        self.data.userdata[L.U_STEP_T] = float(time_s)
+
+    def step_index(self) -> int:
+        """Index of the physics step that starts at the current state, by the control clock's
+        own count (``data.time`` alone drifts by rounding over long runs)."""
+        d = self.data
+        h = float(self.params[L.P_TIMESTEP])
+        if d.userdata[L.U_STEP] < 1.0:
+            return round(float(d.time) / h)
+        return int(d.userdata[L.U_STEP]) - 1 + round((float(d.time) - d.userdata[L.U_STEP_T]) / h)
+
+    def metrics(self) -> dict[str, float | dict[str, float]]:
+        """Tracking and effort metrics accumulated by the control kernel on every physics step
+        since the start (independent of logging): see ``layout.A_*``."""
+        return kernel_metrics(self.data.userdata[L.U_ACC : L.U_ACC + L.N_ACC])
+
+    def health(self) -> None:
+        """Raise :class:`RunHealthError` if the state is not finite, the control clock stopped,
+        or a joint left its reference by more than ``DIVERGENCE_LIMIT_RAD``."""
+        m, d, st = self.model, self.data, self.structure
+        t = float(d.time)
+        if not (np.all(np.isfinite(d.qpos)) and np.all(np.isfinite(d.qvel))):
+            bad = [f"q{j + 1}" for j in range(3) if not math.isfinite(d.qpos[st.qadr[j]])]
+            raise RunHealthError(
+                f"run diverged at t = {t:.4f} s: the state is not finite ({', '.join(bad) or 'rotor'})"
+            )
+        prm = self.params
+        if prm[L.P_EN_CONTROL] < 0.5:
+            return
+        h = float(m.opt.timestep)
+        gap = t - float(d.userdata[L.U_STEP_T])
+        if d.userdata[L.U_STEP] < 1.0 or gap > 1.5 * h:
+            raise RunHealthError(
+                f"control clock stopped at t = {t:.6f} s: it last saw a step at "
+                f"t = {d.userdata[L.U_STEP_T]:.6f} s (timestep {h:g} s), so the controllers' "
+                "outputs are frozen"
+            )
+        per_tick = round(self.config.gains.ctrl_dt_s / h)
+        due = self.step_index() // per_tick  # the tick the controllers should be at
+        ticked = int(d.userdata[L.U_TICK]) - 1
+        if ticked < due - 1:
+            raise RunHealthError(
+                f"controllers stopped at t = {t:.6f} s: their last tick was #{ticked} "
+                f"(t = {ticked * self.config.gains.ctrl_dt_s:.6f} s) but #{due} is due, so their "
+                "outputs are frozen"
+            )
+        ref = m.numeric(L.REF_NAME).data.reshape(-1, L.REF_COLS)
+        k = min(int(d.userdata[L.U_TICK]) - 1, ref.shape[0] - 1)
+        for j in range(3):
+            q = float(d.qpos[st.qadr[j]])
+            e = q - float(ref[k, j])
+            if abs(e) > DIVERGENCE_LIMIT_RAD:
+                raise RunHealthError(
+                    f"run diverged at t = {t:.4f} s: joint q{j + 1} is "
+                    f"{math.degrees(e):+.1f} deg from its reference (limit "
+                    f"{math.degrees(DIVERGENCE_LIMIT_RAD):.0f} deg; q{j + 1} = "
+                    f"{math.degrees(q):.2f} deg, reference {math.degrees(ref[k, j]):.2f} deg, "
+                    f"speed {math.degrees(d.qvel[st.dof[j]]):.1f} deg/s, joint-3 motor torque "
+                    f"{d.userdata[L.U_OUT + 2]:.3g} N·m)"
+                )
+
+    def run(self, duration_s: float, log_every_ticks: int = 1) -> tuple[dict[str, Array], float]:
+        """Step for ``duration_s``; return recorded columns and the stepping wall time (s).
+
+        Ctrl-C (KeyboardInterrupt) stops the run early but keeps what was recorded: the columns
+        then end at the interruption and ``self.interrupted`` is True.
+        """
+        duration_s = check_duration(duration_s)
+        if isinstance(log_every_ticks, bool) or not isinstance(log_every_ticks, int | np.integer):
+            raise InvalidParameterError(
+                f"log_every_ticks must be a whole number >= 0 (0: no logging), got {log_every_ticks!r}"
+            )
+        if log_every_ticks < 0:
+            raise InvalidParameterError(
+                f"log_every_ticks must be >= 0 (0: no logging), got {log_every_ticks}"
+            )
+        m, d = self.model, self.data
+        if m.opt.timestep != self.params[L.P_TIMESTEP]:
+            raise InvalidParameterError(
+                f"model.opt.timestep was changed to {m.opt.timestep:g} s after the model was built "
+                f"for {self.params[L.P_TIMESTEP]:g} s; set SimConfig.timestep_s instead"
+            )
+        check_run_size(
+            duration_s,
+            m.opt.timestep,
+            self.config.gains.ctrl_dt_s,
+            int(log_every_ticks),
+            m.nq + m.nv + m.na + L.N_USERDATA_LOGGED,
+        )
+        check_clock(m, d)
+        steps_per_tick = round(self.config.gains.ctrl_dt_s / m.opt.timestep)
+        n_steps = round(duration_s / m.opt.timestep)
+        stride = steps_per_tick * log_every_ticks if log_every_ticks > 0 else n_steps + 1
+        n_rec = n_steps // stride + 1 if log_every_ticks > 0 else 0
+        self._stride = stride
+        t_rec = np.empty(n_rec)
+        qpos_rec = np.empty((n_rec, m.nq))
+        qvel_rec = np.empty((n_rec, m.nv))
+        act_rec = np.empty((n_rec, m.na))
+        ud_rec = np.empty((n_rec, L.N_USERDATA_LOGGED))
+        self._step0 = self.step_index()
+        self.interrupted = False
+        self._rows = 0
+        failure: RunFailedError | None = None
+        with callbacks.active(self.backend):
+            start = _time.perf_counter()
+            try:
+                self._loop(n_steps, n_rec, stride, t_rec, qpos_rec, qvel_rec, act_rec, ud_rec)
+            except KeyboardInterrupt:
+                self.interrupted = True
+            except RunFailedError as exc:
+                failure = exc
+            wall = _time.perf_counter() - start
+        r = self._rows
+        cols = self._columns(t_rec[:r], qpos_rec[:r], qvel_rec[:r], act_rec[:r], ud_rec[:r])
+        try:
+            if failure is not None:
+                raise failure
+            raise_on_warning(d)
+            if not self.interrupted:
+                self.health()
+        except RunFailedError as exc:
+            exc.columns = dict(cols)  # keep what was recorded up to the failure
+            raise
+        return cols, wall
+
+    def _loop(
+        self,
+        n_steps: int,
+        n_rec: int,
+        stride: int,
+        t_rec: Array,
+        qpos_rec: Array,
+        qvel_rec: Array,
+        act_rec: Array,
+        ud_rec: Array,
+    ) -> None:
+        """Step ``n_steps``, recording a row every ``stride`` steps; check warnings as it goes.
+
+        ``self._rows`` counts the complete rows, so an interruption keeps them."""
+        m, d = self.model, self.data
+        r = 0
+        step = 0
+        per_tick = round(self.config.gains.ctrl_dt_s / m.opt.timestep)
+        hooks = self.hooks
+        next_check = WARNING_CHECK_EVERY
+        while step < n_steps:
+            if step >= next_check:
+                raise_on_warning(d)
+                self.health()
+                next_check = step + WARNING_CHECK_EVERY
+            if hooks and step % per_tick == 0:
+                for hook in hooks:
+                    hook(step // per_tick)
+            if r < n_rec and step % stride == 0:
+                t_rec[r] = d.time
+                qpos_rec[r] = d.qpos
+                qvel_rec[r] = d.qvel
+                act_rec[r] = d.act
+                mujoco.mj_step(m, d)
+                ud_rec[r] = d.userdata[: L.N_USERDATA_LOGGED]
+                r += 1
+                self._rows = r
+                step += 1
+                continue
+            chunk = min(next_check - step, n_steps - step)
+            if n_rec:
+                chunk = min(chunk, stride - step % stride)
+            if hooks:
+                chunk = min(chunk, per_tick - step % per_tick)
+            mujoco.mj_step(m, d, nstep=chunk)
+            step += chunk
+
+    def _columns(
+        self, t: Array, qpos: Array, qvel: Array, act: Array, ud: Array
+    ) -> dict[str, Array]:
+        st, prm = self.structure, self.params
+        ref = self.model.numeric(L.REF_NAME).data.reshape(-1, L.REF_COLS)
+        # the tick each row's step belongs to (the control clock's own count, never data.time)
+        per_tick = round(self.config.gains.ctrl_dt_s / self.model.opt.timestep)
+        stride = self._stride
+        steps = self._step0 + stride * np.arange(len(t))
+        k = np.clip(steps // per_tick, 0, ref.shape[0] - 1)
+        tau_shaft = np.array(
+            [physics.shaft_torque(prm, qpos[i], qvel[i], act[i]) for i in range(len(t))]
+        )
+        bend = np.array(
+            [physics.bending_torques(prm, qpos[i], qvel[i], act[i]) for i in range(len(t))]
+        ).reshape(-1, 2)
+        theta_m = st.coef_m * qpos[:, st.qadr[3]]
+        theta_s = st.coef_s * qpos[:, st.qadr[2]]
+        log = ud[:, L.U_LOG :]
+        cols: dict[str, Array] = {"t": t}
+        for j in range(3):
+            cols[f"q{j + 1}"] = qpos[:, st.qadr[j]]
+        for j in range(3):
+            cols[f"q{j + 1}_ref"] = ref[k, j]
+        for j in range(3):
+            cols[f"qd{j + 1}"] = qvel[:, st.dof[j]]
+        for j in range(3):
+            cols[f"qd{j + 1}_ref"] = ref[k, 3 + j]
+        for j in range(3):  # the whole reference: a replay of the record needs no differences
+            cols[f"qdd{j + 1}_ref"] = ref[k, 6 + j]
+        cols.update(
+            theta_m=theta_m,
+            theta_s=theta_s,
+            twist=theta_m - theta_s,
+            phi_b=qpos[:, st.qadr[1]],
+            omega_m=st.coef_m * qvel[:, st.dof[3]],
+            omega_d=log[:, L.L_OMEGA_D],
+            tau_shaft=tau_shaft,
+            tau_model=log[:, L.L_TAU_MODEL],
+            tau_d_shaft=log[:, L.L_TAU_D_SHAFT],
+            tau_d_joint3=log[:, L.L_TAU_D_JOINT],
+            tau_bend=bend[:, 0],
+            tau_conduit=bend[:, 1],
+            pid_p=log[:, L.L_PID_P],
+            pid_i=log[:, L.L_PID_I],
+            pid_d=log[:, L.L_PID_D],
+            tau1=ud[:, L.U_OUT],
+            tau2=ud[:, L.U_OUT + 1],
+            tau_motor=ud[:, L.U_OUT + 2],
+        )
+        return cols
+
+
+def motor_energy_j(cols: dict[str, Array], st: ArmStructure | None) -> float:
+    """Positive mechanical work of joint 3's motor, J (trapezoid of max(tau * omega_rotor, 0)).
+
+    Regenerated energy is not credited (a typical servo amplifier burns it in a shunt).
+    """
+    if st is None or len(cols["t"]) < 2:
+        return float("nan")
+    power = np.maximum(cols["tau_motor"] * cols["omega_m"] / st.coef_m, 0.0)
+    return float(np.sum(0.5 * (power[1:] + power[:-1]) * np.diff(cols["t"])))
+
+
+def kernel_metrics(acc: Array) -> dict[str, float | dict[str, float]]:
+    """Tracking and effort metrics from the control kernel's per-step accumulators
+    (``layout.A_*``): every physics step counts, whatever the logging options."""
+    n = float(acc[L.A_COUNT])
+    if n < 1.0:
+        raise InvalidParameterError(
+            "no physics step was taken with the controllers on, so there are no metrics"
+        )
+    joints = ("q1", "q2", "q3")
+    rmse = {j: math.sqrt(float(acc[L.A_SQ_ERR + i]) / n) for i, j in enumerate(joints)}
+    max_err = {j: float(acc[L.A_MAX_ERR + i]) for i, j in enumerate(joints)}
+    return {
+        "rmse_rad": rmse,
+        "rmse_deg": {k: math.degrees(v) for k, v in rmse.items()},
+        "max_abs_err_rad": max_err,
+        "max_abs_err_deg": {k: math.degrees(v) for k, v in max_err.items()},
+        "tau_estimate_rmse_nm": math.sqrt(float(acc[L.A_SQ_TAU_EST]) / n),
+        "tau_estimate_max_abs_err_nm": float(acc[L.A_MAX_TAU_EST]),
+        "peak_motor_torque_nm": float(acc[L.A_PEAK_MOTOR_TORQUE]),
+        "peak_motor_speed_rad_s": float(acc[L.A_PEAK_ROTOR_SPEED]),
+        "peak_shaft_torque_nm": float(acc[L.A_PEAK_SHAFT_TORQUE]),
+        "peak_twist_rad": float(acc[L.A_PEAK_TWIST]),
+        "peak_tau2_nm": float(acc[L.A_PEAK_TAU2]),
+        "motor_energy_j": float(acc[L.A_MOTOR_WORK]),
+        "metric_samples": n,
+    }
+
+
+def compute_metrics(
+    cols: dict[str, Array],
+    duration_s: float,
+    wall_s: float,
+    st: ArmStructure | None = None,
+    rating_nm: float | None = None,
+    acc: Array | None = None,
+) -> dict[str, float | dict[str, float]]:
+    """Tracking and torque-estimate metrics of a run.
+
+    With ``acc`` (the kernel's accumulators, :meth:`Simulation.metrics`) they cover every physics
+    step; without it they are computed from the recorded rows ``cols`` (a record from elsewhere).
+    """
+    if acc is not None:
+        out = kernel_metrics(acc)
+    else:
+        if len(cols["t"]) < 1:
+            raise InvalidParameterError("the record has no rows, so there are no metrics")
+        rmse: dict[str, float] = {}
+        max_err: dict[str, float] = {}
+        for j in (1, 2, 3):
+            e = cols[f"q{j}"] - cols[f"q{j}_ref"]
+            rmse[f"q{j}"] = float(np.sqrt(np.mean(e * e)))
+            max_err[f"q{j}"] = float(np.max(np.abs(e)))
+        te = cols["tau_model"] - cols["tau_shaft"]
+        out = {
+            "rmse_rad": rmse,
+            "rmse_deg": {k: math.degrees(v) for k, v in rmse.items()},
+            "max_abs_err_rad": max_err,
+            "max_abs_err_deg": {k: math.degrees(v) for k, v in max_err.items()},
+            "tau_estimate_rmse_nm": float(np.sqrt(np.mean(te * te))),
+            "tau_estimate_max_abs_err_nm": float(np.max(np.abs(te))),
+            "peak_motor_torque_nm": float(np.max(np.abs(cols["tau_motor"]))),
+            "peak_motor_speed_rad_s": float(np.max(np.abs(cols["omega_m"])))
+            / (st.coef_m if st else 1.0),
+            "peak_shaft_torque_nm": float(np.max(np.abs(cols["tau_shaft"]))),
+            "peak_twist_rad": float(np.max(np.abs(cols["twist"]))),
+            "peak_tau2_nm": float(np.max(np.abs(cols["tau2"]))),
+            "motor_energy_j": motor_energy_j(cols, st),
+        }
+    peak = out["peak_shaft_torque_nm"]
+    assert isinstance(peak, float)
+    out.update(
+        {
+            "peak_shaft_torque_over_rating": peak / rating_nm if rating_nm else float("nan"),
+            "sim_time_s": duration_s,
+            "wall_time_s": wall_s,
+            "realtime_factor": duration_s / wall_s if wall_s > 0 else float("inf"),
+        }
+    )
+    return out
+
+
+def disturbance_hook(sim: Simulation, dist: scenarios.Disturbance) -> scenarios.TickHook:
+    """Tick hook applying ``dist`` at its site through ``qfrc_applied`` (held over the tick).
+
+    The site's pose comes from a scratch copy of the state (``mj_kinematics``/``mj_comPos``), so
+    the run's own data is only written in ``qfrc_applied``.
+    """
+    m = sim.model
+    site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, dist.site)
+    if site < 0:
+        raise InvalidParameterError(f"the arm has no site named {dist.site!r} to apply a force at")
+    body = int(m.site_bodyid[site])
+    scratch = mujoco.MjData(m)
+    zero = np.zeros(3)
+
+    def apply(k: int) -> None:
+        scratch.qpos[:] = sim.data.qpos
+        mujoco.mj_kinematics(m, scratch)
+        mujoco.mj_comPos(m, scratch)
+        force = scratch.site_xmat[site].reshape(3, 3) @ np.asarray(
+            dist.force_n(k * sim.config.gains.ctrl_dt_s), dtype=np.float64
+        )
+        sim.data.qfrc_applied[:] = 0.0
+        mujoco.mj_applyFT(
+            m, scratch, force, zero, scratch.site_xpos[site], body, sim.data.qfrc_applied
+        )
+
+    return apply
+
+
+def run_scenario(
+    name: str | scenarios.Scenario,
+    config: SimConfig | None = None,
+    *,
+    duration_s: float | None = None,
+    payload_kg: float | None = None,
+    backend: Backend = DEFAULT_BACKEND,
+    log_every_ticks: int = 1,
+) -> RunResult:
+    """Run a registered scenario (or a :class:`~fsarm_sim.sim.scenarios.Scenario`) headless and
+    compute its metrics. Its disturbance and outer loop, if any, run once per control tick."""
+    sc = name if isinstance(name, scenarios.Scenario) else scenarios.get(name)
+    duration = check_duration(sc.duration_s if duration_s is None else duration_s)
+    if (
+        isinstance(log_every_ticks, bool)
+        or not isinstance(log_every_ticks, int | np.integer)
+        or log_every_ticks < 1
+    ):
+        raise InvalidParameterError(
+            f"log every N control ticks: N must be a whole number >= 1, got {log_every_ticks!r}"
+        )
+    cfg = config or SimConfig()
+    cfg = cfg.with_(payload_kg=sc.payload_kg if payload_kg is None else payload_kg)
+    cfg.validate()
+    timestep = cfg.timestep_s if cfg.timestep_s is not None else DEFAULT_TIMESTEP_S
+    check_run_size(duration, timestep, cfg.gains.ctrl_dt_s, int(log_every_ticks), 120)
+    n_ticks = round(duration / cfg.gains.ctrl_dt_s) + 1
+    table = sc.reference(np.arange(n_ticks, dtype=np.float64) * cfg.gains.ctrl_dt_s)
+    sim = Simulation(cfg, table, backend)
+    if sc.disturbance is not None:
+        sim.hooks.append(disturbance_hook(sim, sc.disturbance))
+    if sc.outer_loop is not None:
+        sim.hooks.append(sc.outer_loop(sim))
+    cols, wall = sim.run(duration, log_every_ticks=int(log_every_ticks))
+    if sim.interrupted:
+        if len(cols["t"]) < 2:
+            raise KeyboardInterrupt  # nothing worth keeping yet
+        duration = sim.step_index() * float(sim.model.opt.timestep)
+    metrics = compute_metrics(
+        cols, duration, wall, sim.structure, cfg.rating_nm(), acc=sim.data.userdata[L.U_ACC :]
+    )
+    return RunResult(
+        scenario=sc.name,
+        config=cfg,
+        duration_s=duration,
+        columns=cols,
+        metrics=metrics,
+        interrupted=sim.interrupted,
+    )

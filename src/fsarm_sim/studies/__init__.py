@@ -1,0 +1,1 @@
+"""What is computed from runs: benches, sweeps, selection, verification, claims."""

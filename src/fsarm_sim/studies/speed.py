@@ -1,0 +1,274 @@
+"""Speed benchmark (issue 4): raw MuJoCo vs the Python and native callback paths, real-time
+factor, and batch throughput over cores. ``fsarm bench-speed`` (:mod:`fsarm_sim.cli.speed`)
+and ``scripts/bench_step.py`` both call :func:`measure_speed` and print :func:`format_report`.
+
+Protocol (wall-clock, ``time.perf_counter``; every figure is a median over repetitions because
+the machine may be shared):
+
+* per step - ONE compiled model of the full plant (series shaft with Maxwell-slip hysteresis,
+  bending with conduit hysteresis, Fig. 13 joint-3 loop), ``fig14-sine`` reference. Each
+  repetition restores the same initial state (``mjSTATE_INTEGRATION``, controller memory included)
+  and times one ``mj_step(nstep=block)`` call per path (after 50 untimed warm-up steps from the
+  same state), the three paths interleaved in rotating
+  order so that load changes hit them alike: *raw* (``mjcb_*`` = None: MuJoCo alone, same model),
+  *python* (reference callbacks), *native* (Numba C callbacks). Ratios are medians of the
+  per-repetition ratios. Raw MuJoCo without the shaft and controller lets the arm fall; the block is
+  short (0.2 s) so it does not reach a joint limit (``raw_nefc`` reports the constraint count at the
+  end of the block: 0 means no limit was active).
+* real-time factor - ``Simulation.run`` of 10 s ``fig14-sine`` without logging
+  (``log_every_ticks=0``) on the native path: simulated time / stepping wall time.
+* batch - differently configured runs (every catalogue shaft D/L, series hysteresis on), each in
+  its own thread through ``mujoco.rollout`` (:mod:`fsarm_sim.sim.batch`), with 1..N workers.
+"""
+
+from __future__ import annotations
+
+import statistics
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from fsarm_sim.engine import callbacks
+from fsarm_sim.engine.model import SimConfig
+from fsarm_sim.errors import InvalidParameterError
+from fsarm_sim.plant.shaft import load_catalogue
+from fsarm_sim.sim import batch, scenarios
+from fsarm_sim.sim.simulation import Simulation
+
+SCENARIO = "fig14-sine"
+WARMUP_STEPS = 50  # untimed steps of the same path before each timed block
+GOAL_NATIVE_OVER_RAW = 1.3
+GOAL_REALTIME_FACTOR = 300.0
+GOAL_SCALING_2_CORES = 1.7
+
+
+@dataclass(frozen=True)
+class SpeedReport:
+    reps: int
+    block_steps: int
+    raw_us: float  # median wall time per mj_step
+    python_us: float
+    native_us: float
+    raw_us_best: float  # fastest repetition (least disturbed by other work on the machine)
+    python_us_best: float
+    native_us_best: float
+    native_over_raw: float  # median of per-repetition ratios
+    python_over_raw: float
+    raw_nefc: int  # constraints active at the end of the raw block (0: no joint limit hit)
+    timestep_s: float
+    rtf_duration_s: float
+    rtf_native: float  # simulated s per wall s, median over rtf repetitions
+    rtf_native_best: float
+    batch_runs: int
+    batch_duration_s: float
+    batch_steps_per_s: dict[int, float]  # workers -> median throughput (steps of all runs / s)
+    batch_scaling: dict[int, float]  # workers -> median of per-repetition throughput / 1 worker
+    batch_steps_per_s_best: dict[int, float]  # workers -> best repetition
+    cores: int
+    compile_s: float  # import of fsarm_sim.engine.native: compile, or load from cache
+    compile_cache_hits: int  # 3: all three callbacks came from the cache
+    machine_note: str
+
+
+def _full_config() -> SimConfig:
+    """Full plant: series shaft + Maxwell slip, bending + conduit hysteresis, joint-3 loop."""
+    return SimConfig(shaft=load_catalogue().shaft(series_hysteresis=True))
+
+
+def _table(duration_s: float, ctrl_dt_s: float) -> Any:
+    n = round(duration_s / ctrl_dt_s) + 1
+    return scenarios.get(SCENARIO).reference(np.arange(n, dtype=np.float64) * ctrl_dt_s)
+
+
+def _time_block(m: mujoco.MjModel, d: mujoco.MjData, s0: Any, n: int) -> float:
+    # warm caches and branch predictors for this path (the previous block may have run Python)
+    mujoco.mj_setState(m, d, s0, mujoco.mjtState.mjSTATE_INTEGRATION)
+    mujoco.mj_step(m, d, nstep=WARMUP_STEPS)
+    mujoco.mj_setState(m, d, s0, mujoco.mjtState.mjSTATE_INTEGRATION)
+    start = time.perf_counter()
+    mujoco.mj_step(m, d, nstep=n)
+    return (time.perf_counter() - start) / n
+
+
+def _per_step(reps: int, block_steps: int) -> tuple[dict[str, list[float]], int, float]:
+    INTEGRATION = mujoco.mjtState.mjSTATE_INTEGRATION
+    cfg = _full_config()
+    sim = Simulation(cfg, _table(block_steps * 0.001 + 1.0, cfg.gains.ctrl_dt_s), "native")
+    m, d = sim.model, sim.data
+    s0 = np.empty(mujoco.mj_stateSize(m, INTEGRATION))
+    mujoco.mj_getState(m, d, s0, INTEGRATION)
+    times: dict[str, list[float]] = {"raw": [], "python": [], "native": []}
+    order = ["raw", "python", "native"]
+    nefc = 0
+    for rep in range(reps + 1):  # repetition 0 warms caches up and is dropped
+        for path in order[rep % 3 :] + order[: rep % 3]:
+            if path == "raw":
+                with callbacks.suspended():
+                    dt = _time_block(m, d, s0, block_steps)
+                    nefc = int(d.nefc)
+            else:
+                with callbacks.active(path):
+                    dt = _time_block(m, d, s0, block_steps)
+            if rep > 0:
+                times[path].append(dt)
+    return times, nefc, float(m.opt.timestep)
+
+
+def _realtime(reps: int, duration_s: float) -> list[float]:
+    cfg = _full_config()
+    table = _table(duration_s, cfg.gains.ctrl_dt_s)
+    walls = []
+    for _ in range(reps):
+        sim = Simulation(cfg, table, "native")
+        _, wall = sim.run(duration_s, log_every_ticks=0)
+        walls.append(wall)
+    return walls
+
+
+def _batch(
+    reps: int, n_runs: int, duration_s: float, max_workers: int
+) -> tuple[dict[int, float], dict[int, float], dict[int, float]]:
+    INTEGRATION = mujoco.mjtState.mjSTATE_INTEGRATION
+    cat = load_catalogue()
+    base = _full_config()
+    table = _table(duration_s, base.gains.ctrl_dt_s)
+    shafts = [
+        cat.shaft(s.diameter_mm, s.length_mm, series_hysteresis=True)
+        for s in cat.shafts[: max(n_runs, 1)]
+    ]
+    sims = [
+        Simulation(base.with_(shaft=shafts[i % len(shafts)]), table, "native")
+        for i in range(n_runs)
+    ]
+    starts = []
+    for s in sims:
+        s0 = np.empty(mujoco.mj_stateSize(s.model, INTEGRATION))
+        mujoco.mj_getState(s.model, s.data, s0, INTEGRATION)
+        starts.append(s0)
+    n_steps = round(duration_s / sims[0].model.opt.timestep)
+    workers = list(range(1, max_workers + 1))
+    thr: dict[int, list[float]] = {w: [] for w in workers}
+    scale: dict[int, list[float]] = {w: [] for w in workers}
+    for rep in range(reps + 1):
+        this: dict[int, float] = {}
+        for w in workers if rep % 2 == 0 else workers[::-1]:
+            for s, s0 in zip(sims, starts, strict=True):
+                mujoco.mj_setState(s.model, s.data, s0, INTEGRATION)
+            this[w] = batch.run_batch(sims, n_steps, workers=w).steps_per_s
+        if rep > 0:
+            for w in workers:
+                thr[w].append(this[w])
+                scale[w].append(this[w] / this[1])
+    return (
+        {w: statistics.median(v) for w, v in thr.items()},
+        {w: statistics.median(v) for w, v in scale.items()},
+        {w: max(v) for w, v in thr.items()},
+    )
+
+
+def measure_speed(
+    reps: int = 15,
+    block_steps: int = 200,
+    rtf_reps: int = 5,
+    rtf_duration_s: float = 10.0,
+    batch_reps: int = 7,
+    batch_runs: int | None = None,
+    batch_duration_s: float = 2.0,
+    max_workers: int | None = None,
+) -> SpeedReport:
+    """Run the whole benchmark (about 10-20 s on 2 cores) and return its medians."""
+    for name, v in (("reps", reps), ("block_steps", block_steps), ("rtf_reps", rtf_reps)):
+        if not isinstance(v, int) or v < 1:
+            raise InvalidParameterError(f"{name} must be an integer >= 1, got {v!r}")
+    cores = batch.available_cores()
+    n_workers = max_workers or cores
+    if not isinstance(n_workers, int) or n_workers < 1:
+        raise InvalidParameterError(f"max_workers must be an integer >= 1, got {max_workers!r}")
+    n_runs = batch_runs or 4 * n_workers
+    from fsarm_sim.engine import native
+
+    times, nefc, timestep = _per_step(reps, block_steps)
+    ratio_native = [n / r for n, r in zip(times["native"], times["raw"], strict=True)]
+    ratio_python = [p / r for p, r in zip(times["python"], times["raw"], strict=True)]
+    walls = _realtime(rtf_reps, rtf_duration_s)
+    thr, scale, thr_best = _batch(batch_reps, n_runs, batch_duration_s, n_workers)
+    return SpeedReport(
+        reps=reps,
+        block_steps=block_steps,
+        raw_us=statistics.median(times["raw"]) * 1e6,
+        python_us=statistics.median(times["python"]) * 1e6,
+        native_us=statistics.median(times["native"]) * 1e6,
+        raw_us_best=min(times["raw"]) * 1e6,
+        python_us_best=min(times["python"]) * 1e6,
+        native_us_best=min(times["native"]) * 1e6,
+        native_over_raw=statistics.median(ratio_native),
+        python_over_raw=statistics.median(ratio_python),
+        raw_nefc=nefc,
+        timestep_s=timestep,
+        rtf_duration_s=rtf_duration_s,
+        rtf_native=rtf_duration_s / statistics.median(walls),
+        rtf_native_best=rtf_duration_s / min(walls),
+        batch_runs=n_runs,
+        batch_duration_s=batch_duration_s,
+        batch_steps_per_s=thr,
+        batch_scaling=scale,
+        batch_steps_per_s_best=thr_best,
+        cores=cores,
+        compile_s=native.COMPILE_INFO.seconds,
+        compile_cache_hits=native.COMPILE_INFO.cache_hits,
+        machine_note=_load_note(cores),
+    )
+
+
+def _load_note(cores: int) -> str:
+    try:
+        load1 = float(Path("/proc/loadavg").read_text().split()[0])
+    except (OSError, ValueError, IndexError):
+        return f"{cores} cores"
+    return (
+        f"{cores} cores, 1-min load average {load1:.2f} at the end (other work competes for them)"
+    )
+
+
+def format_report(r: SpeedReport) -> str:
+    def goal(ok: bool) -> str:
+        return "met" if ok else "NOT met"
+
+    lines = [
+        f"fsarm speed benchmark ({r.machine_note}); medians of {r.reps} repetitions",
+        f"native callbacks: import {r.compile_s:.2f} s "
+        + ("(loaded from cache)" if r.compile_cache_hits == 3 else "(compiled now; cached)"),
+        f"per mj_step, full model, blocks of {r.block_steps} steps from the {SCENARIO} start "
+        "(median, best):",
+        f"  raw MuJoCo (callbacks off)  {r.raw_us:8.3f} us {r.raw_us_best:8.3f} us"
+        f"   (constraints at block end: {r.raw_nefc})",
+        f"  python callbacks            {r.python_us:8.3f} us {r.python_us_best:8.3f} us"
+        f"   python/raw = {r.python_over_raw:6.2f}",
+        f"  native callbacks            {r.native_us:8.3f} us {r.native_us_best:8.3f} us"
+        f"   native/raw = {r.native_over_raw:6.3f}"
+        f"   goal <= {GOAL_NATIVE_OVER_RAW}: {goal(r.native_over_raw <= GOAL_NATIVE_OVER_RAW)}",
+        f"real-time factor, {r.rtf_duration_s:g} s {SCENARIO}, native, no logging: "
+        f"{r.rtf_native:.0f}x (best {r.rtf_native_best:.0f}x)"
+        f"   goal >= {GOAL_REALTIME_FACTOR:g}x: {goal(r.rtf_native >= GOAL_REALTIME_FACTOR)}",
+        f"  (ceiling set by raw MuJoCo's best step alone: {r.timestep_s / (r.raw_us_best * 1e-6):.0f}x)",
+        f"batch: {r.batch_runs} runs x {r.batch_duration_s:g} s, different shafts (D/L), "
+        "mujoco.rollout in worker threads:",
+    ]
+    best1 = r.batch_steps_per_s_best[1]
+    for w, thr in r.batch_steps_per_s.items():
+        best = r.batch_steps_per_s_best[w]
+        lines.append(
+            f"  {w} worker{'s' if w > 1 else ' '}  median {thr:10,.0f} steps/s"
+            f" ({thr * 0.001:6.1f} x real time), scaling {r.batch_scaling[w]:.2f}x;"
+            f"  best {best:10,.0f} steps/s, scaling {best / best1:.2f}x"
+        )
+    if 2 in r.batch_scaling:
+        lines.append(
+            f"  goal 2 workers >= {GOAL_SCALING_2_CORES}x one: "
+            f"{goal(r.batch_scaling[2] >= GOAL_SCALING_2_CORES)}"
+        )
+    return "\n".join(lines)

@@ -1,0 +1,935 @@
+"""Parameter sweeps: spec parsing and validation, point generation, per-point evaluation, the
+resumable runner, and the analysis of a finished sweep (eq. 3/4 re-fits, plots).
+
+A sweep is the Cartesian product of a **grid** (field -> values) merged with **fixed** settings.
+Fields (see :func:`fields`): ``diameter_mm``, ``length_mm``, ``bend_deg``, ``payload_kg``,
+``scenario``, ``duration_s`` and the controller gains ``gains.<name>`` (``gains.wn1..3`` and
+``gains.zeta1..3`` for the position loops). Values on the command line::
+
+    --grid diameter_mm=4:13:4        4 values evenly spaced from 4 to 13, both included
+                                     (start:stop:count, like numpy.linspace)
+    --grid length_mm=235,335,535     a list
+    --set scenario=fig14-sine        a fixed value
+
+or in a TOML file (``examples/sweeps/*.toml``)::
+
+    name = "d-l"
+    outputs = ["bench", "tracking", "bandwidth", "relief"]
+    [grid]
+    diameter_mm = "4:13:4"            # or [4, 7, 10, 13] or {start = 4, stop = 13, num = 4}
+    length_mm = [235, 335, 535]
+    [fixed]
+    duration_s = 4.0
+    [bench]                           # BenchSettings of the per-point bench tests
+    chirp_s = 4.0
+    [bandwidth]                       # arm_metrics.torque_bandwidth settings
+    chirp_s = 4.0
+
+Every spec problem - empty or reversed ranges, unknown fields, NaN, out-of-range or invalid
+shafts, a bend angle with a scenario that moves joint 2, too many points - raises
+:class:`SweepSpecError` before any simulation starts.
+
+Per point (``outputs``):
+
+* ``bench``: K_sp, K_sn at the point's bend from the simulated series bench (chirp into the
+  torque controller, eq. 8 fit per sign) and K_b from the simulated parallel bench (eq. 2 linear
+  fit; the cubic fit too). Without ``bench`` the catalogue's eq. 3/4 values are reported instead,
+  labelled ``stiffness_source = "catalogue eq. 3/4"``; the catalogue values are always kept as
+  ``*_catalogue`` for comparison.
+* ``tracking``: the scenario (default fig14-sine, joint 2 held at ``bend_deg``): joint RMSE, peak
+  motor torque/speed (:func:`fsarm_sim.studies.arm_metrics.tracking`).
+* ``bandwidth``: joint-3 torque-control -3 dB bandwidth (:func:`fsarm_sim.studies.arm_metrics.torque_bandwidth`).
+* ``relief``: joint-2 static torque relief of the bent shaft at 90 deg.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import itertools
+import json
+import math
+import time
+import tomllib
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from fsarm_sim import __version__
+from fsarm_sim.engine.model import Gains, SimConfig
+from fsarm_sim.errors import FsarmError, ShaftRangeError
+from fsarm_sim.executors import Outcome, run_tasks
+from fsarm_sim.plant.shaft import Catalogue, load_catalogue, parse_catalogue
+from fsarm_sim.records.store import ResultStore, canonical_json, point_key
+from fsarm_sim.sim import scenarios
+
+POINT_SCHEMA = 1  # bump when the meaning of a point's inputs or outputs changes
+MAX_POINTS = 100_000
+OUTPUTS: tuple[str, ...] = ("bench", "tracking", "bandwidth", "relief")
+DEFAULT_OUTPUTS = OUTPUTS
+BENCH_DEFAULTS: dict[str, Any] = {"chirp_s": 4.0, "bend_period_s": 4.0}  # shorter than a campaign
+BANDWIDTH_KEYS = ("chirp_s", "settle_s", "f_start_hz", "f_stop_hz", "q3_deg")
+TOP_KEYS = {
+    "name",
+    "outputs",
+    "shaft_file",
+    "extrapolate",
+    "backend",
+    "grid",
+    "fixed",
+    "bench",
+    "bandwidth",
+}
+
+
+class SweepSpecError(FsarmError, ValueError):
+    """A sweep specification is malformed or asks for points that cannot be computed."""
+
+
+# ----------------------------------------------------------------------------------------------
+# fields
+
+
+@dataclass(frozen=True)
+class FieldInfo:
+    name: str
+    kind: str  # "float", "str", "bool"
+    unit: str
+    help: str
+    default: Any
+    minimum: float | None = None
+    maximum: float | None = None
+
+
+_GAIN_TUPLES = {"wn": "wn_rad_s", "zeta": "zeta"}
+_GAIN_SKIP = {"ctrl_dt_s"}  # must stay a whole multiple of the timestep: not a sweep axis
+
+
+def _gain_fields() -> dict[str, FieldInfo]:
+    out: dict[str, FieldInfo] = {}
+    defaults = Gains()
+    for f in dataclasses.fields(Gains):
+        if f.name in _GAIN_SKIP:
+            continue
+        value = getattr(defaults, f.name)
+        if isinstance(value, bool):
+            out[f"gains.{f.name}"] = FieldInfo(f"gains.{f.name}", "bool", "", "switch", value)
+        elif isinstance(value, int | float):
+            out[f"gains.{f.name}"] = FieldInfo(
+                f"gains.{f.name}", "float", "", "controller gain (model.Gains)", float(value), 0.0
+            )
+        elif isinstance(value, tuple):
+            short = next((k for k, v in _GAIN_TUPLES.items() if v == f.name), None)
+            if short is None:
+                continue
+            for i, v in enumerate(value):
+                name = f"gains.{short}{i + 1}"
+                out[name] = FieldInfo(
+                    name, "float", "", f"{f.name}[{i}] (joint {i + 1})", float(v), 0.0
+                )
+    return out
+
+
+def _base_fields() -> dict[str, FieldInfo]:
+    return {
+        "diameter_mm": FieldInfo("diameter_mm", "float", "mm", "shaft diameter D", 9.0),
+        "length_mm": FieldInfo("length_mm", "float", "mm", "shaft length L", 450.0),
+        "bend_deg": FieldInfo(
+            "bend_deg", "float", "deg", "bend angle phi_B (bench; arm joint-2 hold)", 45.0
+        ),
+        "payload_kg": FieldInfo(
+            "payload_kg", "float", "kg", "payload (default: scenario's)", None, 0.0, 15.0
+        ),
+        "scenario": FieldInfo("scenario", "str", "", "arm scenario", "fig14-sine"),
+        "duration_s": FieldInfo(
+            "duration_s", "float", "s", "arm run length (default: scenario's)", None, 0.0, 3600.0
+        ),
+    }
+
+
+def fields() -> dict[str, FieldInfo]:
+    """Every field a sweep may set, by name."""
+    return {**_base_fields(), **_gain_fields()}
+
+
+# ----------------------------------------------------------------------------------------------
+# the spec
+
+
+@dataclass(frozen=True)
+class SweepSpec:
+    name: str
+    grid: dict[str, tuple[Any, ...]]
+    fixed: dict[str, Any] = field(default_factory=dict)
+    outputs: tuple[str, ...] = DEFAULT_OUTPUTS
+    shaft_file: str | None = None
+    extrapolate: bool = False
+    backend: str = "native"
+    bench: dict[str, Any] = field(default_factory=dict)
+    bandwidth: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def n_points(self) -> int:
+        return math.prod(len(v) for v in self.grid.values()) if self.grid else 1
+
+
+def _number(field_name: str, raw: Any) -> float:
+    if isinstance(raw, bool):
+        raise SweepSpecError(f"{field_name}: expected a number, got {raw!r}")
+    if isinstance(raw, int | float):
+        v = float(raw)
+    elif isinstance(raw, str):
+        try:
+            v = float(raw.strip())
+        except ValueError:
+            raise SweepSpecError(f"{field_name}: {raw!r} is not a number") from None
+    else:
+        raise SweepSpecError(f"{field_name}: expected a number, got {raw!r}")
+    if not math.isfinite(v):
+        raise SweepSpecError(f"{field_name}: {raw!r} is not a finite number (NaN/inf not allowed)")
+    return v
+
+
+def _bool(field_name: str, raw: Any) -> bool:
+    if isinstance(raw, bool):
+        return raw
+    if isinstance(raw, str) and raw.strip().lower() in ("true", "false", "1", "0", "on", "off"):
+        return raw.strip().lower() in ("true", "1", "on")
+    raise SweepSpecError(f"{field_name}: expected true or false, got {raw!r}")
+
+
+def _scalar(info: FieldInfo, raw: Any) -> Any:
+    if info.kind == "float":
+        return _number(info.name, raw)
+    if info.kind == "bool":
+        return _bool(info.name, raw)
+    if not isinstance(raw, str) or not raw.strip():
+        raise SweepSpecError(f"{info.name}: expected a non-empty name, got {raw!r}")
+    return raw.strip()
+
+
+def _linspace(name: str, start: Any, stop: Any, num: Any) -> tuple[float, ...]:
+    a, b = _number(name, start), _number(name, stop)
+    n = _number(name, num)
+    if n != int(n) or n < 1:
+        raise SweepSpecError(
+            f"{name}: the count of a range must be a whole number >= 1, got {num!r}"
+        )
+    n_i = int(n)
+    if a > b:
+        raise SweepSpecError(
+            f"{name}: reversed range {a:g}:{b:g} (start must be <= stop; write {b:g}:{a:g}:{n_i})"
+        )
+    if n_i == 1 and a != b:
+        raise SweepSpecError(
+            f"{name}: a range {a:g}:{b:g} with count 1 is ambiguous; give a single value or count >= 2"
+        )
+    if n_i > 1 and a == b:
+        raise SweepSpecError(f"{name}: empty range {a:g}:{b:g} with count {n_i} (start == stop)")
+    return tuple(float(v) for v in np.linspace(a, b, n_i))
+
+
+def parse_values(info: FieldInfo, raw: Any) -> tuple[Any, ...]:
+    """Grid values of one field from a CLI string, a TOML list, or a TOML range table."""
+    name = info.name
+    if isinstance(raw, Mapping):
+        unknown = set(raw) - {"start", "stop", "num"}
+        if unknown or not {"start", "stop", "num"} <= set(raw):
+            raise SweepSpecError(
+                f"{name}: a range table needs exactly start, stop, num; got {sorted(raw)}"
+            )
+        if info.kind != "float":
+            raise SweepSpecError(f"{name}: ranges need a numeric field")
+        values: tuple[Any, ...] = _linspace(name, raw["start"], raw["stop"], raw["num"])
+    elif isinstance(raw, list | tuple):
+        if not raw:
+            raise SweepSpecError(f"{name}: empty list of values")
+        values = tuple(_scalar(info, v) for v in raw)
+    elif isinstance(raw, str):
+        text = raw.strip()
+        if not text:
+            raise SweepSpecError(f"{name}: no values given (expected e.g. 4:13:4 or 4,6,8)")
+        if ":" in text and info.kind == "float":
+            parts = text.split(":")
+            if len(parts) != 3 or not all(p.strip() for p in parts):
+                raise SweepSpecError(
+                    f"{name}: a range is start:stop:count (e.g. 4:13:4), got {text!r}"
+                )
+            values = _linspace(name, *parts)
+        else:
+            items = [p.strip() for p in text.split(",")]
+            if any(not p for p in items):
+                raise SweepSpecError(f"{name}: empty item in the list {text!r}")
+            values = tuple(_scalar(info, p) for p in items)
+    else:
+        values = (_scalar(info, raw),)
+    if len(set(values)) != len(values):
+        dup = next(v for v in values if values.count(v) > 1)
+        raise SweepSpecError(f"{name}: value {dup!r} is repeated")
+    return values
+
+
+def _field(name: str) -> FieldInfo:
+    known = fields()
+    if name not in known:
+        raise SweepSpecError(
+            f"unknown sweep field {name!r}; allowed fields: {', '.join(sorted(known))}"
+        )
+    return known[name]
+
+
+def parse_assignment(text: str) -> tuple[str, str]:
+    """``FIELD=VALUES`` -> (field, values text)."""
+    if "=" not in text:
+        raise SweepSpecError(f"expected FIELD=VALUES, got {text!r}")
+    name, _, values = text.partition("=")
+    return name.strip(), values
+
+
+def load_spec_file(path: str | Path) -> dict[str, Any]:
+    p = Path(path)
+    if not p.is_file():
+        raise SweepSpecError(f"sweep spec file not found: {p}")
+    try:
+        data = tomllib.loads(p.read_text("utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError, OSError) as exc:
+        raise SweepSpecError(f"{p}: not a readable TOML sweep spec ({exc})") from exc
+    unknown = set(data) - TOP_KEYS
+    if unknown:
+        raise SweepSpecError(
+            f"{p}: unknown keys {sorted(unknown)}; allowed: {', '.join(sorted(TOP_KEYS))}"
+        )
+    if isinstance(data.get("shaft_file"), str) and not Path(data["shaft_file"]).is_absolute():
+        data["shaft_file"] = str((p.parent / data["shaft_file"]).resolve())
+    return data
+
+
+def build_spec(
+    file_data: Mapping[str, Any] | None = None,
+    *,
+    grid: Sequence[str] = (),
+    fixed: Sequence[str] = (),
+    name: str | None = None,
+    outputs: Sequence[str] | None = None,
+    shaft_file: str | None = None,
+    extrapolate: bool | None = None,
+    backend: str | None = None,
+    bench: Mapping[str, Any] | None = None,
+    bandwidth: Mapping[str, Any] | None = None,
+) -> SweepSpec:
+    """Merge a TOML spec (``load_spec_file``) with command-line ``FIELD=VALUES`` items.
+
+    Command-line grid/fixed items replace the file's for the same field."""
+    data = dict(file_data or {})
+    g: dict[str, tuple[Any, ...]] = {}
+    f: dict[str, Any] = {}
+    for key, raw in dict(data.get("grid", {})).items():
+        g[key] = parse_values(_field(key), raw)
+    for key, raw in dict(data.get("fixed", {})).items():
+        f[key] = _scalar(_field(key), raw)
+    seen: set[str] = set()
+    for item in grid:
+        key, raw = parse_assignment(item)
+        if key in seen:
+            raise SweepSpecError(f"field {key!r} is given twice on the command line")
+        seen.add(key)
+        g[key] = parse_values(_field(key), raw)
+        f.pop(key, None)
+    for item in fixed:
+        key, raw = parse_assignment(item)
+        if key in seen:
+            raise SweepSpecError(f"field {key!r} is given twice on the command line")
+        seen.add(key)
+        f[key] = _scalar(_field(key), raw)
+        g.pop(key, None)
+    both = set(g) & set(f)
+    if both:
+        raise SweepSpecError(f"fields {sorted(both)} are both swept and fixed")
+    outs = tuple(outputs if outputs is not None else data.get("outputs", DEFAULT_OUTPUTS))
+    bad = [o for o in outs if o not in OUTPUTS]
+    if bad or not outs:
+        raise SweepSpecError(
+            f"outputs must be a non-empty subset of {list(OUTPUTS)}, got {list(outs)}"
+        )
+    spec = SweepSpec(
+        name=str(name or data.get("name") or "sweep"),
+        grid=g,
+        fixed=f,
+        outputs=tuple(o for o in OUTPUTS if o in outs),
+        shaft_file=shaft_file if shaft_file is not None else data.get("shaft_file"),
+        extrapolate=bool(
+            extrapolate if extrapolate is not None else data.get("extrapolate", False)
+        ),
+        backend=str(backend or data.get("backend", "native")),
+        bench={**BENCH_DEFAULTS, **dict(data.get("bench", {})), **dict(bench or {})},
+        bandwidth={**dict(data.get("bandwidth", {})), **dict(bandwidth or {})},
+    )
+    validate(spec)
+    return spec
+
+
+# ----------------------------------------------------------------------------------------------
+# validation and points
+
+
+def _catalogue(spec: SweepSpec) -> tuple[Catalogue, str | None, str]:
+    """(catalogue, its TOML text or None for the default, sha256 of the text)."""
+    from importlib import resources
+
+    if spec.shaft_file is None:
+        text = resources.files("fsarm_sim.data").joinpath("shafts.toml").read_text("utf-8")
+        return load_catalogue(), None, hashlib.sha256(text.encode()).hexdigest()
+    cat = load_catalogue(spec.shaft_file)
+    text = Path(spec.shaft_file).read_text("utf-8")
+    return cat, text, hashlib.sha256(text.encode()).hexdigest()
+
+
+def validate(spec: SweepSpec) -> None:
+    """Every check that can fail before the first simulation (raises SweepSpecError)."""
+    from fsarm_sim.studies.campaign import BenchSettings, CampaignError
+
+    if spec.n_points > MAX_POINTS:
+        raise SweepSpecError(
+            f"the sweep has {spec.n_points} points, more than the {MAX_POINTS} allowed in one spec"
+        )
+    if spec.backend not in ("python", "native"):
+        raise SweepSpecError(f"backend must be 'python' or 'native', got {spec.backend!r}")
+    known = fields()
+    for key in list(spec.grid) + list(spec.fixed):
+        if key not in known:
+            raise SweepSpecError(
+                f"unknown sweep field {key!r}; allowed: {', '.join(sorted(known))}"
+            )
+    try:
+        BenchSettings(**spec.bench).validate()
+    except TypeError as exc:
+        raise SweepSpecError(f"[bench]: {exc} (allowed: BenchSettings fields)") from exc
+    except CampaignError as exc:
+        raise SweepSpecError(f"[bench]: {exc}") from exc
+    bad_bw = set(spec.bandwidth) - set(BANDWIDTH_KEYS)
+    if bad_bw:
+        raise SweepSpecError(
+            f"[bandwidth]: unknown keys {sorted(bad_bw)}; allowed {list(BANDWIDTH_KEYS)}"
+        )
+    for k, v in spec.bandwidth.items():
+        if _number(f"bandwidth.{k}", v) <= 0.0 and k != "q3_deg":
+            raise SweepSpecError(f"bandwidth.{k} must be > 0, got {v!r}")
+    try:
+        cat, _, _ = _catalogue(spec)
+    except FsarmError as exc:
+        raise SweepSpecError(f"shaft file: {exc}") from exc
+    values = {k: spec.grid.get(k, (spec.fixed.get(k, known[k].default),)) for k in known}
+    # ranges per field
+    for key, vals in values.items():
+        info = known[key]
+        for v in vals:
+            if v is None or info.kind != "float":
+                continue
+            if info.minimum is not None and v < info.minimum:
+                raise SweepSpecError(
+                    f"{key} = {v:g} is below its minimum {info.minimum:g} {info.unit}"
+                )
+            if info.maximum is not None and v > info.maximum:
+                raise SweepSpecError(
+                    f"{key} = {v:g} is above its maximum {info.maximum:g} {info.unit}"
+                )
+    for b in values["bend_deg"]:
+        try:  # the same check as the arm runs' (model.build_model) and the bench's
+            cat.check_bend(math.radians(b), f"bend_deg = {b:g}")
+        except ShaftRangeError as exc:
+            raise SweepSpecError(str(exc)) from exc
+    for d in values["duration_s"]:
+        if d is not None and d <= 0.0:
+            raise SweepSpecError(f"duration_s must be > 0 s, got {d:g}")
+    for s in values["scenario"]:
+        if s not in scenarios.REGISTRY:
+            raise SweepSpecError(
+                f"unknown scenario {s!r}; registered: {', '.join(sorted(scenarios.REGISTRY))}"
+            )
+    # every shaft of the grid must be valid in the catalogue
+    for d, ell in itertools.product(values["diameter_mm"], values["length_mm"]):
+        try:
+            cat.shaft(d, ell, extrapolate=spec.extrapolate)
+        except ShaftRangeError as exc:
+            raise SweepSpecError(f"shaft D = {d:g} mm, L = {ell:g} mm: {exc}") from exc
+    # a bend angle can be imposed on the arm only for scenarios that hold joint 2
+    if "tracking" in spec.outputs:
+        from fsarm_sim.studies.arm_metrics import scenario_holds_joint2
+
+        bend_given = "bend_deg" in spec.grid or "bend_deg" in spec.fixed
+        for s in values["scenario"]:
+            sc = scenarios.get(s)
+            for dur in values["duration_s"]:
+                duration = sc.duration_s if dur is None else dur
+                if bend_given and not scenario_holds_joint2(s, duration):
+                    raise SweepSpecError(
+                        f"scenario {s!r} moves joint 2, so bend_deg cannot be imposed on the arm; "
+                        "sweep bend_deg only with scenarios that hold joint 2 (fig14-sine, "
+                        "step-q3), or leave 'tracking' out of the outputs"
+                    )
+    for point in points(spec, validate_only=True):
+        try:
+            _gains(point).validate()
+        except FsarmError as exc:
+            raise SweepSpecError(f"point {canonical_json(point)}: {exc}") from exc
+
+
+def _gains(point: Mapping[str, Any]) -> Gains:
+    g = Gains()
+    changes: dict[str, Any] = {}
+    tuples: dict[str, list[float]] = {}
+    for key, v in point.items():
+        if not key.startswith("gains."):
+            continue
+        name = key[len("gains.") :]
+        for short, attr in _GAIN_TUPLES.items():
+            if name.startswith(short) and name[len(short) :].isdigit():
+                tuples.setdefault(attr, list(getattr(g, attr)))[int(name[len(short) :]) - 1] = v
+                break
+        else:
+            changes[name] = v
+    for attr, vals in tuples.items():
+        changes[attr] = tuple(vals)
+    return dataclasses.replace(g, **changes)
+
+
+def points(spec: SweepSpec, *, validate_only: bool = False) -> list[dict[str, Any]]:
+    """The sweep's points: grid product + fixed + defaults, as canonical dicts.
+
+    A point holds every input that decides its outputs (the store's key is its hash): the field
+    values, the outputs asked for, the bench/bandwidth settings, the catalogue's SHA-256, the
+    point schema. Gains are listed only when set (defaults come from this version's Gains).
+    """
+    known = fields()
+    base: dict[str, Any] = {}
+    for key, info in known.items():
+        if key.startswith("gains."):
+            continue
+        base[key] = spec.fixed.get(key, info.default)
+    for key, v in spec.fixed.items():
+        if key.startswith("gains."):
+            base[key] = v
+    sha = "" if validate_only else _catalogue(spec)[2]
+    common = {
+        "schema": POINT_SCHEMA,
+        "outputs": list(spec.outputs),
+        "bench": dict(sorted(spec.bench.items())) if "bench" in spec.outputs else {},
+        "bandwidth": dict(sorted(spec.bandwidth.items())) if "bandwidth" in spec.outputs else {},
+        "catalogue_sha256": sha,
+        "extrapolate": spec.extrapolate,
+    }
+    names = list(spec.grid)
+    out = []
+    for combo in itertools.product(*(spec.grid[n] for n in names)):
+        p = {**base, **dict(zip(names, combo, strict=True)), **common}
+        sc = scenarios.get(p["scenario"])
+        if p["duration_s"] is None:
+            p["duration_s"] = sc.duration_s
+        if p["payload_kg"] is None:
+            p["payload_kg"] = sc.payload_kg
+        out.append(p)
+    return out
+
+
+# ----------------------------------------------------------------------------------------------
+# evaluating one point (runs in a worker)
+
+
+def evaluate_point(task: Mapping[str, Any]) -> dict[str, Any]:
+    """All requested outputs of one point. ``task = {"point": ..., "catalogue_toml": ...}``."""
+    from fsarm_sim.studies import arm_metrics
+    from fsarm_sim.studies.campaign import BenchSettings, fit_series, series_test
+
+    p = task["point"]
+    text = task.get("catalogue_toml")
+    cat = (
+        load_catalogue()
+        if text is None
+        else parse_catalogue(tomllib.loads(text), str(task.get("catalogue_source", "shaft file")))
+    )
+    d, ell, bend = p["diameter_mm"], p["length_mm"], math.radians(p["bend_deg"])
+    shaft = cat.shaft(d, ell, extrapolate=p["extrapolate"])
+    backend = task.get("backend", "native")
+    cfg = SimConfig(shaft=shaft, gains=_gains(p))
+    out: dict[str, Any] = {
+        "k_sp_catalogue": shaft.k_series(bend, 1),
+        "k_sn_catalogue": shaft.k_series(bend, -1),
+        "kb_catalogue": shaft.kb,
+        "rating_nm": shaft.rating_nm,
+    }
+    outputs = p["outputs"]
+    if "bench" in outputs:
+        s = BenchSettings(**{**p["bench"], "backend": backend})
+        sf = fit_series(
+            series_test(
+                cat.shaft(
+                    d, ell, extrapolate=p["extrapolate"], series_hysteresis=s.series_hysteresis
+                ),
+                bend,
+                s,
+            ),
+            p["bend_deg"],
+        )
+        bench_json = json.dumps({**p["bench"], "backend": backend}, sort_keys=True)
+        pf = _parallel_fit(text, d, ell, p["extrapolate"], bench_json)
+        out.update(
+            k_sp=sf.k_pos,
+            k_sn=sf.k_neg,
+            series_rmse_p=sf.rmse_pos,
+            series_rmse_n=sf.rmse_neg,
+            kb=pf.kb_linear,
+            kb_rmse=pf.rmse_linear,
+            kb_cubic=pf.kb_cubic,
+            bend_loop_energy_j=pf.loop_energy_j,
+            stiffness_source="simulated bench fit (series: eq. 8 per sign; parallel: eq. 2)",
+        )
+    else:
+        out.update(
+            k_sp=out["k_sp_catalogue"],
+            k_sn=out["k_sn_catalogue"],
+            kb=out["kb_catalogue"],
+            stiffness_source="catalogue eq. 3/4",
+        )
+    if "tracking" in outputs:
+        bend_arm = (
+            bend if arm_metrics.scenario_holds_joint2(p["scenario"], p["duration_s"]) else None
+        )
+        out.update(
+            arm_metrics.tracking(
+                cfg,
+                p["scenario"],
+                duration_s=p["duration_s"],
+                payload_kg=p["payload_kg"],
+                bend_rad=bend_arm,
+                backend=backend,
+            )
+        )
+    if "bandwidth" in outputs:
+        bw_args = dict(p["bandwidth"])
+        q3 = math.radians(bw_args.pop("q3_deg", 45.0))
+        bw = arm_metrics.torque_bandwidth(cfg, bend, q3_rad=q3, backend=backend, **bw_args)
+        out["torque_bandwidth_hz"] = bw.bandwidth_hz
+        out["torque_low_gain"] = bw.low_gain
+    if "relief" in outputs:
+        out["static_relief_nm"] = arm_metrics.static_relief_nm(cfg)
+    return out
+
+
+@functools.lru_cache(maxsize=64)
+def _parallel_fit(
+    catalogue_toml: str | None, d: float, ell: float, extrapolate: bool, bench_json: str
+) -> Any:
+    """The parallel-bench fit of one shaft, cached per process: K_b does not depend on the bend,
+    payload, gains or scenario, so points that share a shaft share it (same inputs, same result)."""
+    from fsarm_sim.studies.campaign import BenchSettings, fit_parallel, parallel_test
+
+    cat = (
+        load_catalogue()
+        if catalogue_toml is None
+        else parse_catalogue(tomllib.loads(catalogue_toml), "shaft file")
+    )
+    s = BenchSettings(**json.loads(bench_json))
+    return fit_parallel(parallel_test(cat.shaft(d, ell, extrapolate=extrapolate), False, s), False)
+
+
+# ----------------------------------------------------------------------------------------------
+# running a sweep into a store
+
+
+@dataclass
+class SweepReport:
+    name: str
+    total: int
+    already: int
+    computed: int
+    failed: int
+    wall_s: float
+    errors: list[str] = field(default_factory=list)
+    failed_before: int = 0  # points of this sweep stored as failed by an earlier run (not rerun)
+
+    @property
+    def points_per_s(self) -> float:
+        return self.computed / self.wall_s if self.wall_s > 0 else math.nan
+
+
+def run_sweep(
+    spec: SweepSpec,
+    store_path: str | Path,
+    *,
+    executor: str = "local",
+    workers: int | None = None,
+    scheduler: str | None = None,
+    processes: bool = True,
+    retry_failed: bool = False,
+    progress: bool = False,
+    on_done: Callable[[Outcome], None] | None = None,
+) -> SweepReport:
+    """Compute the points not yet in the store; store each as soon as it finishes."""
+    pts = points(spec)
+    cat, text, sha = _catalogue(spec)
+    with ResultStore(store_path) as store:
+        if retry_failed:
+            store.delete_errors()
+        store.set_meta(f"catalogue:{sha}", text if text is not None else "default")
+        store.set_meta(f"spec:{spec.name}", json.dumps(dataclasses.asdict(spec), sort_keys=True))
+        done = store.keys()
+        todo = [p for p in pts if point_key(p) not in done]
+        report = SweepReport(spec.name, len(pts), len(pts) - len(todo), 0, 0, 0.0)
+        stored_errors = store.errors()
+        for p in pts:
+            err = stored_errors.get(point_key(p))
+            if err is not None:
+                report.failed_before += 1
+                report.errors.append(f"{canonical_json(p)}: {err} (stored by an earlier run)")
+        tasks = [
+            {
+                "point": p,
+                "catalogue_toml": text,
+                "catalogue_source": cat.source,
+                "backend": spec.backend,
+            }
+            for p in todo
+        ]
+        bar = _progress(progress)
+        start = time.perf_counter()
+
+        def store_one(o: Outcome) -> None:
+            store.put(
+                o.task["point"],
+                o.result,
+                sweep=spec.name,
+                wall_s=o.wall_s,
+                error=o.error,
+                host=o.host,
+            )
+            if o.error is None:
+                report.computed += 1
+            else:
+                report.failed += 1
+                report.errors.append(f"{canonical_json(o.task['point'])}: {o.error}")
+            if bar is not None:
+                bar[0].advance(bar[1])
+            if on_done is not None:
+                on_done(o)
+
+        try:
+            if bar is not None:
+                bar[0].start()
+                bar[0].update(bar[1], total=len(tasks))
+            run_tasks(
+                evaluate_point,
+                tasks,
+                executor=executor,
+                workers=workers,
+                scheduler=scheduler,
+                processes=processes,
+                on_done=store_one,
+            )
+        finally:
+            if bar is not None:
+                bar[0].stop()
+            report.wall_s = time.perf_counter() - start
+    return report
+
+
+def _progress(enabled: bool) -> tuple[Any, Any] | None:
+    if not enabled:
+        return None
+    from rich.console import Console
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
+
+    prog = Progress(
+        TextColumn("sweep"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TextColumn("elapsed"),
+        TimeElapsedColumn(),
+        TextColumn("ETA"),
+        TimeRemainingColumn(),
+        console=Console(stderr=True),
+    )
+    return prog, prog.add_task("sweep", total=None)
+
+
+# ----------------------------------------------------------------------------------------------
+# analysis of a finished sweep
+
+PLOT_METRICS = (
+    "q3_rmse_deg",
+    "torque_bandwidth_hz",
+    "static_relief_nm",
+    "peak_motor_torque_nm",
+    "peak_motor_speed_rad_s",
+    "k_sp",
+    "k_sn",
+    "kb",
+)
+AXES = ("diameter_mm", "length_mm", "bend_deg", "payload_kg")
+
+
+@dataclass
+class SweepAnalysis:
+    n_points: int
+    fits: dict[str, Any] = field(default_factory=dict)  # SurfaceFit per equation
+    comparisons: dict[str, Any] = field(default_factory=dict)
+    skipped: list[str] = field(default_factory=list)
+    files: list[Path] = field(default_factory=list)
+
+
+def analyze(store_path: str | Path, out_dir: str | Path, sweep: str | None = None) -> SweepAnalysis:
+    """Re-fit eq. 3 (per sign) and eq. 4 to the stored stiffnesses; write tables and plots."""
+    from fsarm_sim.studies.campaign import (
+        CampaignError,
+        compare_surface,
+        fit_eq3,
+        fit_eq4,
+    )
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    with ResultStore(store_path) as store:
+        df = store.frame(sweep)
+        cat_texts = {
+            k.split(":", 1)[1]: store.meta(k)
+            for k in [
+                f"catalogue:{s}" for s in (df["catalogue_sha256"].unique() if len(df) else [])
+            ]
+        }
+    res = SweepAnalysis(n_points=len(df))
+    if len(df) == 0:
+        res.skipped.append("no finished points in the store")
+        return res
+    csv_path = out / "points.csv"
+    df.to_csv(csv_path, index=False)
+    res.files.append(csv_path)
+    try:
+        pq = out / "points.parquet"
+        df.to_parquet(pq, index=False)
+        res.files.append(pq)
+    except (ImportError, ValueError) as exc:  # pragma: no cover - pyarrow is a dependency
+        res.skipped.append(f"parquet export: {exc}")
+    cats = df["catalogue_sha256"].unique()
+    catalogue = None
+    if len(cats) == 1:
+        text = cat_texts.get(str(cats[0]))
+        if text == "default":
+            catalogue = load_catalogue()
+        elif text:
+            catalogue = parse_catalogue(tomllib.loads(text), "stored shaft file")
+    else:
+        res.skipped.append("points come from several catalogues: no comparison with one")
+    src = df["stiffness_source"].iloc[0] if "stiffness_source" in df else ""
+    series = df.drop_duplicates(subset=["diameter_mm", "length_mm", "bend_deg"])
+    for side, col in (("positive", "k_sp"), ("negative", "k_sn")):
+        try:
+            fit = fit_eq3(
+                series["diameter_mm"].to_numpy(float),
+                series["length_mm"].to_numpy(float),
+                np.radians(series["bend_deg"].to_numpy(float)),
+                series[col].to_numpy(float),
+                side,
+            )
+        except CampaignError as exc:
+            res.skipped.append(f"eq. 3 {side}: {exc}")
+            continue
+        res.fits[fit.equation] = fit
+        if catalogue is not None:
+            res.comparisons[fit.equation] = compare_surface(
+                fit, catalogue, math.radians(float(np.max(np.abs(series["bend_deg"]))))
+            )
+    shafts = df.drop_duplicates(subset=["diameter_mm", "length_mm"])
+    try:
+        fit4 = fit_eq4(
+            shafts["diameter_mm"].to_numpy(float),
+            shafts["length_mm"].to_numpy(float),
+            shafts["kb"].to_numpy(float),
+        )
+        res.fits["eq4"] = fit4
+        if catalogue is not None:
+            res.comparisons["eq4"] = compare_surface(fit4, catalogue)
+    except CampaignError as exc:
+        res.skipped.append(f"eq. 4: {exc}")
+    summary = {
+        "points": len(df),
+        "stiffness_source": src,
+        "fits": {k: dataclasses.asdict(v) for k, v in res.fits.items()},
+        "comparisons": {k: dataclasses.asdict(v) for k, v in res.comparisons.items()},
+        "skipped": res.skipped,
+        "version": __version__,
+    }
+    jpath = out / "analysis.json"
+    jpath.write_text(json.dumps(summary, indent=2), "utf-8")
+    res.files.append(jpath)
+    res.files += _plots(df, res, catalogue, out)
+    return res
+
+
+def _varied(df: Any) -> list[str]:
+    return [a for a in AXES if a in df and df[a].nunique() > 1]
+
+
+def _plots(df: Any, res: SweepAnalysis, catalogue: Catalogue | None, out: Path) -> list[Path]:
+    from fsarm_sim.studies.campaign import new_figure, plot_eq3_surfaces, plot_eq4_surface
+
+    files: list[Path] = []
+    axes = _varied(df)
+    for metric in PLOT_METRICS:
+        if metric not in df or df[metric].isna().all():
+            continue
+        fig = new_figure((6.4, 4.6))
+        ax = fig.add_subplot(1, 1, 1)
+        if len(axes) >= 2:
+            x, y = axes[0], axes[1]
+            table = df.pivot_table(index=y, columns=x, values=metric, aggfunc="mean")
+            z = table.to_numpy(float)
+            im = ax.imshow(z, origin="lower", aspect="auto", cmap="viridis")
+            ax.set_xticks(range(z.shape[1]), [f"{v:g}" for v in table.columns])
+            ax.set_yticks(range(z.shape[0]), [f"{v:g}" for v in table.index])
+            if z.size <= 100:
+                for (r, c), v in np.ndenumerate(z):
+                    ax.text(c, r, f"{v:.3g}", ha="center", va="center", fontsize=7, color="w")
+            fig.colorbar(im, ax=ax, label=metric)
+            ax.set_xlabel(x)
+            ax.set_ylabel(y)
+            others = [a for a in axes[2:]]
+            ax.set_title(
+                f"{metric}" + (f" (mean over {', '.join(others)})" if others else ""), fontsize=9
+            )
+        elif len(axes) == 1:
+            x = axes[0]
+            g = df.groupby(x)[metric].mean()
+            ax.plot(g.index.to_numpy(float), g.to_numpy(float), "o-")
+            ax.set_xlabel(x)
+            ax.set_ylabel(metric)
+            ax.grid(True, alpha=0.3)
+        else:
+            continue
+        fig.tight_layout()
+        path = out / f"map_{metric}.png"
+        fig.savefig(path)
+        files.append(path)
+    if catalogue is not None and res.fits:
+        if "eq3 positive" in res.fits or "eq3 negative" in res.fits:
+            pts = (
+                df[["diameter_mm", "length_mm", "bend_deg", "k_sp", "k_sn"]].to_numpy(float).copy()
+            )
+            pts[:, 2] = np.radians(pts[:, 2])
+            files.append(plot_eq3_surfaces(res.fits, pts, catalogue, out / "fig8_eq3_surfaces.png"))
+        if "eq4" in res.fits:
+            shafts = df.drop_duplicates(subset=["diameter_mm", "length_mm"])
+            pts4 = shafts[["diameter_mm", "length_mm", "kb"]].to_numpy(float)
+            files.append(
+                plot_eq4_surface(res.fits["eq4"], pts4, catalogue, out / "fig10_eq4_surface.png")
+            )
+    return files
