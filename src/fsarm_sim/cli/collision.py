@@ -38,8 +38,12 @@ def register(app: typer.Typer) -> None:
             typer.Option(help="override a transmission parameter, NAME=VALUE (repeatable)"),
         ] = None,
         series_hysteresis: Annotated[
-            bool, typer.Option(help="flexible shaft: switch on Maxwell-slip series hysteresis")
-        ] = False,
+            bool | None,
+            typer.Option(
+                help="flexible shaft: Maxwell-slip series hysteresis on/off "
+                "(default: the coefficient file's, on)"
+            ),
+        ] = None,
         backend: Annotated[
             str, typer.Option(help="callback path: python (reference) or native")
         ] = "native",
