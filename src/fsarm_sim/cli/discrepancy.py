@@ -15,6 +15,7 @@ import typer
 
 from fsarm_sim.cli.console import make_console
 from fsarm_sim.outputs import OutputPlan, SafeWriter
+from fsarm_sim.records.measured import stated_shaft
 
 
 def register(app: typer.Typer) -> None:
@@ -116,7 +117,6 @@ def register(app: typer.Typer) -> None:
         from fsarm_sim.discrepancy import synth
         from fsarm_sim.discrepancy.arm_synth import ArmRecording
         from fsarm_sim.errors import InvalidParameterError
-        from fsarm_sim.plant.shaft import load_catalogue
         from fsarm_sim.records.measured import output_files, write_dataset
 
         for opt, v in (
@@ -138,8 +138,7 @@ def register(app: typer.Typer) -> None:
         writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
         if setup != "arm" and load not in ("blocked", "inertia"):
             raise InvalidParameterError(f"--load must be blocked or inertia, got {load!r}")
-        # the stated eq. 8 shaft; series hysteresis is an effect the truth lists
-        shaft = load_catalogue().shaft(diameter_mm, length_mm, series_hysteresis=False)
+        shaft = stated_shaft(diameter_mm, length_mm)
         rec: synth.Recording | ArmRecording
         if setup == "arm":
             rec = ArmRecording(

@@ -23,9 +23,9 @@ from fsarm_sim.discrepancy.effect_text import parse_effect
 from fsarm_sim.engine.model import Gains
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.plant.effects.registry import ARM
-from fsarm_sim.plant.shaft import ShaftParams, load_catalogue
+from fsarm_sim.plant.shaft import ShaftParams
 from fsarm_sim.records import sidecar as records
-from fsarm_sim.records.measured import write_dataset
+from fsarm_sim.records.measured import stated_shaft, write_dataset
 from fsarm_sim.sim import scenarios
 
 FloatArray = npt.NDArray[np.float64]
@@ -98,7 +98,7 @@ def synthesize_arm(
     truth's delays and offsets, Gaussian angle noise and encoder quantisation."""
     rec.validate()
     sc = scenarios.get(rec.scenario)
-    sh = shaft or load_catalogue().shaft(series_hysteresis=False)  # the stated eq. 8 shaft
+    sh = shaft or stated_shaft()
     gains = Gains()
     duration = float(sc.duration_s if rec.duration_s is None else rec.duration_s)
     payload = float(sc.payload_kg if rec.payload_kg is None else rec.payload_kg)

@@ -35,8 +35,7 @@ from fsarm_sim.discrepancy.residuals import gap_excess
 from fsarm_sim.discrepancy.selection import Step
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.plant.effects import registry
-from fsarm_sim.plant.shaft import load_catalogue
-from fsarm_sim.records.measured import Dataset, load_dataset, validate_columns
+from fsarm_sim.records.measured import Dataset, load_dataset, stated_shaft, validate_columns
 
 SMALL = 0.03  # effect size: RMS of the unexplained clean output / its range
 LARGE = 0.08
@@ -170,7 +169,7 @@ def _dataset(truth: BenchModel, case: Case, noise: float) -> Dataset:
     )
     cols, side = synth.synthesize(truth, rec)
     validate_columns(truth.setup, cols, synth.Path(case.name))
-    sh = load_catalogue().shaft(series_hysteresis=False)
+    sh = stated_shaft()
     return Dataset(
         path=synth.Path(case.name),
         setup=truth.setup,

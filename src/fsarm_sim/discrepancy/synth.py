@@ -40,9 +40,9 @@ from fsarm_sim.discrepancy.benchmodel import (
 )
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.plant.effects import registry, sensor_offset
-from fsarm_sim.plant.shaft import ShaftParams, load_catalogue
+from fsarm_sim.plant.shaft import ShaftParams
 from fsarm_sim.records import sidecar as records
-from fsarm_sim.records.measured import MAX_SAMPLE_INTERVAL_S, write_dataset
+from fsarm_sim.records.measured import MAX_SAMPLE_INTERVAL_S, stated_shaft, write_dataset
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -230,11 +230,8 @@ def synthesize(
 ) -> tuple[dict[str, FloatArray], dict[str, Any]]:
     """(columns, sidecar) of one synthetic dataset of ``truth`` recorded as ``rec`` says."""
     rec.validate()
-    # the bench's nominal is eq. 8 (series hysteresis is an effect a truth lists)
-    sh = shaft or load_catalogue().shaft(
-        truth.shaft.get("diameter_mm", 9.0),
-        truth.shaft.get("length_mm", 450.0),
-        series_hysteresis=False,
+    sh = shaft or stated_shaft(
+        truth.shaft.get("diameter_mm", 9.0), truth.shaft.get("length_mm", 450.0)
     )
     rng = np.random.default_rng(rec.seed + 7919)
     h = 1.0 / rec.rate_hz
@@ -352,7 +349,7 @@ def truth_model(
     ):
         if v is not None and not (math.isfinite(v) and v > 0):
             raise InvalidParameterError(f"{name} must be a finite number > 0, got {v!r}")
-    sh = shaft or load_catalogue().shaft(series_hysteresis=False)
+    sh = shaft or stated_shaft()
     j_link = parallel_link_inertia() if setup == "parallel_bench" else 0.0
     m = nominal_from_shaft(setup, sh, load_inertia_kgm2, j_link=j_link)
     for key in ("k_pos", "s_pos", "k_neg", "s_neg", "kb"):
@@ -425,7 +422,7 @@ def synthesize_setup(
             stiffness_scale=stiffness_scale,
             true_inertia_kgm2=true_inertia_kgm2,
         )
-        sh = shaft or load_catalogue().shaft(series_hysteresis=False)
+        sh = shaft or stated_shaft()
         amp = bench_rec.amplitude
         amp = amp if amp is not None else default_amplitude(truth, sh)
         truth.effects.extend(parse_effect(text, setup, amp) for text in effects)

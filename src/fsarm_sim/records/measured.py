@@ -215,6 +215,20 @@ def _number(value: Any, key: str, where: Path, *, positive: bool = False) -> flo
     return float(value)
 
 
+def stated_shaft(
+    diameter_mm: float = 9.0,
+    length_mm: float = 450.0,
+    *,
+    catalogue: Catalogue | None = None,
+    extrapolate: bool = False,
+) -> ShaftParams:
+    """The shaft a record states, as the diagnosis and the synthetic records take it: the
+    catalogue's eq. 3/4 law without series hysteresis, which is an effect the diagnosis names
+    (and a synthetic truth lists), never part of the stated nominal."""
+    cat = catalogue or load_catalogue()
+    return cat.shaft(diameter_mm, length_mm, extrapolate=extrapolate, series_hysteresis=False)
+
+
 def resolve_shaft(sidecar: Mapping[str, Any] | Sidecar, where: Path) -> ShaftParams:
     """The shaft the sidecar names: ``{"name": ...}`` from the catalogue, or D and L (mm).
 
@@ -272,8 +286,7 @@ def _catalogue_shaft(shaft: ShaftRef, where: Path) -> ShaftParams:
         d_mm = _number(shaft.diameter_mm, "shaft.diameter_mm", where, positive=True)
         l_mm = _number(shaft.length_mm, "shaft.length_mm", where, positive=True)
     try:
-        # the stated shaft's eq. 3/4 law; series hysteresis is for the diagnosis to find
-        return cat.shaft(d_mm, l_mm, extrapolate=bool(shaft.extrapolate), series_hysteresis=False)
+        return stated_shaft(d_mm, l_mm, catalogue=cat, extrapolate=bool(shaft.extrapolate))
     except ShaftRangeError as exc:
         raise UnknownShaftError(f"{where}: {exc}") from exc
 

@@ -113,6 +113,16 @@ def check_run_size(
         )
 
 
+def clock_gap_steps(model: mujoco.MjModel, data: mujoco.MjData) -> float | None:
+    """Timesteps between ``data.time`` and the last step the control clock saw (None when the
+    controllers, and so the clock, are switched off). After ``mj_step`` with the callbacks active
+    it is 0 (RK4) or 1; before the first step ``U_STEP_T`` holds the start time
+    (``initial_state``, ``Simulation.start_at``)."""
+    if model.numeric(L.PARAMS_NAME).data[L.P_EN_CONTROL] < 0.5:
+        return None
+    return (float(data.time) - float(data.userdata[L.U_STEP_T])) / float(model.opt.timestep)
+
+
 def check_clock(model: mujoco.MjModel, data: mujoco.MjData) -> None:
     """Raise :class:`CallbackBypassError` if ``data`` was stepped without fsarm's callbacks.
 
@@ -121,15 +131,10 @@ def check_clock(model: mujoco.MjModel, data: mujoco.MjData) -> None:
     means MuJoCo stepped this model with no shaft and no controllers (e.g. ``mujoco.mj_step``
     outside :func:`fsarm_sim.engine.callbacks.active`).
     """
-    prm = model.numeric(L.PARAMS_NAME).data
-    if prm[L.P_EN_CONTROL] < 0.5:
-        return
-    h = float(model.opt.timestep)
-    # before the first step U_STEP_T holds the start time (initial_state, Simulation.start_at)
-    gap = float(data.time) - float(data.userdata[L.U_STEP_T])
-    if gap > 1.5 * h:
+    steps = clock_gap_steps(model, data)
+    if steps is not None and steps > 1.5:
         raise CallbackBypassError(
-            f"this fsarm model was stepped about {gap / h:.0f} steps (to t = {data.time:.6g} s) "
+            f"this fsarm model was stepped about {steps:.0f} steps (to t = {data.time:.6g} s) "
             "without fsarm's callbacks, so the shaft and the controllers did not act: step it with "
             "Simulation.step/run, or call mujoco.mj_step inside fsarm_sim.engine.callbacks.active()"
         )
@@ -258,12 +263,11 @@ class Simulation:
             raise RunHealthError(
                 f"run diverged at t = {t:.4f} s: the state is not finite ({', '.join(bad) or 'rotor'})"
             )
-        prm = self.params
-        if prm[L.P_EN_CONTROL] < 0.5:
+        steps = clock_gap_steps(m, d)
+        if steps is None:
             return
         h = float(m.opt.timestep)
-        gap = t - float(d.userdata[L.U_STEP_T])
-        if d.userdata[L.U_STEP] < 1.0 or gap > 1.5 * h:
+        if d.userdata[L.U_STEP] < 1.0 or steps > 1.5:
             raise RunHealthError(
                 f"control clock stopped at t = {t:.6f} s: it last saw a step at "
                 f"t = {d.userdata[L.U_STEP_T]:.6f} s (timestep {h:g} s), so the controllers' "
