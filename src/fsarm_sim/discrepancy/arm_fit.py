@@ -357,7 +357,11 @@ BOUNDS: dict[str, tuple[float, float, float]] = {
     "kb_scale": (*SCALE_BOUNDS, 0.1),
     "payload_kg_refit": (-PAYLOAD_MAX_KG, PAYLOAD_MAX_KG, 0.5),
     **{
-        f"{name}.{v.key if name in V.ARM_RECORDING else p.name}": (p.lower, p.upper, UNITS[p.name])
+        f"{name}.{v.key if name in V.ARM_RECORDING else p.name}": (
+            p.lower,
+            p.upper,
+            UNITS.get(p.name, p.scale()),
+        )
         for name, vs in V.ARM.items()
         if name != V.HYSTERESIS
         for v in vs
@@ -476,6 +480,11 @@ def to_config(run: ArmRun, m: ArmModel) -> SimConfig:
         backlash_center_rad=m.v("backlash.center_rad"),
         q3_friction_nm=m.v("coulomb_friction.f_c_nm"),
         q3_damping_nms=m.v("viscous_damping.b_nms"),
+        laws=tuple(
+            (name, tuple((p.name, m.v(f"{name}.{p.name}")) for v in V.ARM[name] for p in v.params))
+            for name in V.ARM_LAWS
+            if any(k.startswith(name + ".") for k in m.values)
+        ),
     )
     return SimConfig(
         shaft=plant,

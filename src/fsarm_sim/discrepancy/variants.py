@@ -50,6 +50,10 @@ ARM: dict[str, tuple[Variant, ...]] = {  # effect -> its arm variants (candidate
         _on_arm(DELAY, "input", ch, f"the recorded {ch} lags the others") for ch in ARM_CHANNELS
     ),
 }
+# the registry's arm effect laws (Effect.law) act on the arm as the registry states them
+ARM_LAWS = tuple(e.name for e in registry.arm_laws() if e.name not in ARM)
+for _law in ARM_LAWS:
+    ARM[_law] = tuple(v for v in registry.get(_law).variants if registry.ARM in v.setups)
 ARM_RECORDING = frozenset({OFFSET, DELAY})  # the arm's effects on the recording, not the plant
 ARM_MAX_ELEMENTS = 3  # hysteresis elements on the arm (ShaftParams' slots)
 ARM_DEFAULTS = {(BACKLASH, "center_rad"): 0.0}  # (effect, parameter): value when not given

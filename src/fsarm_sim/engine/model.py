@@ -21,6 +21,7 @@ from fsarm_sim.engine import callbacks
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
 from fsarm_sim.kernels import layout as L
 from fsarm_sim.plant import transmissions
+from fsarm_sim.plant.effects import registry
 from fsarm_sim.plant.shaft import ShaftParams, load_catalogue
 from fsarm_sim.plant.transmissions import flexible_shaft
 from fsarm_sim.plant.transmissions.base import Transmission, TransmissionError
@@ -100,8 +101,13 @@ class Effects:
     backlash_center_rad: float = 0.0
     q3_friction_nm: float = 0.0  # Coulomb friction at joint 3 (MuJoCo dof frictionloss), N*m
     q3_damping_nms: float = 0.0  # extra viscous damping at joint 3 (added to dof damping)
+    # the registry's arm effect laws switched on (plant.effects.registry, Effect.law), with the
+    # values of their kernel parameters: ((effect, ((parameter, value), ...)), ...); parameters
+    # not given keep the law's declared default
+    laws: tuple[tuple[str, tuple[tuple[str, float], ...]], ...] = ()
 
     def validate(self) -> None:
+        validate_laws(self.laws)
         if not math.isfinite(self.payload_error_kg) or abs(self.payload_error_kg) > PAYLOAD_MAX_KG:
             raise InvalidParameterError(
                 f"payload_error_kg must be within +-{PAYLOAD_MAX_KG:g} kg, got {self.payload_error_kg!r}"
@@ -513,8 +519,51 @@ def reference_stiffness(config: SimConfig) -> float:
     return max(tr.stiffness(ctrl, x, 0.0), 0.0)
 
 
+def validate_laws(laws: tuple[tuple[str, tuple[tuple[str, float], ...]], ...]) -> None:
+    """Every law a registered arm law, each parameter one it declares, finite and within the
+    registry's bounds where the registry states them; else InvalidParameterError."""
+    known = {e.name: e for e in registry.arm_laws()}
+    seen: set[str] = set()
+    for name, values in laws:
+        if name not in known:
+            raise InvalidParameterError(
+                f"unknown arm effect law {name!r}; known: {', '.join(known) or 'none'}"
+            )
+        if name in seen:
+            raise InvalidParameterError(f"arm effect law {name!r} is given twice")
+        seen.add(name)
+        effect = known[name]
+        assert effect.law is not None
+        declared = {d.name for d in effect.law.KERNEL_PARAMS}
+        bounds = {p.name: p for v in effect.variants for p in v.params}
+        for key, value in values:
+            if key not in declared:
+                raise InvalidParameterError(
+                    f"{name} has no parameter {key!r}; its parameters: {', '.join(sorted(declared))}"
+                )
+            b = bounds.get(key)
+            if not math.isfinite(value) or (b is not None and not b.lower <= value <= b.upper):
+                allowed = f"within [{b.lower:g}, {b.upper:g}] {b.unit}" if b else "finite"
+                raise InvalidParameterError(f"{name}.{key} must be {allowed}, got {value!r}")
+
+
+def write_laws(p: npt.NDArray[np.float64], fx: Effects) -> None:
+    """The registry's arm laws: on/off slot and parameters (declared defaults unless given)."""
+    given = dict(fx.laws)
+    by_name = {e.name: e for e in registry.arm_laws()}
+    for name, on, start, _end in L.ARM_LAW_BLOCKS:
+        law = by_name[name].law
+        assert law is not None
+        values = dict(given.get(name, ()))
+        p[on] = 1.0 if name in given else 0.0
+        for i, d in enumerate(law.KERNEL_PARAMS):
+            p[start + i] = values.get(d.name, d.default)
+
+
 def write_arm_effects(model: mujoco.MjModel, p: npt.NDArray[np.float64], fx: Effects) -> None:
-    """Plant-only arm effects (payload error, backlash); geometry read from the compiled MJCF."""
+    """Plant-only arm effects (payload error, backlash, the registry's laws); geometry read from
+    the compiled MJCF."""
+    write_laws(p, fx)
     p[L.P_PAY_DM] = fx.payload_error_kg
     p[L.P_BL_WIDTH] = fx.backlash_width_rad
     p[L.P_BL_CENTER] = fx.backlash_center_rad

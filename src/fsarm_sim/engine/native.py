@@ -67,8 +67,8 @@ from numba.core import config as _numba_config
 from numba.extending import intrinsic, register_jitable
 
 from fsarm_sim.errors import FsarmError
+from fsarm_sim.kernels import dispatch, physics
 from fsarm_sim.kernels import layout as L
-from fsarm_sim.kernels import physics
 
 CACHE_ENV = "FSARM_CACHE_DIR"  # overrides the cache directory (default: $XDG_CACHE_HOME/fsarm-sim)
 
@@ -343,8 +343,9 @@ REF_NAME = tuple(L.REF_NAME.encode() + b"\0")
 
 
 def _kernel_modules() -> list[ModuleType]:
-    """physics, every effects, controllers and transmissions module (what the callbacks run)."""
-    mods: list[ModuleType] = [physics, L]
+    """physics, the generated dispatch, every effects, controllers and transmissions module
+    (what the callbacks run)."""
+    mods: list[ModuleType] = [physics, L, dispatch]
     for pkg_name in (
         "fsarm_sim.plant.effects",
         "fsarm_sim.controllers",

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from fsarm_sim.paramblocks import Decl, Layout
 from fsarm_sim.plant import transmissions
-from fsarm_sim.plant.effects import backlash, bending, conduit_viscoelastic, payload_error
+from fsarm_sim.plant.effects import backlash, bending, conduit_viscoelastic, payload_error, registry
 from fsarm_sim.plant.transmissions.base import N_TR
 
 PARAMS_NAME = "fsarm_params"
@@ -171,6 +171,22 @@ _p = _.block("payload_error", payload_error.KERNEL_PARAMS)
 P_PAY_DM, P_PAY_L2, P_PAY_L3, P_GRAVITY = _p["dm"], _p["l2"], _p["l3"], _p["gravity"]
 _k = _.block("backlash", backlash.KERNEL_PARAMS)
 P_BL_WIDTH, P_BL_CENTER = _k["width"], _k["center"]
+
+
+def _law_block(effect: registry.Effect) -> tuple[str, int, int, int]:
+    """(effect name, its on/off slot, first and end slot of the law's own parameters)."""
+    assert effect.law is not None
+    on = Decl("on", "on/off", 0.0, f"{effect.name} acts on the plant (Effects.laws)")
+    idx = LAYOUT.block(f"law:{effect.name}", (on, *effect.law.KERNEL_PARAMS))
+    start, end = LAYOUT.bounds(f"law:{effect.name}")
+    return effect.name, idx["on"], start + 1, end
+
+
+# the registry's arm effect laws (Effect.law): one block each, an on/off slot and then the law's
+# KERNEL_PARAMS, in registry order; kernels.dispatch calls each law whose slot is on
+ARM_LAW_BLOCKS: tuple[tuple[str, int, int, int], ...] = tuple(
+    _law_block(e) for e in registry.arm_laws()
+)
 
 N_PARAMS = LAYOUT.size
 del _, _s, _b, _c, _e, _g, _u, _p, _k

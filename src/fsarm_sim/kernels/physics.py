@@ -22,6 +22,16 @@ import numpy.typing as npt
 
 from fsarm_sim.controllers.joint3_torque import scheduled_gains, speed_loop, torque_pid
 from fsarm_sim.controllers.joint_position import clamp, computed_torque
+from fsarm_sim.kernels.dispatch import (
+    arm_law_torques,
+    tr_bend_torque,
+    tr_output_torque,
+    tr_potential,
+    tr_sensor_torque,
+    tr_state_rate,
+    tr_stiffness,
+    tr_torque,
+)
 from fsarm_sim.kernels.layout import (
     A_COUNT,
     A_MAX_ERR,
@@ -115,10 +125,6 @@ from fsarm_sim.kernels.layout import (
     P_ZETA3,
     REF_COLS,
     STIFFNESS_FLOOR,
-    TR_FLEXIBLE_SHAFT,
-    TR_MAGNETIC_SPRING,
-    TR_QA_JOINT,
-    TR_RTCA,
     U_ACC,
     U_ACC_PRE,
     U_LOG,
@@ -135,13 +141,6 @@ from fsarm_sim.plant.effects import (
     bending,
     conduit_viscoelastic,
     payload_error,
-)
-from fsarm_sim.plant.transmissions import (
-    flexible_shaft,
-    magnetic_spring,
-    qa_joint,
-    rtca,
-    tendon_sheath,
 )
 
 FloatArray = npt.NDArray[np.float64]
@@ -194,100 +193,6 @@ def transmitted_twist(prm: FloatArray, x: float, rate: float) -> tuple[float, fl
     return x, rate
 
 
-# Dispatch on the integer transmission id (layout.TR_*, the index in
-# layout.TRANSMISSION_MODULES): one branch per registered transmission; the last is the fallback,
-# and tests/test_layout.py checks that every id reaches its own module.
-def tr_torque(
-    kind: float, tr: FloatArray, x: float, rate: float, bend: float, act: FloatArray, a0: int
-) -> float:
-    """True torque of transmission ``kind``."""
-    k = int(kind)
-    if k == TR_FLEXIBLE_SHAFT:
-        return flexible_shaft.torque_nm(tr, x, rate, bend, act, a0)
-    if k == TR_RTCA:
-        return rtca.torque_nm(tr, x, rate, bend, act, a0)
-    if k == TR_QA_JOINT:
-        return qa_joint.torque_nm(tr, x, rate, bend, act, a0)
-    if k == TR_MAGNETIC_SPRING:
-        return magnetic_spring.torque_nm(tr, x, rate, bend, act, a0)
-    return tendon_sheath.torque_nm(tr, x, rate, bend, act, a0)
-
-
-def tr_sensor_torque(kind: float, tr: FloatArray, x: float, bend: float) -> float:
-    """Virtual torque sensor of transmission ``kind``: its elastic law on the encoder twist."""
-    k = int(kind)
-    if k == TR_FLEXIBLE_SHAFT:
-        return flexible_shaft.sensor_torque_nm(tr, x, bend)
-    if k == TR_RTCA:
-        return rtca.sensor_torque_nm(tr, x, bend)
-    if k == TR_QA_JOINT:
-        return qa_joint.sensor_torque_nm(tr, x, bend)
-    if k == TR_MAGNETIC_SPRING:
-        return magnetic_spring.sensor_torque_nm(tr, x, bend)
-    return tendon_sheath.sensor_torque_nm(tr, x, bend)
-
-
-def tr_stiffness(kind: float, tr: FloatArray, x: float, bend: float) -> float:
-    """d(sensor torque)/d(twist) of transmission ``kind``."""
-    k = int(kind)
-    if k == TR_FLEXIBLE_SHAFT:
-        return flexible_shaft.stiffness_nm_per_rad(tr, x, bend)
-    if k == TR_RTCA:
-        return rtca.stiffness_nm_per_rad(tr, x, bend)
-    if k == TR_QA_JOINT:
-        return qa_joint.stiffness_nm_per_rad(tr, x, bend)
-    if k == TR_MAGNETIC_SPRING:
-        return magnetic_spring.stiffness_nm_per_rad(tr, x, bend)
-    return tendon_sheath.stiffness_nm_per_rad(tr, x, bend)
-
-
-def tr_state_rate(
-    kind: float,
-    tr: FloatArray,
-    x: float,
-    rate: float,
-    bend: float,
-    act: FloatArray,
-    a0: int,
-    i: int,
-) -> float:
-    """d(act[a0 + i])/dt of transmission ``kind``."""
-    k = int(kind)
-    if k == TR_FLEXIBLE_SHAFT:
-        return flexible_shaft.state_rate(tr, x, rate, bend, act, a0, i)
-    if k == TR_RTCA:
-        return rtca.state_rate(tr, x, rate, bend, act, a0, i)
-    if k == TR_QA_JOINT:
-        return qa_joint.state_rate(tr, x, rate, bend, act, a0, i)
-    if k == TR_MAGNETIC_SPRING:
-        return magnetic_spring.state_rate(tr, x, rate, bend, act, a0, i)
-    return tendon_sheath.state_rate(tr, x, rate, bend, act, a0, i)
-
-
-def tr_potential(
-    kind: float, tr: FloatArray, x: float, bend: float, act: FloatArray, a0: int
-) -> float:
-    """Stored energy of transmission ``kind``."""
-    k = int(kind)
-    if k == TR_FLEXIBLE_SHAFT:
-        return flexible_shaft.potential_j(tr, x, bend, act, a0)
-    if k == TR_RTCA:
-        return rtca.potential_j(tr, x, bend, act, a0)
-    if k == TR_QA_JOINT:
-        return qa_joint.potential_j(tr, x, bend, act, a0)
-    if k == TR_MAGNETIC_SPRING:
-        return magnetic_spring.potential_j(tr, x, bend, act, a0)
-    return tendon_sheath.potential_j(tr, x, bend, act, a0)
-
-
-def tr_output_torque(kind: float, tr: FloatArray, theta_s: float, theta_s_dot: float) -> float:
-    """Torque on transmission ``kind``'s output side against the frame (bearing friction,
-    eccentric mass: seed 003 model F), N*m at theta_s; 0 for the others."""
-    if int(kind) == TR_MAGNETIC_SPRING:
-        return magnetic_spring.output_side_torque_nm(tr, theta_s, theta_s_dot)
-    return 0.0
-
-
 def shaft_torque(prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray) -> float:
     """True torque carried by joint 3's transmission (N*m).
 
@@ -302,22 +207,6 @@ def shaft_torque(prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: Float
     return tr_torque(
         prm[P_TRANS], prm[P_TR : P_TR + N_TR], twist, rate, bend, act, int(prm[P_ACT_SLIP1])
     )
-
-
-def tr_bend_torque(
-    kind: float, tr: FloatArray, x: float, bend: float, act: FloatArray, a0: int
-) -> float:
-    """-dV/dphi_B of transmission ``kind`` (its ``bend_torque_nm``)."""
-    k = int(kind)
-    if k == TR_FLEXIBLE_SHAFT:
-        return flexible_shaft.bend_torque_nm(tr, x, bend, act, a0)
-    if k == TR_RTCA:
-        return rtca.bend_torque_nm(tr, x, bend, act, a0)
-    if k == TR_QA_JOINT:
-        return qa_joint.bend_torque_nm(tr, x, bend, act, a0)
-    if k == TR_MAGNETIC_SPRING:
-        return magnetic_spring.bend_torque_nm(tr, x, bend, act, a0)
-    return tendon_sheath.bend_torque_nm(tr, x, bend, act, a0)
 
 
 def bend_coupling_torque(prm: FloatArray, qpos: FloatArray, act: FloatArray) -> float:
@@ -375,19 +264,15 @@ def passive_forces(
     tau = shaft_torque(prm, qpos, qvel, act)
     add_force(qfrc, prm[P_DOF_ROT], -prm[P_COEF_M] * tau)
     add_force(qfrc, prm[P_DOF_Q3], prm[P_COEF_S] * tau)
-    if prm[P_TRANS] > 0.5:
-        cs = prm[P_COEF_S]
-        add_force(
-            qfrc,
-            prm[P_DOF_Q3],
-            cs
-            * tr_output_torque(
-                prm[P_TRANS],
-                prm[P_TR : P_TR + N_TR],
-                cs * coord(qpos, prm[P_QADR_Q3]),
-                cs * coord(qvel, prm[P_DOF_Q3]),
-            ),
-        )
+    cs = prm[P_COEF_S]
+    q3 = coord(qpos, prm[P_QADR_Q3])
+    qd3 = coord(qvel, prm[P_DOF_Q3])
+    # the transmission's own torque against the frame on its output side (0 for most)
+    add_force(
+        qfrc,
+        prm[P_DOF_Q3],
+        cs * tr_output_torque(prm[P_TRANS], prm[P_TR : P_TR + N_TR], cs * q3, cs * qd3),
+    )
     total, conduit = bending_torques(prm, qpos, qvel, act)
     add_force(qfrc, prm[P_DOF_Q2], total)
     if prm[P_PAY_DM] != 0.0 and prm[P_QADR_Q2] >= 0.0:
@@ -402,6 +287,22 @@ def passive_forces(
         )
         add_force(qfrc, prm[P_DOF_Q2], tau2)
         add_force(qfrc, prm[P_DOF_Q3], tau3)
+    # the registry's arm effect laws that are switched on (kernels.dispatch, generated)
+    twist, rate = twist_and_rate(prm, qpos, qvel)
+    t2, t3, tm = arm_law_torques(
+        prm,
+        coord(qpos, prm[P_QADR_Q2]),
+        q3,
+        coord(qvel, prm[P_DOF_Q2]),
+        qd3,
+        prm[P_COEF_M] * coord(qvel, prm[P_DOF_ROT]),
+        twist,
+        rate,
+        bend_angle(prm, qpos),
+    )
+    add_force(qfrc, prm[P_DOF_Q2], t2)
+    add_force(qfrc, prm[P_DOF_Q3], t3)
+    add_force(qfrc, prm[P_DOF_ROT], prm[P_COEF_M] * tm)
     log[L_TAU_SHAFT] = tau
     log[L_TAU_BEND] = total
     log[L_TAU_CONDUIT] = conduit

@@ -17,6 +17,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from fsarm_sim.plant.effects.base import ArmEffectLaw
+
 SERIES = "series_bench"
 PARALLEL = "parallel_bench"
 ARM = "arm"
@@ -29,6 +31,10 @@ class Param:
     lower: float
     upper: float
     meaning: str
+    typical: float = 0.0  # a typical magnitude (fit step scale); 0: 1 % of the bound range
+
+    def scale(self) -> float:
+        return self.typical if self.typical > 0.0 else 0.01 * (self.upper - self.lower)
 
 
 @dataclass(frozen=True)
@@ -47,6 +53,10 @@ class Effect:
     module: str  # fsarm_sim.plant.effects.<module>
     meaning: str
     variants: tuple[Variant, ...] = field(default=())
+    # the law that acts on the simulated arm through the kernels (its variant(s) list ARM in
+    # their setups); the kernels' dispatch, the parameter layout, SimConfig's Effects.laws and the
+    # arm diagnosis all read it from here
+    law: ArmEffectLaw | None = None
 
     def variant(self, key: str) -> Variant:
         for v in self.variants:
@@ -244,6 +254,11 @@ def get(name: str) -> Effect:
     if name not in BY_NAME:
         raise KeyError(f"unknown effect {name!r}; known effects: {', '.join(names())}")
     return BY_NAME[name]
+
+
+def arm_laws() -> list[Effect]:
+    """The effects with a kernel law on the arm, in registry order (their kernel ids)."""
+    return [e for e in EFFECTS if e.law is not None]
 
 
 def applicable(setup: str, inertia_load: bool) -> list[tuple[str, str]]:

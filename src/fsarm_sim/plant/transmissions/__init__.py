@@ -2,8 +2,9 @@
 
 Add a transmission: write its module against :class:`~fsarm_sim.plant.transmissions.base.
 TransmissionModule` (mypy checks it through :data:`MODULES`), add it to :data:`MODULES` (its
-place there is its integer kernel id, ``layout.TR_*``) and :data:`_TABLE`, and add its branch to
-``physics``' dispatch functions (tests/test_layout.py fails until every id reaches its module).
+place there is its integer kernel id, ``layout.TR_*``) and :data:`_TABLE`. The kernels' dispatch
+is generated from :data:`MODULES` (:mod:`fsarm_sim.kernels.dispatch`; tests/test_layout.py checks
+that every id reaches its module).
 """
 
 from __future__ import annotations

@@ -1,0 +1,129 @@
+"""Kernel dispatch, generated from the registries: no hand-written branch per module.
+
+The kernels must call "the transmission whose id is in the parameter vector" and "every arm effect
+law that is switched on" without Python objects (Numba compiles them as C callbacks). Each
+dispatcher here is plain Python *source* generated at import from
+:data:`fsarm_sim.plant.transmissions.MODULES` (a transmission's id is its place there) and from the
+effect registry's laws (:func:`fsarm_sim.plant.effects.registry.arm_laws`, parameter blocks from
+:data:`fsarm_sim.kernels.layout.ARM_LAW_BLOCKS`), compiled with ``exec`` into this module. The
+result is the if-chain one would write by hand, with the ids and slot offsets as literals, so the
+Python callbacks run it as is and Numba compiles it like any other kernel (``engine.native``
+registers this module's functions). :data:`SOURCE` keeps the generated text for reading and tests.
+
+Adding a transmission or an arm effect therefore never touches this file or ``physics``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from fsarm_sim.kernels.layout import ARM_LAW_BLOCKS
+from fsarm_sim.plant import transmissions
+from fsarm_sim.plant.effects import registry
+
+FloatArray = npt.NDArray[np.float64]
+
+SOURCE: dict[str, str] = {}  # generated function name -> its source
+
+_TR_MODULES = list(transmissions.MODULES.values())
+_LAWS = {e.name: e.law for e in registry.arm_laws()}
+
+
+def _compile(name: str, src: str, env: dict[str, Any]) -> Callable[..., Any]:
+    """exec ``src`` (defining ``name``) in a namespace of its own holding ``env`` (the modules it
+    calls); the function reports this module as its own, so ``engine.native`` compiles it."""
+    namespace: dict[str, Any] = {"__name__": __name__, **env}
+    exec(compile(src, f"<generated {__name__}.{name}>", "exec"), namespace)
+    SOURCE[name] = src
+    fn: Callable[..., Any] = namespace[name]
+    return fn
+
+
+def _transmission_dispatch(name: str, args: str, method: str, call_args: str) -> Callable[..., Any]:
+    """``name(kind, <args>)``: the transmission module with id ``int(kind)``'s ``method``.
+
+    The last registered module is the fallback branch (one return type for Numba); tests check
+    that every id reaches its own module.
+    """
+    lines = [f"def {name}(kind, {args}):", "    k = int(kind)"]
+    env = {}
+    for i, mod in enumerate(_TR_MODULES):
+        env[f"_tr{i}"] = mod
+        call = f"return _tr{i}.{method}({call_args})"
+        if i < len(_TR_MODULES) - 1:
+            lines += [f"    if k == {i}:", f"        {call}"]
+        else:
+            lines.append(f"    {call}")
+    return _compile(name, "\n".join(lines) + "\n", env)
+
+
+def _output_dispatch() -> Callable[..., Any]:
+    """``tr_output_torque(kind, tr, theta_s, theta_s_dot)``: the output-side torque of the
+    transmissions that have one (``output_side_torque_nm``), else 0."""
+    lines = ["def tr_output_torque(kind, tr, theta_s, theta_s_dot):", "    k = int(kind)"]
+    env = {}
+    for i, mod in enumerate(_TR_MODULES):
+        if hasattr(mod, "output_side_torque_nm"):
+            env[f"_tr{i}"] = mod
+            lines += [
+                f"    if k == {i}:",
+                f"        return _tr{i}.output_side_torque_nm(tr, theta_s, theta_s_dot)",
+            ]
+    lines.append("    return 0.0")
+    return _compile("tr_output_torque", "\n".join(lines) + "\n", env)
+
+
+def law_dispatch(
+    blocks: tuple[tuple[str, int, int, int], ...], laws: dict[str, Any]
+) -> Callable[..., Any]:
+    """``arm_law_torques(prm, q2, q3, qd2, qd3, omega_m, twist, twist_rate, bend)``: the sum of
+    the (joint 2, joint 3, shaft input) torques of every law in ``blocks`` (effect name, on/off
+    slot, parameter slots [start, end)) whose slot is on; ``laws`` maps a name to its module."""
+    args = "q2, q3, qd2, qd3, omega_m, twist, twist_rate, bend"
+    lines = [f"def arm_law_torques(prm, {args}):", "    t2 = 0.0", "    t3 = 0.0", "    tm = 0.0"]
+    env = {}
+    for i, (effect, on, start, end) in enumerate(blocks):
+        env[f"_law{i}"] = laws[effect]
+        lines += [
+            f"    if prm[{on}] > 0.5:  # {effect}",
+            f"        a, b, c = _law{i}.arm_torques(prm[{start}:{end}], {args})",
+            "        t2 += a",
+            "        t3 += b",
+            "        tm += c",
+        ]
+    lines.append("    return t2, t3, tm")
+    return _compile("arm_law_torques", "\n".join(lines) + "\n", env)
+
+
+_TR7 = "tr, x, rate, bend, act, a0"
+tr_torque: Callable[[float, FloatArray, float, float, float, FloatArray, int], float] = (
+    _transmission_dispatch("tr_torque", _TR7, "torque_nm", _TR7)
+)
+tr_sensor_torque: Callable[[float, FloatArray, float, float], float] = _transmission_dispatch(
+    "tr_sensor_torque", "tr, x, bend", "sensor_torque_nm", "tr, x, bend"
+)
+tr_stiffness: Callable[[float, FloatArray, float, float], float] = _transmission_dispatch(
+    "tr_stiffness", "tr, x, bend", "stiffness_nm_per_rad", "tr, x, bend"
+)
+tr_state_rate: Callable[[float, FloatArray, float, float, float, FloatArray, int, int], float] = (
+    _transmission_dispatch("tr_state_rate", _TR7 + ", i", "state_rate", _TR7 + ", i")
+)
+tr_potential: Callable[[float, FloatArray, float, float, FloatArray, int], float] = (
+    _transmission_dispatch(
+        "tr_potential", "tr, x, bend, act, a0", "potential_j", "tr, x, bend, act, a0"
+    )
+)
+tr_bend_torque: Callable[[float, FloatArray, float, float, FloatArray, int], float] = (
+    _transmission_dispatch(
+        "tr_bend_torque", "tr, x, bend, act, a0", "bend_torque_nm", "tr, x, bend, act, a0"
+    )
+)
+tr_output_torque: Callable[[float, FloatArray, float, float], float] = _output_dispatch()
+arm_law_torques: Callable[
+    [FloatArray, float, float, float, float, float, float, float, float],
+    tuple[float, float, float],
+] = law_dispatch(ARM_LAW_BLOCKS, _LAWS)
