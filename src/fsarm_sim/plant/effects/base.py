@@ -28,7 +28,10 @@ FloatArray = npt.NDArray[np.float64]
 class ArmEffectLaw(Protocol):
     """What an arm-acting effect module provides; mypy checks every ``Effect.law`` against it."""
 
-    KERNEL_PARAMS: tuple[Decl, ...]  # its parameter block (the kernel prepends an on/off slot)
+    @property
+    def KERNEL_PARAMS(self) -> tuple[Decl, ...]:
+        """Its parameter block (the layout prepends an on/off slot)."""
+        ...
 
     def arm_torques(
         self,
