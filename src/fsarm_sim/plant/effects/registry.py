@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from fsarm_sim.plant.effects import shaft_drag
 from fsarm_sim.plant.effects.base import ArmEffectLaw
 
 SERIES = "series_bench"
@@ -238,6 +239,23 @@ EFFECTS: tuple[Effect, ...] = (
                 (Param("dm_kg", "kg", -15.0, 15.0, "mass error"),),
             ),
         ),
+    ),
+    Effect(
+        "shaft_drag",
+        "shaft_drag",
+        "the shaft's core drags in its casing, more the more the route bends (arm only)",
+        (
+            Variant(
+                "casing",
+                (ARM,),
+                "torque -T_0 exp(mu_b |phi_B|) sgn(omega_m) on the shaft input, before the spring",
+                (
+                    Param("drag_nm", "N*m", 0.0, 2.0, "drag torque straight", 0.02),
+                    Param("mu_per_rad", "1/rad", 0.0, 3.0, "growth with |bend|", 0.1),
+                ),
+            ),
+        ),
+        law=shaft_drag,
     ),
 )
 
