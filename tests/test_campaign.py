@@ -183,3 +183,20 @@ def test_cli_bench_commands(
     assert run_fsarm(monkeypatch, "bench", "series", "--diameter-mm", "20") == 2
     assert "outside the validity range" in capsys.readouterr().err
     assert run_fsarm(monkeypatch, "bench", "series", "--bends", "0,150") == 2
+
+
+def test_the_papers_procedures_return_eq3_and_eq4_on_the_default_shaft() -> None:
+    """Seed 000's own identification on the simulated benches returns the catalogue's numbers:
+    eq. 2's linear fit of the parallel test -> eq. 4 (the file declares that test), the eq. 8
+    slope of the series test with hysteresis on -> eq. 3 (the spring carries eq. 3 less the
+    slip elements' apparent stiffness). Default test settings, as the paper ran them."""
+    s = cp.BenchSettings()
+    shaft = CAT.shaft()  # the prototype with the file's defaults (hysteresis on)
+    assert max(shaft.slip_k) > 0.0
+    plain = cp.fit_parallel(cp.parallel_test(shaft, False, s), False)
+    assert plain.kb_linear == pytest.approx(shaft.kb_eq4, rel=0.05)
+    assert plain.kb_linear > 1.2 * shaft.kb  # the elastic K_b alone would be far off
+    f = cp.fit_series(cp.series_test(shaft, math.radians(90.0), s), 90.0)
+    assert f.k_pos == pytest.approx(shaft.k_series(math.radians(90.0), 1), rel=0.05)
+    assert f.k_neg == pytest.approx(shaft.k_series(math.radians(90.0), -1), rel=0.05)
+    assert f.rmse_pos > 0.1  # still a loop (Table I's RMSE range 0.17-1.01 N*m)

@@ -63,7 +63,7 @@ def test_structure_of_eq_5_to_7_has_the_values_the_mjcf_implies(pairs: list[C.Pa
         rotor_izz * i_g1**2, rel=1e-12
     )
     assert entry["S(2,3) = 0"].measured == 0.0
-    k_sp = pair.config.shaft.k_pos
+    k_sp = pair.config.shaft.k_spring(0.0, 1)  # eq. 3 less the slip elements' apparent share
     assert structure.k_sea_pos[2, 2] == pytest.approx(k_sp * i_g2**2, rel=1e-9)
     assert structure.k_sea_pos[1, 1] == pytest.approx(pair.config.shaft.kb, rel=1e-9)
     assert not structure.k_sea_pos[0].any()  # joint 1 carries no spring
@@ -141,7 +141,10 @@ def test_series_stiffness_wired_wrong_fails_the_structure() -> None:
     structure = C.elastic_structure(pair)
     assert not C.check_structure(structure).passed
     errors = {e.name: e.error for e in structure.entries}
-    assert errors["K_SEA(3,3) = K_s i_G2^2 (winding, K_sp)"] == pytest.approx(0.01, rel=1e-6)
+    sh = pair.config.shaft  # 1 % of eq. 3's K_sp, relative to the plant's (smaller) spring
+    assert errors["K_SEA(3,3) = K_s i_G2^2 (winding, K_sp)"] == pytest.approx(
+        0.01 * sh.k_pos / sh.k_spring(0.0, 1), rel=1e-6
+    )
     assert errors["K_SEA(3,3) = K_s i_G2^2 (unwinding, K_sn)"] < 1e-12  # the other side is right
 
 

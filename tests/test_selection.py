@@ -62,9 +62,11 @@ def test_algorithm1_lands_within_one_step_and_never_beats_closed_form(kind: str)
         alg = algorithm1(CAT, req)
         if alg.diameter_mm != best.diameter_mm:
             continue  # Algorithm 1 fixes D from the torque need alone
+        # steepest |dK/dL| over the range: anywhere for the affine eq. 4, at L_min for eq. 3's
+        # inverse length law (K ~ 1/L)
         slope = abs(
-            stiffness(CAT, kind, alg.diameter_mm, 1.0, req.bend_rad, req.side)
-            - stiffness(CAT, kind, alg.diameter_mm, 0.0, req.bend_rad, req.side)
+            stiffness(CAT, kind, alg.diameter_mm, lo + 1.0, req.bend_rad, req.side)
+            - stiffness(CAT, kind, alg.diameter_mm, lo, req.bend_rad, req.side)
         )
         assert abs(alg.k_nm_per_rad - req.k_des) <= slope * step * (1 + 1e-9)
         assert abs(alg.k_nm_per_rad - req.k_des) >= abs(best.k_nm_per_rad - req.k_des)
@@ -101,13 +103,15 @@ def test_literal_algorithm1_walks_out_of_the_range() -> None:
 
 
 def test_unreachable_stiffness_is_a_named_error_with_the_reachable_ranges() -> None:
-    req = SelectionRequest(k_des=10.0, kind="series")  # between the 6 mm and 8 mm shafts
+    # 4 and 5 mm shafts reach at most K(5 mm, 235 mm) = 6.5 N*m/rad
+    req = SelectionRequest(k_des=10.0, kind="series", diameters_mm=(4.0, 5.0))
     with pytest.raises(ShaftSelectionError, match="not reachable") as info:
         select_shaft(CAT, req)
-    assert "D 8: [" in str(info.value)
+    assert "D 5: [" in str(info.value)
     near = select_shaft(CAT, req, nearest=True)
     assert not near.feasible
-    assert near.diameter_mm == 8.0
+    assert near.diameter_mm == 5.0
+    assert near.length_mm == CAT.length_range[0]  # the shortest: the stiffest
     alg = algorithm1(CAT, req)
     assert not alg.feasible and alg.diameter_mm == 4.0  # D from torque 0: the thinnest
 
@@ -168,12 +172,13 @@ def test_cli_select_shaft(
     )
     out = capsys.readouterr().out
     assert "Algorithm 1 lands" in out and "closed" in out
-    code = run_fsarm(monkeypatch, "select-shaft", "--k-des", "10", "--kind", "series")
+    # stiffer than the stiffest shaft (13 mm x 235 mm, ~88 N*m/rad)
+    code = run_fsarm(monkeypatch, "select-shaft", "--k-des", "100", "--kind", "series")
     assert code == 2
     assert "not reachable" in capsys.readouterr().err
     assert (
         run_fsarm(
-            monkeypatch, "select-shaft", "--k-des", "4", "--kind", "parallel", "--torque-nm", "6.7"
+            monkeypatch, "select-shaft", "--k-des", "5", "--kind", "parallel", "--torque-nm", "6.7"
         )
         == 0
     )
@@ -200,3 +205,20 @@ def test_old_module_name_is_a_deprecated_alias() -> None:
     for name in old.__all__:
         assert getattr(old, name) is getattr(new, name), name
     assert "deprecated" in (old.__doc__ or "").lower()
+
+
+def test_length_is_the_series_stiffness_lever() -> None:
+    """Inverse length law of the default file: K(L) L is constant for every D, bend and side,
+    so Algorithm 1 reaches a K_des between two catalogue stiffnesses by choosing L."""
+    assert CAT.series_reference_length_mm == 450.0
+    for d in (4.0, 9.0, 13.0):
+        for side in (1, -1):
+            for bend in (0.0, 1.2):
+                k = [stiffness(CAT, "series", d, ell, bend, side) * ell for ell in (235.0, 535.0)]
+                assert k[0] == pytest.approx(k[1], rel=1e-12)
+    k_450 = stiffness(CAT, "series", 9.0, 450.0)
+    req = SelectionRequest(k_des=k_450 * 450.0 / 300.0, torque_nm=6.7, diameters_mm=(9.0,))
+    sel = select_shaft(CAT, req)
+    assert sel.feasible and sel.length_mm == pytest.approx(300.0, rel=1e-9)
+    alg = algorithm1(CAT, req)
+    assert alg.feasible and abs(alg.length_mm - 300.0) <= 1.0

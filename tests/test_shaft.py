@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -95,8 +96,8 @@ def test_missing_file() -> None:
     ("edit", "message"),
     [
         (lambda t: t.replace("[series.positive]", "[series.pos]"), "series.positive"),
-        (lambda t: t.replace("p = [0.434, ", "p = ["), "list of 7"),
-        (lambda t: t.replace("p = [0.434, ", 'p = ["x", '), "finite number"),
+        (lambda t: t.replace("p = [-1.816, ", "p = ["), "list of 7"),
+        (lambda t: t.replace("p = [-1.816, ", 'p = ["x", '), "finite number"),
         (lambda t: t.replace("stiffening_per_rad2 = 0.1", "stiffening_per_rad2 = nan"), "finite"),
         (
             lambda t: t.replace(
@@ -117,3 +118,108 @@ def test_malformed_files(tmp_path: Path, edit, message: str) -> None:  # type: i
     with pytest.raises(CoefficientFileError, match=message) as info:
         load_catalogue(f)
     assert str(f) in str(info.value)
+
+
+# --- eq. 3's length law, eq. 4 as identified, the slip elements' apparent stiffness -------------
+
+
+def _with(tmp_path: Path, edit: Callable[[str], str]) -> Path:
+    f = tmp_path / "edited.toml"
+    f.write_text(edit(_default_text()))
+    return f
+
+
+def test_inverse_length_law_scales_eq3_by_l_ref_over_l() -> None:
+    assert CAT.series_reference_length_mm == 450.0
+    for d in (4.0, 9.0, 13.0):
+        ref = CAT.shaft(d, 450.0)
+        for ell in (235.0, 335.0, 535.0):
+            s = CAT.shaft(d, ell)
+            for side in (1, -1):
+                for b in (0.0, 1.0):
+                    assert s.k_series(b, side) == pytest.approx(
+                        ref.k_series(b, side) * 450.0 / ell, rel=1e-12
+                    )
+    # seed 001's measured MasterFlex08 (8 mm x 865 mm, ~5.3 N*m/rad secant at 90 deg twist)
+    k, _ = CAT.eq3(8.0, 865.0, 1)  # beyond the 535 mm validity (eq. 4 is negative there)
+    assert k == pytest.approx(5.3, rel=0.1)
+
+
+def test_affine_law_keeps_eq3_as_printed(tmp_path: Path) -> None:
+    def affine(t: str) -> str:
+        t = t.replace('length_law = "inverse"\nreference_length_mm = 450.0\n', "")
+        return t.replace("p = [-1.816, 1.37886752", "p = [0.434, 1.37886752").replace(
+            "0.03024786, 0.0,", "0.03024786, -0.005,"
+        )
+
+    cat = load_catalogue(_with(tmp_path, affine))
+    assert cat.series_reference_length_mm == 0.0
+    p = cat.p_pos
+    for ell in (235.0, 535.0):
+        k = cat.shaft(9.0, ell).k_series(0.0, 1)
+        assert k == pytest.approx(p[0] + 9 * p[1] + 81 * p[2] + 729 * p[3] + p[4] * ell, rel=1e-12)
+    assert cat.shaft(9.0, 450.0).k_series(0.0, 1) == pytest.approx(15.0, rel=1e-5)
+
+
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (lambda t: t.replace('length_law = "inverse"', 'length_law = "log"'), "length_law"),
+        (lambda t: t.replace("reference_length_mm = 450.0\n", ""), "needs 'series.reference"),
+        (lambda t: t.replace("reference_length_mm = 450.0", "reference_length_mm = -1.0"), "> 0"),
+        (lambda t: t.replace("0.03024786, 0.0,", "0.03024786, -0.005,"), "p4 L term"),
+        (
+            lambda t: t.replace('length_law = "inverse"\n', 'length_law = "affine"\n'),
+            "only read with length_law = 'inverse'",
+        ),
+        (lambda t: t.replace("eq2_test_period_s = 8.0\n", ""), "needs 'bending.eq2_test_period_s'"),
+        (lambda t: t.replace("eq2_test_period_s = 8.0", "eq2_test_period_s = 0.0"), "> 0"),
+        (
+            lambda t: t.replace(
+                "apparent_stiffness_neg = [0.0298", "apparent_stiffness_neg = [nan"
+            ),
+            "finite",
+        ),
+    ],
+)
+def test_length_law_and_identification_keys_are_checked(
+    tmp_path: Path, edit: Callable[[str], str], message: str
+) -> None:
+    with pytest.raises(CoefficientFileError, match=message):
+        load_catalogue(_with(tmp_path, edit))
+
+
+def test_eq4_is_what_eq2_identifies_and_the_elastic_kb_relieves_8nm(tmp_path: Path) -> None:
+    s = CAT.shaft()
+    gain = CAT.eq2_fit_gain()
+    # 1 + 3/4 beta A^2 + sum f_i (w tau_i)^2 / (1 + (w tau_i)^2), A = 90 deg, period 8 s
+    w = 2.0 * math.pi / 8.0
+    want = 1.0 + 0.75 * 0.1 * (math.pi / 2) ** 2
+    want += sum(f * (w * t) ** 2 / (1 + (w * t) ** 2) for f, t in ((0.35, 0.15), (0.25, 1.5)))
+    assert gain == pytest.approx(want, rel=1e-12)
+    assert s.kb_eq4 == pytest.approx(gain * s.kb, rel=1e-12)
+    assert s.kb == pytest.approx(4.085, rel=1e-3)  # the elastic K_b behind the 8 N*m relief
+    no_test = load_catalogue(
+        _with(
+            tmp_path,
+            lambda t: t.replace("eq2_test_amplitude_rad = 1.5707963267948966\n", "").replace(
+                "eq2_test_period_s = 8.0\n", ""
+            ),
+        )
+    )
+    assert no_test.eq2_fit_gain() == 1.0
+    assert no_test.shaft().kb == no_test.shaft().kb_eq4 == pytest.approx(s.kb_eq4, rel=1e-12)
+
+
+def test_spring_is_eq3_less_the_elements_apparent_stiffness() -> None:
+    on = CAT.shaft(series_hysteresis=True)
+    off = CAT.shaft(series_hysteresis=False)
+    assert off.slip_apparent == (0.0, 0.0, 0.0, 0.0)
+    a = CAT.slip_apparent_fraction
+    for b in (0.0, 1.0):
+        assert off.k_spring(b, 1) == off.k_series(b, 1)
+        assert on.k_spring(b, 1) == pytest.approx(on.k_series(b, 1) - (a[0] + a[1] * b) * on.k_pos)
+        assert on.k_spring(b, -1) == pytest.approx(
+            on.k_series(b, -1) - (a[2] + a[3] * b) * on.k_pos
+        )
+        assert 0.0 < on.k_spring(b, -1) < on.k_series(b, -1)

@@ -462,7 +462,8 @@ def register(app: typer.Typer) -> None:
         fits = result.parallel[name]
         _print_parallel_table(name, fits)
         console.print(
-            f"catalogue (eq. 4) K_b = {p.kb:.4g} N·m/rad, stiffening β = {p.beta:g} /rad²; "
+            f"catalogue (eq. 4) K_b = {p.kb_eq4:.4g} N·m/rad (elastic {p.kb:.4g}), "
+            f"stiffening β = {p.beta:g} /rad²; "
             f"static relief at 90° = {p.static_relief_nm(math.pi / 2):.3g} N·m",
             markup=False,
         )

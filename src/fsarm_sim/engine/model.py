@@ -18,12 +18,12 @@ import numpy as np
 import numpy.typing as npt
 
 from fsarm_sim.engine import callbacks
+from fsarm_sim.engine.lean import strip
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
 from fsarm_sim.kernels import layout as L
 from fsarm_sim.plant import transmissions
 from fsarm_sim.plant.effects import registry
 from fsarm_sim.plant.shaft import ShaftParams, load_catalogue
-from fsarm_sim.plant.transmissions import flexible_shaft
 from fsarm_sim.plant.transmissions.base import Transmission, TransmissionError
 
 PAYLOAD_MAX_KG = 15.0  # seed 000 Table III
@@ -151,15 +151,7 @@ class SimConfig:
             )
         self.gains.validate()
         self.effects.validate()
-        tr = self.transmission_model()
-        if tr.name != transmissions.DEFAULT:
-            tr.block(dict(self.transmission_params))
-            tr.block(dict(self.controller_transmission_params or self.transmission_params))
-        elif self.transmission_params or self.controller_transmission_params:
-            raise InvalidParameterError(
-                "the flexible shaft takes its parameters from SimConfig.shaft, not "
-                "transmission_params"
-            )
+        self.transmission_blocks()  # the transmission's own checks (TransmissionError)
         if self.timestep_s is not None and (
             not math.isfinite(self.timestep_s) or self.timestep_s <= 0.0
         ):
@@ -180,34 +172,12 @@ class SimConfig:
     def transmission_blocks(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
         """(plant, controller) parameter blocks of joint 3's transmission."""
         tr = self.transmission_model()
-        if tr.name == transmissions.DEFAULT:
-            plant = shaft_block(self.shaft)
-            if not self.effects.slip:  # Maxwell-slip elements switched off on the plant
-                plant[flexible_shaft.I_SLIP_K : flexible_shaft.I_SLIP_F] = 0.0
-            return plant, shaft_block(self.controller_shaft or self.shaft)
-        plant = tr.block(dict(self.transmission_params))
-        ctrl = tr.block(dict(self.controller_transmission_params or self.transmission_params))
+        plant = tr.run_block(self.shaft, dict(self.transmission_params), self.effects.slip)
+        ctrl = tr.run_block(
+            self.controller_shaft or self.shaft,
+            dict(self.controller_transmission_params or self.transmission_params),
+        )
         return plant, ctrl
-
-
-def shaft_block(sh: ShaftParams) -> npt.NDArray[np.float64]:
-    """The flexible shaft's block (transmissions.flexible_shaft order) from a catalogue shaft."""
-    out = np.zeros(L.N_TR)
-    n = flexible_shaft.N_SLIP
-    out[: flexible_shaft.I_SLIP_K] = (
-        sh.k_pos,
-        sh.s_pos,
-        sh.k_neg,
-        sh.s_neg,
-        sh.damping_pos,
-        sh.damping_neg,
-        sh.rating_nm,
-    )
-    out[flexible_shaft.I_SLIP_K : flexible_shaft.I_SLIP_K + n] = sh.slip_k
-    out[flexible_shaft.I_SLIP_F : flexible_shaft.I_SLIP_F + n] = sh.slip_f
-    out[flexible_shaft.I_SLIP_RN] = sh.slip_unwinding_ratio
-    out[flexible_shaft.I_BEND_MU] = sh.bend_friction_per_rad
-    return out
 
 
 INTEGRATORS = {
@@ -355,16 +325,39 @@ def build_spec(
             act.actrange = [lim[0], lim[1]]
     spec.add_numeric(name=L.PARAMS_NAME, size=L.N_PARAMS, data=np.zeros(L.N_PARAMS))
     spec.add_numeric(name=L.REF_NAME, size=ref_table.size, data=ref_table.ravel())
-    spec.nuserdata = L.N_USERDATA
+    # the kernels' userdata and the run recorder's buffer (layout.U_REC_*)
+    spec.nuserdata = L.N_USERDATA + L.REC_ROWS_DEFAULT * L.rec_width(*spec_sizes(spec))
     return spec
 
 
+_QPOS_SIZE = {mujoco.mjtJoint.mjJNT_FREE: 7, mujoco.mjtJoint.mjJNT_BALL: 4}
+_DOF_SIZE = {mujoco.mjtJoint.mjJNT_FREE: 6, mujoco.mjtJoint.mjJNT_BALL: 3}
+
+
+def spec_sizes(spec: mujoco.MjSpec) -> tuple[int, int, int]:
+    """(nq, nv, na) the spec will compile to (joints by type; an actuator with dynamics has
+    ``actdim`` states, 1 by default); tests/test_model.py checks it against the compiled model."""
+    nq = sum(_QPOS_SIZE.get(j.type, 1) for j in spec.joints)
+    nv = sum(_DOF_SIZE.get(j.type, 1) for j in spec.joints)
+    na = sum(
+        (a.actdim if a.actdim > 0 else 1)
+        for a in spec.actuators
+        if a.dyntype != mujoco.mjtDyn.mjDYN_NONE
+    )
+    return nq, nv, na
+
+
 def build_model(
-    config: SimConfig, ref_table: npt.NDArray[np.float64], path: Path | None = None
+    config: SimConfig,
+    ref_table: npt.NDArray[np.float64],
+    path: Path | None = None,
+    lean: bool = False,
 ) -> mujoco.MjModel:
     """Compile the arm for one run and write its parameters into ``fsarm_params``.
 
-    ``ref_table`` has one row per control tick: ``q_ref[3], qd_ref[3], qdd_ref[3]``.
+    ``ref_table`` has one row per control tick: ``q_ref[3], qd_ref[3], qdd_ref[3]``. ``lean``:
+    the lean twin (:mod:`fsarm_sim.engine.lean`: no visual geoms or sensors; the same dynamics),
+    for stepping only.
     """
     config.validate()
     ref = np.ascontiguousarray(ref_table, dtype=np.float64)
@@ -376,8 +369,11 @@ def build_model(
         raise InvalidParameterError("reference table contains NaN or infinite values")
     if config.transmission_model().routed_over_joint2:  # phi_B = q2: the file's bend range
         config.shaft.check_bend(ref[:, 1], "joint 2's reference q2 (the shaft's bend phi_B)")
+    spec = build_spec(config, ref, path)
+    if lean:
+        strip(spec)
     with callbacks.suspended():
-        model = build_spec(config, ref, path).compile()
+        model = spec.compile()
     if config.timestep_s is not None:
         model.opt.timestep = config.timestep_s
     if config.integrator is not None:

@@ -22,7 +22,18 @@ Parsing is strict (a setting is never silently ignored or misread):
   error (it would do nothing);
 * ``[validity].bend_rad`` bounds the bend angle |phi_B| everywhere it is used - bench, sweep and
   arm runs (joint 2's reference, ``model.build_model``) - through one check,
-  :func:`check_bend_rad`.
+  :func:`check_bend_rad`;
+* ``[series].length_law`` ("affine": eq. 3 as printed, the default when absent; "inverse": eq. 3
+  at ``reference_length_mm`` scaled by L_ref / L, with p4 = 0) - the length law of eq. 3
+  (:mod:`fsarm_sim.plant.effects.series_stiffness`);
+* eq. 3 and eq. 4 are what the paper's own identification returns (Sec. III-B): eq. 4 is the
+  slope of eq. 2's linear fit over the test declared by ``[bending].eq2_test_amplitude_rad`` and
+  ``eq2_test_period_s`` (both or neither), so the elastic ``ShaftParams.kb`` is eq. 4 over that
+  fit's gain (:meth:`Catalogue.eq2_fit_gain`; ``ShaftParams.kb_eq4`` keeps eq. 4); eq. 3 is the
+  slope of the series test, so while the slip elements are on the plant's spring is eq. 3 less
+  their apparent stiffness, ``[series.maxwell_slip].apparent_stiffness_pos/_neg``
+  (``ShaftParams.slip_apparent``, :meth:`ShaftParams.k_spring`). The controller's eq. 8 and
+  every "K_s" the studies report stay eq. 3.
 """
 
 from __future__ import annotations
@@ -39,7 +50,7 @@ from typing import Any
 import numpy as np
 
 from fsarm_sim.errors import CoefficientFileError, ShaftRangeError
-from fsarm_sim.plant.effects import bending, series_stiffness
+from fsarm_sim.plant.effects import bending, conduit_viscoelastic, series_stiffness
 
 DEFAULT_CATALOGUE = "shafts.toml"
 PROTOTYPE_DIAMETER_MM = 9.0  # seed 000 Sec. IV-A1: MasterFlex D = 9 mm, L = 450 mm
@@ -56,7 +67,7 @@ class ShaftParams:
     s_pos: float  # eq. 3 winding side, slope in |phi_B|
     k_neg: float
     s_neg: float
-    kb: float  # eq. 4
+    kb: float  # elastic bending stiffness K_b of M = K_b (phi + beta phi^3) (eq. 4 / test gain)
     beta: float  # bending stiffening, 1/rad^2
     conduit_k: tuple[float, float]  # Maxwell-branch stiffness, N*m/rad
     conduit_tau: tuple[float, float]  # Maxwell-branch time constants, s
@@ -67,8 +78,12 @@ class ShaftParams:
     slip_f: tuple[float, float, float] = (0.0, 0.0, 0.0)  # straight, winding side
     slip_unwinding_ratio: float = 1.0  # unwinding-side / winding-side slip torque
     bend_friction_per_rad: float = 0.0  # capstan-like growth of the slip torques with |phi_B|
+    # the elements' apparent stiffness in seed 000's series test (k_pos, s_pos, k_neg, s_neg):
+    # the plant's spring is eq. 3 less it while the elements are on (transmissions.flexible_shaft)
+    slip_apparent: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
     rating_nm: float = 0.0
     bend_limit_rad: float = 2.0 * math.pi / 3.0
+    eq4_kb: float = 0.0  # eq. 4 as the file gives it (what eq. 2's test identifies); 0: = kb
     # where the numbers come from (named in errors); not part of equality
     source: str = field(default="", compare=False)
 
@@ -82,6 +97,18 @@ class ShaftParams:
         return series_stiffness.stiffness_nm_per_rad(
             twist, bend_rad, self.k_pos, self.s_pos, self.k_neg, self.s_neg
         )
+
+    def k_spring(self, bend_rad: float, side: int) -> float:
+        """The plant's spring at a bend (side +1 winding, -1 unwinding): eq. 3 less the slip
+        elements' apparent stiffness in the series test (0 with the elements off)."""
+        a = self.slip_apparent if max(self.slip_k) > 0.0 else (0.0, 0.0, 0.0, 0.0)
+        dk, ds = (a[0], a[1]) if side >= 0 else (a[2], a[3])
+        return self.k_series(bend_rad, side) - dk - ds * abs(bend_rad)
+
+    @property
+    def kb_eq4(self) -> float:
+        """Eq. 4's K_b: the slope the paper's eq. 2 test (linear fit of Fig. 9) identifies."""
+        return self.eq4_kb if self.eq4_kb > 0.0 else self.kb
 
     def static_relief_nm(self, bend_rad: float) -> float:
         """Static joint-2 torque relief from the bent shaft (elastic moment; branches relaxed)."""
@@ -119,6 +146,16 @@ class Catalogue:
     slip_unwinding_ratio: float = 1.0  # unwinding-side / winding-side slip torque
     bend_friction_per_rad: float = 0.0  # effects.bend_friction mu_b
     shafts: tuple[CatalogueShaft, ...] = field(default=())
+    # series.reference_length_mm: > 0 selects eq. 3's inverse length law (K ~ L_ref / L); 0: eq. 3
+    # as printed, affine in L (effects.series_stiffness)
+    series_reference_length_mm: float = 0.0
+    # series.maxwell_slip.apparent_stiffness_pos/_neg: [straight, slope in |phi_B|] as fractions
+    # of the straight K_sp (see ShaftParams.slip_apparent)
+    slip_apparent_fraction: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
+    # bending.eq2_test_*: the sinusoidal bend at which eq. 4 was identified (eq. 2's linear fit);
+    # 0: eq. 4 is the elastic K_b itself
+    eq2_test_amplitude_rad: float = 0.0
+    eq2_test_period_s: float = 0.0
 
     @property
     def bend_limit_rad(self) -> float:
@@ -146,6 +183,25 @@ class Catalogue:
                     "pass extrapolate=True (CLI: --extrapolate) to use it anyway"
                 )
 
+    def eq2_fit_gain(self) -> float:
+        """Eq. 4's K_b over the elastic K_b: what eq. 2's linear fit of the file's test adds
+        (stiffening, ``bending.linear_fit_gain``, and the conduit branches' storage stiffness at
+        the test's period, ``conduit_viscoelastic.storage_fraction``); 1 without a test."""
+        if self.eq2_test_amplitude_rad <= 0.0:
+            return 1.0
+        gain = bending.linear_fit_gain(self.beta, self.eq2_test_amplitude_rad)
+        for frac, tau in zip(self.conduit_fraction, self.conduit_tau, strict=True):
+            gain += frac * conduit_viscoelastic.storage_fraction(tau, self.eq2_test_period_s)
+        return gain
+
+    def eq3(self, diameter_mm: float, length_mm: float, side: int) -> tuple[float, float]:
+        """Eq. 3 of one side (+1 winding, -1 unwinding): (straight K, slope in |phi_B|), with
+        the file's length law."""
+        p = self.p_pos if side >= 0 else self.p_neg
+        return series_stiffness.eq3_base_and_slope(
+            p, diameter_mm, length_mm, self.series_reference_length_mm
+        )
+
     def rating_nm(self, diameter_mm: float) -> float:
         """Nominal torque rating; depends on D only (seed 000 Sec. IV-A1)."""
         return self.rating_coefficient * diameter_mm**3
@@ -160,9 +216,10 @@ class Catalogue:
     ) -> ShaftParams:
         """Evaluate eq. 3 and eq. 4 for one shaft."""
         self.check_range(diameter_mm, length_mm, extrapolate)
-        k_pos, s_pos = series_stiffness.eq3_base_and_slope(self.p_pos, diameter_mm, length_mm)
-        k_neg, s_neg = series_stiffness.eq3_base_and_slope(self.p_neg, diameter_mm, length_mm)
-        kb = bending.eq4_stiffness_nm_per_rad(self.q_bend, diameter_mm, length_mm)
+        k_pos, s_pos = self.eq3(diameter_mm, length_mm, 1)
+        k_neg, s_neg = self.eq3(diameter_mm, length_mm, -1)
+        kb_eq4 = bending.eq4_stiffness_nm_per_rad(self.q_bend, diameter_mm, length_mm)
+        kb = kb_eq4 / self.eq2_fit_gain()
         bend_max = self.bend_limit_rad
         k_min = min(k_pos + min(s_pos, 0.0) * bend_max, k_neg + min(s_neg, 0.0) * bend_max)
         if k_min <= 0.0 or kb <= 0.0:
@@ -197,8 +254,10 @@ class Catalogue:
             slip_f=_scaled(self.slip_f_fraction, self.rating_nm(diameter_mm)),
             slip_unwinding_ratio=self.slip_unwinding_ratio,
             bend_friction_per_rad=self.bend_friction_per_rad,
+            slip_apparent=_scaled4(self.slip_apparent_fraction, k_pos) if slip_on else _ZERO4,
             rating_nm=self.rating_nm(diameter_mm),
             bend_limit_rad=bend_max,
+            eq4_kb=kb_eq4,
             source=self.source,
         )
 
@@ -234,7 +293,14 @@ SCHEMA: dict[str, tuple[str, ...]] = {
     "meta": ("name", "description", "source", "units"),
     "meta.units": ("diameter", "length", "bend", "stiffness"),
     "validity": ("diameter_mm", "length_mm", "bend_rad"),
-    "series": ("positive", "negative", "dynamic", "maxwell_slip"),
+    "series": (
+        "positive",
+        "negative",
+        "dynamic",
+        "maxwell_slip",
+        "length_law",
+        "reference_length_mm",
+    ),
     "series.positive": ("p",),
     "series.negative": ("p",),
     "series.dynamic": ("inertia_kgm2", "damping_pos_nms", "damping_neg_nms"),
@@ -244,8 +310,16 @@ SCHEMA: dict[str, tuple[str, ...]] = {
         "slip_torque_fraction",
         "unwinding_ratio",
         "bend_friction_per_rad",
+        "apparent_stiffness_pos",
+        "apparent_stiffness_neg",
     ),
-    "bending": ("q", "stiffening_per_rad2", "conduit"),
+    "bending": (
+        "q",
+        "stiffening_per_rad2",
+        "conduit",
+        "eq2_test_amplitude_rad",
+        "eq2_test_period_s",
+    ),
     "bending.conduit": ("branch_stiffness_fraction", "branch_time_constant_s"),
     "rating": ("coefficient_nm_per_mm3",),
     "shafts[]": ("name", "diameter_mm", "length_mm"),
@@ -356,6 +430,20 @@ def _string(value: Any, dotted: str, source: str) -> str:
 
 def _scaled(fractions: tuple[float, float, float], scale: float) -> tuple[float, float, float]:
     return (fractions[0] * scale, fractions[1] * scale, fractions[2] * scale)
+
+
+_ZERO4 = (0.0, 0.0, 0.0, 0.0)
+
+
+def _scaled4(
+    fractions: tuple[float, float, float, float], scale: float
+) -> tuple[float, float, float, float]:
+    return (
+        fractions[0] * scale,
+        fractions[1] * scale,
+        fractions[2] * scale,
+        fractions[3] * scale,
+    )
 
 
 def _get(table: dict[str, Any], dotted: str, source: str) -> Any:
@@ -505,6 +593,20 @@ def parse_catalogue(data: dict[str, Any], source: str) -> Catalogue:
             f"{source}: 'series.maxwell_slip.unwinding_ratio' must be > 0 (unwinding-side slip "
             f"torque / winding-side), got {unwinding:g}"
         )
+    ref_len = _length_law(data.get("series", {}), p_pos, p_neg, source)
+    app_p = _floats(
+        slip.get("apparent_stiffness_pos", [0.0, 0.0]),
+        2,
+        "series.maxwell_slip.apparent_stiffness_pos",
+        source,
+    )
+    app_n = _floats(
+        slip.get("apparent_stiffness_neg", [0.0, 0.0]),
+        2,
+        "series.maxwell_slip.apparent_stiffness_neg",
+        source,
+    )
+    test_amp, test_period = _eq2_test(data.get("bending", {}), source)
     shafts: list[CatalogueShaft] = []
     for i, entry in enumerate(data.get("shafts", [])):
         name = _string(entry.get("name", f"shaft{i}"), f"shafts[{i}].name", source)
@@ -553,7 +655,65 @@ def parse_catalogue(data: dict[str, Any], source: str) -> Catalogue:
             minimum=0.0,
         ),
         shafts=tuple(shafts),
+        series_reference_length_mm=ref_len,
+        slip_apparent_fraction=(app_p[0], app_p[1], app_n[0], app_n[1]),
+        eq2_test_amplitude_rad=test_amp,
+        eq2_test_period_s=test_period,
     )
+
+
+LENGTH_LAWS = ("affine", "inverse")
+
+
+def _length_law(
+    series: dict[str, Any], p_pos: tuple[float, ...], p_neg: tuple[float, ...], source: str
+) -> float:
+    """``series.length_law`` ("affine": eq. 3 as printed, the default; "inverse": K ~ L_ref/L
+    with ``series.reference_length_mm``): the reference length, 0 for the affine law."""
+    law = series.get("length_law", "affine")
+    if not isinstance(law, str) or law not in LENGTH_LAWS:
+        raise CoefficientFileError(
+            f"{source}: 'series.length_law' must be one of {', '.join(repr(x) for x in LENGTH_LAWS)}"
+            f" (a string), got {law!r}"
+        )
+    if law == "affine":
+        if "reference_length_mm" in series:
+            raise CoefficientFileError(
+                f"{source}: 'series.reference_length_mm' is only read with length_law = "
+                "'inverse'; remove it or declare the law"
+            )
+        return 0.0
+    if "reference_length_mm" not in series:
+        raise CoefficientFileError(
+            f"{source}: length_law = 'inverse' needs 'series.reference_length_mm' (the length at "
+            "which eq. 3 is evaluated before scaling by L_ref / L)"
+        )
+    ref = _positive(series["reference_length_mm"], "series.reference_length_mm", source)
+    for side, p in (("positive", p_pos), ("negative", p_neg)):
+        if p[4] != 0.0:
+            raise CoefficientFileError(
+                f"{source}: with length_law = 'inverse' the length enters as L_ref / L, so "
+                f"'series.{side}.p'[4] (eq. 3's p4 L term) must be 0, got {p[4]!r}; fold "
+                "p4 * L_ref into p0"
+            )
+    return ref
+
+
+def _eq2_test(bending_table: dict[str, Any], source: str) -> tuple[float, float]:
+    """``bending.eq2_test_amplitude_rad`` and ``eq2_test_period_s``: both or neither."""
+    keys = ("eq2_test_amplitude_rad", "eq2_test_period_s")
+    given = [k for k in keys if k in bending_table]
+    if not given:
+        return 0.0, 0.0
+    if len(given) == 1:
+        missing = next(k for k in keys if k not in given)
+        raise CoefficientFileError(
+            f"{source}: 'bending.{given[0]}' needs 'bending.{missing}' too (the sinusoidal bend "
+            "at which eq. 4's K_b was identified by eq. 2's linear fit)"
+        )
+    amp = _positive(bending_table[keys[0]], f"bending.{keys[0]}", source)
+    period = _positive(bending_table[keys[1]], f"bending.{keys[1]}", source)
+    return amp, period
 
 
 def load_catalogue(path: str | Path | None = None) -> Catalogue:

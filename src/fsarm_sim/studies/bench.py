@@ -45,7 +45,6 @@ from fsarm_sim.engine.model import (
     SimConfig,
     fixed_tendon,
     model_path,
-    shaft_block,
     write_params,
 )
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
@@ -236,7 +235,8 @@ def _spec(name: str, shaft: ShaftParams) -> mujoco.MjSpec:
             continue
         act = spec.actuator(act_name)  # normalized element deflections (flexible_shaft)
         act.actlimited = mujoco.mjtLimited.mjLIMITED_TRUE
-        lim = flexible_shaft.state_limits(shaft_block(shaft))[i] or (-1e-12, 1e-12)
+        block = SimConfig(shaft=shaft).transmission_blocks()[0]
+        lim = flexible_shaft.state_limits(block)[i] or (-1e-12, 1e-12)
         act.actrange = [lim[0], lim[1]]
     spec.add_numeric(name=L.PARAMS_NAME, size=L.N_PARAMS, data=np.zeros(L.N_PARAMS))
     spec.add_numeric(name=L.REF_NAME, size=L.REF_COLS, data=np.zeros(L.REF_COLS))

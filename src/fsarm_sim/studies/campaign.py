@@ -16,7 +16,9 @@ twist of ``torsion_fraction`` of the rating). Fits of the moment loop M(phi): eq
 Campaign (Sec. III-B, Fig. 8, Fig. 10): both tests for every shaft of the catalogue, then eq. 3
 (per sign, from the 7 bend angles x N shafts) and eq. 4 (from the N shafts' K_b) are re-fitted by
 nonlinear least squares (``scipy.optimize.least_squares``) and compared with the coefficients the
-simulator was given: coefficient by coefficient and as surfaces over the validity box.
+simulator was given: coefficient by coefficient and as surfaces over the validity box. Eq. 3 is
+re-fitted with the catalogue's length law (``series.length_law``: with "inverse" p4 is 0 and not
+fitted).
 
 Every bench run is an independent task (:func:`bench_task`), run through
 :func:`fsarm_sim.executors.run_tasks`, so campaigns use all cores or a Dask cluster.
@@ -365,9 +367,18 @@ class SurfaceFit:
     success: bool
 
 
-def eq3_design(d: Array, ell: Array, phi: Array) -> Array:
-    """Columns of seed 000 eq. 3: 1, D, D^2, D^3, L, |phi|, D^2 |phi| (D, L in mm, phi in rad)."""
+def eq3_design(d: Array, ell: Array, phi: Array, reference_length_mm: float = 0.0) -> Array:
+    """Columns of seed 000 eq. 3: 1, D, D^2, D^3, L, |phi|, D^2 |phi| (D, L in mm, phi in rad).
+
+    ``reference_length_mm`` > 0: the inverse length law (``effects.series_stiffness``), every
+    column evaluated at ``L_ref`` and scaled by ``L_ref / L`` (p4's column is then constant x the
+    scale, which the law requires to carry p4 = 0: :func:`fit_eq3` leaves it out)."""
     a = np.abs(phi)
+    if reference_length_mm > 0.0:
+        scale = reference_length_mm / np.asarray(ell, dtype=np.float64)
+        ref = np.full_like(scale, reference_length_mm)
+        cols = (np.ones_like(d), d, d**2, d**3, ref, a, d**2 * a)
+        return np.column_stack([c * scale for c in cols])
     return np.column_stack((np.ones_like(d), d, d**2, d**3, ell, a, d**2 * a))
 
 
@@ -416,8 +427,17 @@ def fit_surface(X: Array, k: Array, equation: str, names: Sequence[str]) -> Surf
     )
 
 
-def fit_eq3(d: Array, ell: Array, phi: Array, k: Array, side: str) -> SurfaceFit:
-    return fit_surface(eq3_design(d, ell, phi), k, f"eq3 {side}", EQ3_NAMES)
+def fit_eq3(
+    d: Array, ell: Array, phi: Array, k: Array, side: str, reference_length_mm: float = 0.0
+) -> SurfaceFit:
+    """Eq. 3 by least squares; with the inverse length law p4 is 0 by definition (not fitted)."""
+    X = eq3_design(d, ell, phi, reference_length_mm)
+    if reference_length_mm <= 0.0:
+        return fit_surface(X, k, f"eq3 {side}", EQ3_NAMES)
+    free = [0, 1, 2, 3, 5, 6]
+    fit = fit_surface(X[:, free], k, f"eq3 {side}", [EQ3_NAMES[i] for i in free])
+    coef = [*fit.coefficients[:4], 0.0, *fit.coefficients[4:]]
+    return SurfaceFit(**{**asdict(fit), "names": EQ3_NAMES, "coefficients": tuple(coef)})
 
 
 def fit_eq4(d: Array, ell: Array, k: Array) -> SurfaceFit:
@@ -447,7 +467,7 @@ def compare_surface(
     if fit.equation.startswith("eq3"):
         phi = np.linspace(0.0, bend_max_rad, 7)
         D, Lg, P = (a.ravel() for a in np.meshgrid(d, ell, phi, indexing="ij"))
-        X = eq3_design(D, Lg, P)
+        X = eq3_design(D, Lg, P, catalogue.series_reference_length_mm)
         ref = catalogue.p_pos if fit.equation.endswith("positive") else catalogue.p_neg
     else:
         D, Lg = (a.ravel() for a in np.meshgrid(d, ell, indexing="ij"))
@@ -592,7 +612,9 @@ def refit(result: CampaignResult, catalogue: Catalogue) -> None:
         a = np.asarray(rows)
         for side, col in (("positive", 3), ("negative", 4)):
             try:
-                fit = fit_eq3(a[:, 0], a[:, 1], a[:, 2], a[:, col], side)
+                fit = fit_eq3(
+                    a[:, 0], a[:, 1], a[:, 2], a[:, col], side, catalogue.series_reference_length_mm
+                )
             except CampaignError as exc:
                 result.errors.append(str(exc))
                 continue
@@ -871,7 +893,12 @@ def plot_eq3_surfaces(
             ax = fig.add_subplot(2, 2, i, projection="3d")
             i += 1
             if fit is not None:
-                X = eq3_design(D.ravel(), Lg.ravel(), np.full(D.size, math.radians(bend)))
+                X = eq3_design(
+                    D.ravel(),
+                    Lg.ravel(),
+                    np.full(D.size, math.radians(bend)),
+                    catalogue.series_reference_length_mm,
+                )
                 K = (X @ np.asarray(fit.coefficients)).reshape(D.shape)
                 ax.plot_surface(D, Lg, K, cmap="viridis", alpha=0.7, linewidth=0)
             sel = np.isclose(points[:, 2], math.radians(bend))
@@ -915,7 +942,12 @@ def plot_error_maps(result: CampaignResult, catalogue: Catalogue, path: Path) ->
     for eq in ("eq3 positive", "eq3 negative"):
         if eq in result.fits:
             for bend in (0.0, 90.0):
-                X = eq3_design(D.ravel(), Lg.ravel(), np.full(D.size, math.radians(bend)))
+                X = eq3_design(
+                    D.ravel(),
+                    Lg.ravel(),
+                    np.full(D.size, math.radians(bend)),
+                    catalogue.series_reference_length_mm,
+                )
                 ref = catalogue.p_pos if eq.endswith("positive") else catalogue.p_neg
                 panels.append((f"{eq}, φ_B = {bend:g}°", X, ref, result.fits[eq]))
     for eq in ("eq4", "eq4 (cubic K_b)"):

@@ -601,9 +601,13 @@ def stiffness_x(pair: Pair, side: int) -> FloatArray:
 
 
 def implied_stiffness_x(pair: Pair, side: int) -> FloatArray:
-    """K_SEA + K_PEA in x from the shaft parameters (eq. 3 at phi_B = 0, eq. 4)."""
+    """K_SEA + K_PEA in x from the shaft parameters (eq. 3 at phi_B = 0, eq. 4).
+
+    K_s is the plant's spring: eq. 3, less the slip elements' apparent stiffness while they are
+    on (``ShaftParams.k_spring``; the probe leaves the elements unloaded)."""
     sh, fx, g2 = pair.config.shaft, pair.config.effects, pair.st.i_g2
-    ks = (sh.k_pos if side > 0 else sh.k_neg) if fx.series else 0.0
+    spring = sh.k_spring(0.0, side) if fx.slip else sh.k_series(0.0, side)
+    ks = spring if fx.series else 0.0
     k = np.zeros((4, 4))
     k[1, 1] = sh.kb if fx.bending else 0.0
     k[2:, 2:] = ks * np.array([[g2 * g2, -g2], [-g2, 1.0]])

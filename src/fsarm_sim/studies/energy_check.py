@@ -12,7 +12,6 @@ in 2 s before every transmission got it from the interface).
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -59,9 +58,6 @@ def conservative_config(name: str, timestep_s: float = DEFAULT_TIMESTEP_S) -> Si
         timestep_s=timestep_s,
         gains=Gains(ctrl_dt_s=timestep_s),
     )
-    if name == transmissions.DEFAULT:  # its parameters come from the catalogue shaft
-        shaft = dataclasses.replace(base.shaft, damping_pos=0.0, damping_neg=0.0)
-        return base.with_(shaft=shaft)
     return base.with_(transmission_params=tuple(overrides.items()))
 
 

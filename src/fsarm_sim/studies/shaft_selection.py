@@ -18,8 +18,10 @@ Two selectors:
   ``|delta|`` (from the sign of dK/dL), L kept in range. ``variant="literal"`` reproduces the
   printed text for comparison (its answer may leave ``[L_min, L_max]``; eq. 3/4 are then
   evaluated outside their validity box and the result is marked infeasible).
-* :func:`select_shaft` - eq. 3 and eq. 4 are both *linear in L* for a fixed D and bend, so the
-  length that gives ``K_des`` follows in closed form, ``L* = (K_des - K(D, 0)) / dK/dL``. Every
+* :func:`select_shaft` - for a fixed D and bend, eq. 4 and eq. 3 as printed are *affine in L*
+  and eq. 3 with the inverse length law (:mod:`fsarm_sim.plant.effects.series_stiffness`) is
+  ``K(D, L_ref) L_ref / L``, so the length that gives ``K_des`` follows in closed form:
+  ``L* = (K_des - K(D, 0)) / dK/dL`` or ``L* = K(D, L_ref) L_ref / K_des``. Every
   catalogue diameter whose rating covers the torque need is tried, ``L*`` is clipped to the
   allowed range, shafts the catalogue refuses (non-positive stiffness somewhere in the bend range)
   are dropped, and the smallest diameter that reaches ``K_des`` within the tolerance wins
@@ -40,7 +42,7 @@ from typing import Literal
 import numpy as np
 
 from fsarm_sim.errors import FsarmError, ShaftRangeError
-from fsarm_sim.plant.effects import bending, series_stiffness
+from fsarm_sim.plant.effects import bending
 from fsarm_sim.plant.shaft import Catalogue
 
 Kind = Literal["series", "parallel"]
@@ -112,21 +114,34 @@ def stiffness(
 
     No range check: the selectors need the polynomials' values at trial points."""
     if kind == "series":
-        p = catalogue.p_pos if side >= 0 else catalogue.p_neg
-        base, slope = series_stiffness.eq3_base_and_slope(p, diameter_mm, length_mm)
+        base, slope = catalogue.eq3(diameter_mm, length_mm, side)
         return base + slope * abs(bend_rad)
     if kind == "parallel":
         return bending.eq4_stiffness_nm_per_rad(catalogue.q_bend, diameter_mm, length_mm)
     raise ShaftSelectionError(f"kind must be one of {', '.join(KINDS)}, got {kind!r}")
 
 
-def _linear_in_length(
-    catalogue: Catalogue, req: SelectionRequest, diameter_mm: float
-) -> tuple[float, float]:
-    """(K at L = 0, dK/dL): eq. 3 and eq. 4 are affine in L for fixed D and bend."""
-    k0 = stiffness(catalogue, req.kind, diameter_mm, 0.0, req.bend_rad, req.side)
-    k1 = stiffness(catalogue, req.kind, diameter_mm, 1.0, req.bend_rad, req.side)
-    return k0, k1 - k0
+def _inverse_in_length(catalogue: Catalogue, req: SelectionRequest) -> bool:
+    """Eq. 3 with the inverse length law (K ~ 1/L); else K is affine in L (eq. 4, printed eq. 3)."""
+    return req.kind == "series" and catalogue.series_reference_length_mm > 0.0
+
+
+def _length_for_k(
+    catalogue: Catalogue, req: SelectionRequest, diameter_mm: float, lo: float, hi: float
+) -> float:
+    """The length (not yet clipped to [lo, hi]) whose stiffness is ``K_des``, in closed form;
+    the middle of the range when K does not depend on L or cannot reach K_des's sign."""
+
+    def k_of(ell: float) -> float:
+        return stiffness(catalogue, req.kind, diameter_mm, ell, req.bend_rad, req.side)
+
+    if _inverse_in_length(catalogue, req):
+        ref = catalogue.series_reference_length_mm
+        c = k_of(ref) * ref  # K(L) = c / L
+        return 0.5 * (lo + hi) if c <= 0.0 else c / req.k_des
+    k0 = k_of(0.0)
+    slope = k_of(1.0) - k0
+    return 0.5 * (lo + hi) if slope == 0.0 else (req.k_des - k0) / slope
 
 
 def validate_request(catalogue: Catalogue, req: SelectionRequest) -> tuple[float, float]:
@@ -235,10 +250,11 @@ def algorithm1(
     step = (hi - lo) / n_itr
     rng = np.random.default_rng(seed)
     length = float(grid[int(rng.integers(n_itr))])
-    _, slope = _linear_in_length(catalogue, req, d_des)
 
     def k_of(ell: float) -> float:
         return stiffness(catalogue, req.kind, d_des, ell, req.bend_rad, req.side)
+
+    slope = k_of(hi) - k_of(lo)  # sign of dK/dL (eq. 3 and 4 are monotone in L)
 
     trace = [length]
     delta = req.k_des - k_of(length)
@@ -277,14 +293,12 @@ def candidates(catalogue: Catalogue, req: SelectionRequest) -> tuple[Candidate, 
     for d in ds:
         if d < d_min:
             continue
-        k0, slope = _linear_in_length(catalogue, req, d)
-        ell = 0.5 * (lo + hi) if slope == 0.0 else (req.k_des - k0) / slope
-        ell = min(hi, max(lo, ell))
+        ell = min(hi, max(lo, _length_for_k(catalogue, req, d, lo, hi)))
         out.append(
             Candidate(
                 diameter_mm=d,
                 length_mm=ell,
-                k_nm_per_rad=k0 + slope * ell,
+                k_nm_per_rad=stiffness(catalogue, req.kind, d, ell, req.bend_rad, req.side),
                 rating_nm=catalogue.rating_nm(d),
                 valid=_valid_shaft(catalogue, d, ell),
             )

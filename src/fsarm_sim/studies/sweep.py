@@ -558,7 +558,7 @@ def evaluate_point(task: Mapping[str, Any]) -> dict[str, Any]:
     out: dict[str, Any] = {
         "k_sp_catalogue": shaft.k_series(bend, 1),
         "k_sn_catalogue": shaft.k_series(bend, -1),
-        "kb_catalogue": shaft.kb,
+        "kb_catalogue": shaft.kb_eq4,  # eq. 4: what the bench's eq. 2 fit is compared with
         "rating_nm": shaft.rating_nm,
     }
     outputs = p["outputs"]
@@ -839,6 +839,8 @@ def analyze(store_path: str | Path, out_dir: str | Path, sweep: str | None = Non
                 np.radians(series["bend_deg"].to_numpy(float)),
                 series[col].to_numpy(float),
                 side,
+                # the stored catalogue's length law; several catalogues: eq. 3 as printed
+                catalogue.series_reference_length_mm if catalogue is not None else 0.0,
             )
         except CampaignError as exc:
             res.skipped.append(f"eq. 3 {side}: {exc}")

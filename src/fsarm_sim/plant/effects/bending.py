@@ -26,6 +26,13 @@ def eq4_stiffness_nm_per_rad(q: tuple[float, ...], diameter_mm: float, length_mm
     return q[0] + q[1] * d + q[2] * ell + q[3] * d * d + q[4] * d * ell
 
 
+def linear_fit_gain(beta: float, amplitude_rad: float) -> float:
+    """Slope of eq. 2's linear fit ``M = K phi`` through a sinusoidal bend of ``amplitude_rad``,
+    over K_b: least squares of ``K_b (phi + beta phi^3)`` on ``phi = A sin(wt)`` over whole cycles
+    gives ``K_b (1 + beta A^2 <sin^4>/<sin^2>) = K_b (1 + 3/4 beta A^2)``."""
+    return 1.0 + 0.75 * beta * amplitude_rad * amplitude_rad
+
+
 def elastic_moment_nm(bend_rad: float, kb: float, beta: float) -> float:
     """Bending moment M(phi) = K_b (phi + beta phi^3), positive for positive bend."""
     # float exponent: CPython computes x**3 as pow(x, 3.0) anyway; written so, Numba also calls

@@ -11,6 +11,8 @@ loop area is positive and depends on the bending rate (it vanishes for slow or s
 
 from __future__ import annotations
 
+import math
+
 from fsarm_sim.paramblocks import Decl
 
 # the parameters this law takes in the kernels (layout allocates their slots)
@@ -20,6 +22,14 @@ KERNEL_PARAMS = (
     Decl("k2", "N*m/rad", 0.0, "branch 2 stiffness (catalogue conduit.k_fraction x K_b)"),
     Decl("tau2", "s", 0.0, "branch 2 relaxation time (catalogue conduit.tau_s)"),
 )
+
+
+def storage_fraction(tau_s: float, period_s: float) -> float:
+    """In-phase (storage) stiffness of a branch in a sinusoidal bend of ``period_s``, over its k_i:
+    ``(w tau)^2 / (1 + (w tau)^2)``, w = 2 pi / period. It is what the branch adds to the slope of
+    a linear fit ``M = K phi`` over whole cycles (the out-of-phase part makes the loop)."""
+    wt = 2.0 * math.pi * tau_s / period_s
+    return wt * wt / (1.0 + wt * wt)
 
 
 def branch_moment_nm(bend_rad: float, z_rad: float, k_branch: float) -> float:

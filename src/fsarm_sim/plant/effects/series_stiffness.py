@@ -7,6 +7,19 @@ the stiffer side. Stiffness per side falls linearly with the bend angle (eq. 3):
 
 where ``k_base = p0 + p1 D + p2 D^2 + p3 D^3 + p4 L`` and ``k_slope = p5 + p6 D^2`` are evaluated
 once per shaft (see :mod:`fsarm_sim.plant.shaft`).
+
+Length law. Eq. 3 as printed is affine in L (one ``p4 L`` term for every D): the paper's regression
+over its nine shafts. A uniform shaft is ``L / dL`` equal pieces in series, so its torsional
+stiffness scales as ``1 / L`` whatever its construction (seed 000 Sec. II-A: "like traditional
+springs, the increase in length ... results in decreased torsional stiffness"; seed 001 Sec. 2.2
+measured 8 mm x 865 mm at ~5.3 N*m/rad, which the 1/L law predicts from the 450 mm catalogue
+within ~6 %). An affine term cannot do that for thin and thick shafts at once (a slope steep enough
+for 9 mm drives 4 mm negative). A coefficient file may therefore declare the *inverse* law: eq. 3
+is evaluated at a reference length ``L_ref`` and scaled by ``L_ref / L``,
+
+    K(D, L, phi) = K_eq3(D, L_ref, phi) * L_ref / L         (``reference_length_mm`` = L_ref > 0),
+
+and ``reference_length_mm = 0`` keeps eq. 3 exactly as printed (a file with the paper's Table I).
 """
 
 from __future__ import annotations
@@ -15,12 +28,19 @@ import math
 
 
 def eq3_base_and_slope(
-    p: tuple[float, ...], diameter_mm: float, length_mm: float
+    p: tuple[float, ...], diameter_mm: float, length_mm: float, reference_length_mm: float = 0.0
 ) -> tuple[float, float]:
-    """Split seed 000 eq. 3 into its bend-independent part and its slope in |phi_B|."""
+    """Split seed 000 eq. 3 into its bend-independent part and its slope in |phi_B|.
+
+    ``reference_length_mm`` > 0 selects the inverse length law (module docstring): eq. 3 at
+    ``L_ref`` scaled by ``L_ref / L``; 0 evaluates eq. 3 as printed (affine in L)."""
     d = diameter_mm
-    base = p[0] + p[1] * d + p[2] * d * d + p[3] * d * d * d + p[4] * length_mm
+    ell = reference_length_mm if reference_length_mm > 0.0 else length_mm
+    base = p[0] + p[1] * d + p[2] * d * d + p[3] * d * d * d + p[4] * ell
     slope = p[5] + p[6] * d * d
+    if reference_length_mm > 0.0:
+        scale = reference_length_mm / length_mm
+        return base * scale, slope * scale
     return base, slope
 
 

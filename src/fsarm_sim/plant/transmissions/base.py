@@ -286,6 +286,24 @@ class Transmission:
     def param_names(self) -> list[str]:
         return [p.name for p in self.params]
 
+    @property
+    def takes_shaft(self) -> bool:
+        """True when its parameters come from the run's catalogue shaft (``params_from_shaft``)."""
+        return hasattr(self.module, "params_from_shaft")
+
+    def run_block(
+        self, shaft: Any, overrides: dict[str, float], hysteresis: bool = True
+    ) -> FloatArray:
+        """The block of one run: the module's values for the run's catalogue shaft (if it takes
+        one: ``params_from_shaft``), then ``overrides``, then - with ``hysteresis`` False - the
+        module's ``HYSTERESIS_OFF`` values."""
+        fn = getattr(self.module, "params_from_shaft", None)
+        values = dict(fn(shaft)) if fn is not None else {}
+        values.update(overrides)
+        if not hysteresis:
+            values.update(getattr(self.module, "HYSTERESIS_OFF", {}))
+        return self.block(values)
+
     def block(self, overrides: dict[str, float] | None = None) -> FloatArray:
         """The parameter block (length N_TR): published values, with ``overrides`` applied and
         checked by the module's ``validate(tr)`` if it has one."""

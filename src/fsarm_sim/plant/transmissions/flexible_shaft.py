@@ -9,6 +9,15 @@ that they slip). ``model.write_params`` fills the block from the run's
 controller's virtual torque sensor all read the shaft through this interface. The shaft is routed
 over joint 2: its stored energy depends on the bend, and the kernels apply the matching
 -dV/dphi_B on joint 2 from :func:`potential_j`, as for every routed transmission.
+
+Eq. 3 is what seed 000's series test identifies: the slope of a line fitted to the measured
+loops (Sec. III-B1), and the slip elements add to that slope (while stuck they are springs). So
+the plant's spring carries eq. 3 *minus* the elements' apparent stiffness in that test
+(``slip_app_*``, straight value and slope in |phi_B| per side; coefficient file
+``series.maxwell_slip.apparent_stiffness_*``), and the paper's procedure on the simulated bench
+returns eq. 3 (``fsarm reproduce``: 000-series-roundtrip). With every element off (k = 0) the
+spring is eq. 3 itself. The controller's virtual torque sensor (:func:`sensor_torque_nm`) is eq. 8
+with eq. 3, as on the robot.
 """
 
 from __future__ import annotations
@@ -16,7 +25,7 @@ from __future__ import annotations
 from typing import Any
 
 from fsarm_sim.plant.effects import bend_friction, maxwell_slip, series_stiffness
-from fsarm_sim.plant.shaft import load_catalogue
+from fsarm_sim.plant.shaft import ShaftParams, load_catalogue
 from fsarm_sim.plant.transmissions.base import (
     FloatArray,
     Param,
@@ -45,6 +54,7 @@ I_SLIP_K = 7  # block index of the first element stiffness (then the three slip 
 I_SLIP_F = I_SLIP_K + N_SLIP  # straight, winding-side slip torques
 I_SLIP_RN = I_SLIP_F + N_SLIP  # unwinding-side slip torque / winding-side
 I_BEND_MU = I_SLIP_RN + 1  # bend-friction coefficient mu_b of the route (effects.bend_friction)
+I_APP = I_BEND_MU + 1  # elements' apparent stiffness: k_pos, s_pos, k_neg, s_neg (module doc)
 
 
 _K_WHY = (
@@ -56,6 +66,10 @@ _S_WHY = (
     "validity range must stay > 0 (checked across parameters)"
 )
 _B_WHY = "eq. 1 damping must be >= 0 (dissipative; < 0 would feed energy in)"
+_APP_WHY = (
+    "either sign as calibrated; eq. 3 minus it (the plant's spring) must stay > 0 up to the "
+    "largest valid bend (checked across parameters)"
+)
 
 
 def _params() -> tuple[Param, ...]:
@@ -122,10 +136,54 @@ def _params() -> tuple[Param, ...]:
             f"capstan-like growth of the slip torques with |phi_B| (effects.bend_friction); {src}",
             non_negative("a friction coefficient: >= 0 (0: no growth with the bend)"),
         ),
+        *(
+            Param(
+                f"slip_app_{name}",
+                sh.slip_apparent[i],
+                unit,
+                f"slip elements' apparent stiffness in seed 000's series test ({what}), taken "
+                f"off eq. 3's spring while an element is on; {src}",
+                any_finite(_APP_WHY),
+            )
+            for i, (name, unit, what) in enumerate(
+                (
+                    ("k_pos", "N*m/rad", "winding side, straight"),
+                    ("s_pos", "N*m/rad^2", "winding side, slope in |phi_B|"),
+                    ("k_neg", "N*m/rad", "unwinding side, straight"),
+                    ("s_neg", "N*m/rad^2", "unwinding side, slope in |phi_B|"),
+                )
+            )
+        ),
     )
 
 
 PARAMS = _params()
+# Effects(slip=False): the values that switch its hysteresis (the slip elements) off
+HYSTERESIS_OFF: dict[str, float] = {f"slip_k{i + 1}": 0.0 for i in range(N_SLIP)}
+
+
+def params_from_shaft(sh: ShaftParams) -> dict[str, float]:
+    """Its parameters from the run's catalogue shaft (``SimConfig.shaft``: diameter, length and
+    bend read through the coefficient file), by :data:`PARAMS` name."""
+    out = {
+        "k_pos": sh.k_pos,
+        "s_pos": sh.s_pos,
+        "k_neg": sh.k_neg,
+        "s_neg": sh.s_neg,
+        "b_pos": sh.damping_pos,
+        "b_neg": sh.damping_neg,
+        "rating_nm": sh.rating_nm,
+        "slip_unwinding_ratio": sh.slip_unwinding_ratio,
+        "bend_friction_per_rad": sh.bend_friction_per_rad,
+    }
+    for i in range(N_SLIP):
+        out[f"slip_k{i + 1}"] = sh.slip_k[i]
+        out[f"slip_f{i + 1}"] = sh.slip_f[i]
+    for name, value in zip(("k_pos", "s_pos", "k_neg", "s_neg"), sh.slip_apparent, strict=True):
+        out[f"slip_app_{name}"] = value
+    return {k: float(v) for k, v in out.items()}
+
+
 BEND_LIMIT_RAD = load_catalogue().bend_limit_rad  # the default file's validity.bend_rad
 
 
@@ -141,6 +199,16 @@ def validate(tr: FloatArray) -> None:
                 f"{float(slope)!r} N*m/rad^2 gives stiffness {k_bent:.4g} N*m/rad <= 0 at the "
                 f"largest valid bend {BEND_LIMIT_RAD:.4g} rad: eq. 3 must stay > 0 there"
             )
+    kp, sp, kn, sn = spring(tr)
+    for side, k, slope in (("pos", kp, sp), ("neg", kn, sn)):
+        for bend in (0.0, BEND_LIMIT_RAD):
+            if k + slope * bend <= 0.0:
+                raise TransmissionError(
+                    f"transmission {NAME!r}: eq. 3 minus the slip elements' apparent stiffness "
+                    f"(slip_app_*) leaves the {side} spring at {float(k + slope * bend):.4g} "
+                    f"N*m/rad <= 0 at bend {bend:.4g} rad: the apparent stiffness must stay "
+                    "below eq. 3"
+                )
 
 
 def validate_slip(tr: FloatArray) -> None:
@@ -153,6 +221,27 @@ def validate_slip(tr: FloatArray) -> None:
             )
 
 
+def elements_on(tr: Any) -> bool:
+    """Whether any slip element has a stiffness (is on)."""
+    for i in range(N_SLIP):  # noqa: SIM110 - a plain loop: Numba compiles this law
+        if tr[I_SLIP_K + i] > 0.0:
+            return True
+    return False
+
+
+def spring(tr: Any) -> tuple[float, float, float, float]:
+    """The plant's spring (k_pos, s_pos, k_neg, s_neg): eq. 3 less the elements' apparent
+    stiffness while an element is on (module docstring), eq. 3 otherwise."""
+    if elements_on(tr):
+        return (
+            tr[0] - tr[I_APP],
+            tr[1] - tr[I_APP + 1],
+            tr[2] - tr[I_APP + 2],
+            tr[3] - tr[I_APP + 3],
+        )
+    return (tr[0], tr[1], tr[2], tr[3])
+
+
 def sensor_torque_nm(tr: Any, x: float, bend: float) -> float:
     return series_stiffness.elastic_torque_nm(x, bend, tr[0], tr[1], tr[2], tr[3])
 
@@ -162,7 +251,10 @@ def stiffness_nm_per_rad(tr: Any, x: float, bend: float) -> float:
 
 
 def torque_nm(tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int) -> float:
-    tau = sensor_torque_nm(tr, x, bend) + series_stiffness.damping_torque_nm(x, xdot, tr[4], tr[5])
+    kp, sp, kn, sn = spring(tr)
+    tau = series_stiffness.elastic_torque_nm(
+        x, bend, kp, sp, kn, sn
+    ) + series_stiffness.damping_torque_nm(x, xdot, tr[4], tr[5])
     for i in range(N_SLIP):
         if tr[I_SLIP_K + i] > 0.0:
             tau += maxwell_slip.element_torque_nm(act[a0 + i], tr[I_SLIP_K + i])
@@ -190,6 +282,27 @@ def state_limits(tr: Any) -> list[tuple[float, float] | None]:
     ]
 
 
+def initial_states(tr: Any, x: float, bend: float) -> list[float]:
+    """Element deflections at the start, at twist ``x``: loaded (within their bands at this bend,
+    in order) so that spring + elements hold eq. 8's torque there - the share of eq. 3 that the
+    spring does not carry (module docstring). All zero with the elements off or x = 0."""
+    kp, sp, kn, sn = spring(tr)
+    k_spring = kp + sp * abs(bend) if x >= 0.0 else kn + sn * abs(bend)
+    need = (stiffness_nm_per_rad(tr, x, bend) - k_spring) * x
+    g = bend_friction.factor(bend, tr[I_BEND_MU])
+    out = []
+    for i in range(N_SLIP):
+        k = tr[I_SLIP_K + i]
+        if k <= 0.0:
+            out.append(0.0)
+            continue
+        lo, hi = maxwell_slip.band_rad(k, tr[I_SLIP_F + i], tr[I_SLIP_RN], g)
+        z = min(hi, max(lo, need / k))
+        need -= k * z
+        out.append(float(z))
+    return out
+
+
 def twist_for_torque(tr: Any, tau: float, bend: float) -> float:
     """eq. 8 inverted (linear per side): the twist whose elastic torque is ``tau``."""
     k = (
@@ -204,8 +317,10 @@ def twist_for_torque(tr: Any, tau: float, bend: float) -> float:
 
 
 def bend_torque_nm(tr: Any, x: float, bend: float, act: Any, a0: int) -> float:
-    """-dV/dphi_B: eq. 3's stiffness falls with |phi_B| (the elements' energy does not read it)."""
-    return series_stiffness.bend_coupling_torque_nm(x, bend, tr[1], tr[3])
+    """-dV/dphi_B: the spring's stiffness falls with |phi_B| (the elements' energy does not read
+    it)."""
+    _, sp, _, sn = spring(tr)
+    return series_stiffness.bend_coupling_torque_nm(x, bend, sp, sn)
 
 
 def max_stiffness(tr: Any) -> float:
@@ -218,7 +333,8 @@ def rating_nm(tr: Any) -> float:
 
 
 def potential_j(tr: Any, x: float, bend: float, act: Any, a0: int) -> float:
-    v = series_stiffness.potential_j(x, bend, tr[0], tr[1], tr[2], tr[3])
+    kp, sp, kn, sn = spring(tr)
+    v = series_stiffness.potential_j(x, bend, kp, sp, kn, sn)
     for i in range(N_SLIP):
         if tr[I_SLIP_K + i] > 0.0:
             v += maxwell_slip.element_potential_j(act[a0 + i], tr[I_SLIP_K + i])

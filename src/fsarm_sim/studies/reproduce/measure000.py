@@ -259,7 +259,7 @@ def parallel_run(ctx: Context, torsion: bool, period_s: float | None = None) -> 
 
 def bending_roundtrip(ctx: Context) -> Measured:
     _, fit = parallel_run(ctx, False)
-    kb = _catalogue().shaft().kb
+    kb = _catalogue().shaft().kb_eq4  # eq. 4 as the coefficient file gives it
     err = abs(fit.kb_linear / kb - 1.0)
     return Measured(
         ours=err,
