@@ -66,7 +66,8 @@ def test_parameters_reach_the_model() -> None:
     assert p[L.P_TAU_BW] == 70.0
     assert p[L.P_TR] == pytest.approx(cfg.shaft.k_pos)  # the shaft block: k_pos first
     assert p[L.P_N_TICKS] == 5
-    assert m.nuserdata == L.N_USERDATA
+    # the kernels' userdata, then the run recorder's buffer (spec_sizes: the compiled sizes)
+    assert m.nuserdata == L.N_USERDATA + L.REC_ROWS_DEFAULT * L.rec_width(m.nq, m.nv, m.na)
 
 
 @pytest.mark.parametrize(

@@ -15,7 +15,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from fsarm_sim.engine import callbacks, native
+from fsarm_sim.engine import callbacks, native, native_abi
 from fsarm_sim.engine.model import Effects, SimConfig
 from fsarm_sim.errors import InvalidParameterError, SimulationWarningError
 from fsarm_sim.kernels import layout as L
@@ -186,9 +186,10 @@ def test_install_and_uninstall() -> None:
     native.uninstall()
     assert not native.installed()
     assert mujoco.get_mjcb_passive() is None
+    src = callbacks.load_native()  # the prebuilt library where built, else this module
     with callbacks.active("native"):
-        assert native.installed()
-    assert not native.installed()
+        assert src.installed()
+    assert not src.installed()
 
 
 def _alone(cfg: SimConfig, table: np.ndarray, n: int) -> np.ndarray:
@@ -256,22 +257,24 @@ def test_batch_rejects_bad_arguments_and_reports_warnings() -> None:
 
 
 def test_offsets_are_verified_against_the_bindings() -> None:
-    native._verify_offsets(native.OFFSETS)  # the table in use passes
-    if mujoco.__version__ in native._RECORDED:  # the no-compiler fallback also passes
-        assert native._RECORDED[mujoco.__version__] == native.OFFSETS
+    native_abi._verify_offsets(native.OFFSETS)  # the table in use passes
+    if mujoco.__version__ in native_abi._RECORDED:  # the no-compiler fallback also passes
+        assert native_abi._RECORDED[mujoco.__version__] == native.OFFSETS
     broken = json.loads(json.dumps(native.OFFSETS))
     broken["data"]["qvel"][0] += 8  # qvel's slot now points at act
-    with pytest.raises(native.NativeBackendError, match=r"mjData\.qvel"):
-        native._verify_offsets(broken)
+    with pytest.raises(native_abi.NativeBackendError, match=r"mjData\.qvel"):
+        native_abi._verify_offsets(broken)
     broken = json.loads(json.dumps(native.OFFSETS))
     broken["model"]["nnumeric"][0] += 8
-    with pytest.raises(native.NativeBackendError, match=r"mjModel\.nnumeric"):
-        native._verify_offsets(broken)
+    with pytest.raises(native_abi.NativeBackendError, match=r"mjModel\.nnumeric"):
+        native_abi._verify_offsets(broken)
 
 
-@pytest.mark.skipif(native._compiler() is None, reason="no C compiler to run the offsetof probe")
+@pytest.mark.skipif(
+    native_abi._compiler() is None, reason="no C compiler to run the offsetof probe"
+)
 def test_offsetof_probe_matches_table_in_use() -> None:
-    assert native._offsets_from_compiler(native._compiler() or "cc") == native.OFFSETS
+    assert native_abi._offsets_from_compiler(native_abi._compiler() or "cc") == native.OFFSETS
 
 
 def test_compiled_callbacks_are_cached() -> None:

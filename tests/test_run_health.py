@@ -60,7 +60,7 @@ def test_data_time_drifts_but_the_clock_ticks_every_period() -> None:
     ticks_started = []
     n_steps = 20_000
     for _ in range(n_steps):
-        physics.control(prm, ref, t, d.qpos, d.qvel, d.qfrc_bias, d.M, ud, ctrl)
+        physics.control(prm, ref, t, d.qpos, d.qvel, d.act, d.qfrc_bias, d.M, ud, ctrl)
         ticks_started.append(ud[L.U_TICK])
         t += h  # what mj_step does to data.time
     drift = t - (3540.0 + n_steps * h)

@@ -26,14 +26,22 @@ def register(app: typer.Typer) -> None:
             Path | None, typer.Option("--json", help="also write the numbers as JSON here")
         ] = None,
     ) -> None:
-        """Time raw MuJoCo vs the Python and native callbacks, real-time factor, batch scaling."""
+        """Time raw MuJoCo vs the Python and native callbacks (full model and lean twin), the
+        real-time factor with and without logging, whole `fsarm run` processes, a sweep and
+        batch scaling - side by side in one run."""
         from fsarm_sim.outputs import OutputPlan, safe_write, write_text
         from fsarm_sim.studies.speed import format_report, measure_speed
 
         OutputPlan().file("--json", json_file).check()
         report = (
             measure_speed(
-                reps=5, rtf_reps=2, rtf_duration_s=2.0, batch_reps=2, max_workers=max_workers
+                reps=5,
+                rtf_reps=2,
+                rtf_duration_s=2.0,
+                batch_reps=2,
+                max_workers=max_workers,
+                process_reps=1,
+                sweep_reps=0,
             )
             if quick
             else measure_speed(reps=reps, max_workers=max_workers)

@@ -96,6 +96,7 @@ def _control(m: mujoco.MjModel, d: mujoco.MjData) -> None:
         d.time,
         d.qpos,
         d.qvel,
+        d.act,
         d.qfrc_bias,
         d.M,
         d.userdata,
@@ -131,9 +132,11 @@ def _restore(cbs: tuple[Any, Any, Any] | None) -> None:
 def _ours(cb: Any) -> bool:
     if cb is None or cb in (_passive, _act_dyn, _control):
         return True
-    native = sys.modules.get("fsarm_sim.engine.native")
-    return native is not None and any(
-        cb is getattr(native, n, None) for n in ("PASSIVE", "ACT_DYN", "CONTROL")
+    sources = [sys.modules.get("fsarm_sim.engine.native"), *_native]
+    return any(
+        src is not None and cb is getattr(src, n, None)
+        for src in sources
+        for n in ("PASSIVE", "ACT_DYN", "CONTROL")
     )
 
 
@@ -203,14 +206,30 @@ def uninstall() -> None:
 
 
 _native_failure: list[str] = []
+_native: list[Any] = []  # the native callbacks in use in this process (one source, never mixed)
 
 
-def _native_module() -> Any:
-    """fsarm_sim.engine.native, or None (said once on stderr) where it cannot be compiled here."""
+def load_native() -> Any:
+    """The native callbacks: the prebuilt library of the current kernels if there is one
+    (:mod:`fsarm_sim.engine.native_lib`, no Numba import), else fsarm_sim.engine.native (Numba,
+    which then builds the library for later processes in the background), or None (said once on
+    stderr) where they cannot be compiled here."""
+    if _native:
+        return _native[0]
     if _native_failure:
         return None
     try:
-        return importlib.import_module("fsarm_sim.engine.native")
+        from fsarm_sim.engine import native_lib
+
+        lib = native_lib.load()
+        if lib is not None:
+            _native.append(lib)
+            return lib
+        mod = importlib.import_module("fsarm_sim.engine.native")
+        if native_lib.enabled():
+            native_lib.build_in_background()
+        _native.append(mod)
+        return mod
     except Exception as exc:  # numba missing or broken, no compiler, unknown struct layout
         _native_failure.append(f"{type(exc).__name__}: {exc}")
         sys.stderr.write(
@@ -219,6 +238,15 @@ def _native_module() -> Any:
             "(same physics, slower; --backend python says so explicitly)\n"
         )
         return None
+
+
+def native_source() -> str:
+    """Where this process's native callbacks come from: "prebuilt library", "numba" or
+    "unavailable" (loads them if not loaded yet)."""
+    src = load_native()
+    if src is None:
+        return "unavailable"
+    return "numba" if isinstance(src, type(sys)) else "prebuilt library"
 
 
 @contextlib.contextmanager
@@ -253,7 +281,7 @@ def active(backend: str = DEFAULT_BACKEND) -> Iterator[None]:
                 )
                 backend = "python"
             if backend == "native":
-                native = _native_module()
+                native = load_native()
                 if native is not None:
                     native.install()
                 else:

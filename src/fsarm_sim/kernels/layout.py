@@ -234,5 +234,22 @@ A_PEAK_TAU2 = 13  # largest |joint-2 torque command|, N*m
 A_MOTOR_WORK = 14  # positive mechanical work of joint 3's motor, J (sum of max(P, 0) * h)
 N_ACC = 15
 U_ACC_PRE = U_ACC + N_ACC  # the accumulators as they were before the current step (re-done)
-N_USERDATA = U_ACC_PRE + N_ACC
 N_USERDATA_LOGGED = U_LOG + N_LOG  # what a run records per row (memory, outputs, logs)
+# the run recorder (physics.record_row): the control kernel writes a row every U_REC_STRIDE
+# physics steps into a buffer at the end of userdata - the time, qpos, qvel, act and the first
+# N_USERDATA_LOGGED userdata values, at the step's true state - and Simulation drains it between
+# chunks of steps, so no Python runs per recorded row
+U_REC_STRIDE = U_ACC_PRE + N_ACC  # physics steps between rows; 0: recording off
+U_REC_NEXT = U_REC_STRIDE + 1  # step index of the next row to record
+U_REC_LAST = U_REC_STRIDE + 2  # step index of the last row written (-1: none since the drain)
+U_REC_ROWS = U_REC_STRIDE + 3  # rows in the buffer since the last drain
+U_REC_CAP = U_REC_STRIDE + 4  # rows the buffer holds
+U_REC_LOST = U_REC_STRIDE + 5  # rows that found the buffer full (Simulation raises if > 0)
+U_REC_BUF = U_REC_STRIDE + 6  # the buffer: U_REC_CAP rows of rec_width(nq, nv, na) values
+N_USERDATA = U_REC_BUF  # userdata of a model without a recording buffer (the kernels' minimum)
+REC_ROWS_DEFAULT = 2048  # buffer rows of a model built by engine.model (about 1 MB on the arm)
+
+
+def rec_width(nq: int, nv: int, na: int) -> int:
+    """Values per recorded row: time, qpos, qvel, act, the logged userdata."""
+    return 1 + nq + nv + na + N_USERDATA_LOGGED

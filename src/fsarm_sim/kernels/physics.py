@@ -22,6 +22,11 @@ import numpy.typing as npt
 
 from fsarm_sim.controllers.joint3_torque import scheduled_gains, speed_loop, torque_pid
 from fsarm_sim.controllers.joint_position import clamp, computed_torque
+from fsarm_sim.controllers.tendon_sheath_compliance import (
+    MOTOR_POSITION_GAIN_RAD_S,
+    motor_speed_command,
+    position_command,
+)
 from fsarm_sim.kernels.dispatch import (
     arm_law_torques,
     tr_bend_torque,
@@ -57,6 +62,7 @@ from fsarm_sim.kernels.layout import (
     N_ACC,
     N_MEM,
     N_TR,
+    N_USERDATA_LOGGED,
     P_ACT_BR1,
     P_ACT_BR2,
     P_ACT_SLIP1,
@@ -125,16 +131,25 @@ from fsarm_sim.kernels.layout import (
     P_ZETA3,
     REF_COLS,
     STIFFNESS_FLOOR,
+    TR_TENDON_SHEATH,
     U_ACC,
     U_ACC_PRE,
     U_LOG,
     U_MEM,
     U_OUT,
     U_PRE,
+    U_REC_BUF,
+    U_REC_CAP,
+    U_REC_LAST,
+    U_REC_LOST,
+    U_REC_NEXT,
+    U_REC_ROWS,
+    U_REC_STRIDE,
     U_STEP,
     U_STEP_T,
     U_TICK,
     U_TICK_STEP,
+    rec_width,
 )
 from fsarm_sim.plant.effects import (
     backlash,
@@ -357,7 +372,8 @@ def control_tick(
     out: FloatArray,
     log: FloatArray,
 ) -> None:
-    """One control tick: joints 1-2 position loops, joint-3 cascade of Fig. 13.
+    """One control tick: joints 1-2 position loops, joint-3 cascade of Fig. 13 (with the
+    tendon-sheath transmission: seed 004's dual-encoder position loop in place of the torque PID).
 
     Reads memory ``mem_in`` (torque-PID integral, previous error, speed-loop integral, init flag),
     writes ``mem_out``, motor commands ``out`` (joint-1 torque, joint-2 torque, joint-3 rotor torque)
@@ -425,19 +441,27 @@ def control_tick(
     if prm[P_GAIN_SCHED] < 0.5:  # fixed gains, tuned at zero twist, straight (seed 001's PID)
         k_model = prm[P_TR_K0]
     kp, ki, kd = scheduled_gains(prm[P_TAU_BW], prm[P_TAU_WI], prm[P_TAU_KDN], k_model)
-    omega_d, integ, err, p_term, i_term, d_term = torque_pid(
-        tau_d,
-        tau_m,
-        mem_in[0],
-        mem_in[1],
-        mem_in[3],
-        dt,
-        kp,
-        ki,
-        kd,
-        omega_ff,
-        omega_max_shaft,
-    )
+    if prm[P_TRANS] == TR_TENDON_SHEATH:
+        # seed 004's dual-encoder position control (controllers/tendon_sheath_compliance.py)
+        theta_c = position_command(cs * ref[row + 2], tau_d, k_model)
+        omega_d = motor_speed_command(
+            theta_c, theta_m, cs * ref[row + 5], MOTOR_POSITION_GAIN_RAD_S, omega_max_shaft
+        )
+        integ, err, p_term, i_term, d_term = 0.0, theta_c - theta_m, 0.0, 0.0, 0.0
+    else:
+        omega_d, integ, err, p_term, i_term, d_term = torque_pid(
+            tau_d,
+            tau_m,
+            mem_in[0],
+            mem_in[1],
+            mem_in[3],
+            dt,
+            kp,
+            ki,
+            kd,
+            omega_ff,
+            omega_max_shaft,
+        )
     omega_motor = qvel[int(prm[P_DOF_ROT])]
     tau_mot, s_integ = speed_loop(
         omega_d / cm, omega_motor, mem_in[2], dt, prm[P_SPD_KP], prm[P_SPD_KI], prm[P_TAU_MOT_MAX]
@@ -493,12 +517,56 @@ def accumulate_metrics(
     acc[A_MOTOR_WORK] = pre[A_MOTOR_WORK] + max(tau_motor * omega_rotor, 0.0) * prm[P_TIMESTEP]
 
 
+def record_row(
+    s: float, time: float, qpos: FloatArray, qvel: FloatArray, act: FloatArray, ud: FloatArray
+) -> None:
+    """The run recorder: at a recorded step (every ``U_REC_STRIDE`` steps from ``U_REC_NEXT``)
+    write the row time, qpos, qvel, act, ``ud[:N_USERDATA_LOGGED]`` into the buffer; a later call
+    at the same step (the step's own forward after a predicted one, extra forwards) overwrites
+    its row, so the row holds the step's true state and the outputs computed from it."""
+    stride = ud[U_REC_STRIDE]
+    if stride <= 0.0:
+        return
+    rows = int(ud[U_REC_ROWS])
+    if s == ud[U_REC_LAST] and rows > 0:
+        row = rows - 1
+    elif s == ud[U_REC_NEXT]:
+        if rows >= int(ud[U_REC_CAP]):
+            ud[U_REC_LOST] += 1.0
+            return
+        row = rows
+        ud[U_REC_ROWS] = rows + 1.0
+        ud[U_REC_LAST] = s
+        ud[U_REC_NEXT] = s + stride
+    else:
+        return
+    nq = qpos.shape[0]
+    nv = qvel.shape[0]
+    na = act.shape[0]
+    w = rec_width(nq, nv, na)
+    at = U_REC_BUF + row * w
+    ud[at] = time
+    at += 1
+    for i in range(nq):
+        ud[at + i] = qpos[i]
+    at += nq
+    for i in range(nv):
+        ud[at + i] = qvel[i]
+    at += nv
+    for i in range(na):
+        ud[at + i] = act[i]
+    at += na
+    for i in range(N_USERDATA_LOGGED):
+        ud[at + i] = ud[i]
+
+
 def control(
     prm: FloatArray,
     ref: FloatArray,
     time: float,
     qpos: FloatArray,
     qvel: FloatArray,
+    act: FloatArray,
     bias: FloatArray,
     mass: FloatArray,
     userdata: FloatArray,
@@ -591,6 +659,7 @@ def control(
                 userdata[U_OUT : U_OUT + 3],
                 userdata[U_LOG:],
             )
+            record_row(s, time, qpos, qvel, act, userdata)
     ctrl[int(prm[P_CTRL_J1])] = userdata[U_OUT]
     ctrl[int(prm[P_CTRL_J2])] = userdata[U_OUT + 1]
     ctrl[int(prm[P_CTRL_J3])] = userdata[U_OUT + 2]

@@ -208,7 +208,7 @@ class Sidecar:
     gains: dict[str, GainValue] | None = None
     transmission: TransmissionRef | None = None
     shaft_params: dict[str, float | str | tuple[float, ...]] | None = None
-    effects: dict[str, float | bool] | None = None
+    effects: dict[str, float | bool | dict[str, dict[str, float]]] | None = None
     timestep_s: float | None = None
     integrator: str | None = None
     fsarm_sim_version: str | None = None
@@ -307,9 +307,18 @@ def gains_entry(gains: Any) -> dict[str, GainValue]:
     return {f.name: _plain(getattr(gains, f.name)) for f in dataclasses.fields(gains)}
 
 
-def effects_entry(effects: Any) -> dict[str, float | bool]:
-    """The ``effects`` entry of a :class:`fsarm_sim.engine.model.Effects`."""
-    return {f.name: _plain(getattr(effects, f.name)) for f in dataclasses.fields(effects)}
+def effects_entry(effects: Any) -> dict[str, float | bool | dict[str, dict[str, float]]]:
+    """The ``effects`` entry of a :class:`fsarm_sim.engine.model.Effects`; its arm laws (when
+    any are on) as ``"laws": {effect: {parameter: value}}``."""
+    out: dict[str, float | bool | dict[str, dict[str, float]]] = {
+        f.name: _plain(getattr(effects, f.name))
+        for f in dataclasses.fields(effects)
+        if f.name != "laws"
+    }
+    laws = getattr(effects, "laws", ())
+    if laws:
+        out["laws"] = {name: {k: float(v) for k, v in values} for name, values in laws}
+    return out
 
 
 def shaft_params_entry(shaft: Any) -> dict[str, float | str | tuple[float, ...]]:
@@ -483,6 +492,8 @@ def _typed_keys(entry: Mapping[str, Any] | None, owner: type, what: str, where: 
             f"allowed in '{what}' ({owner.__name__} fields): {', '.join(fields)}"
         )
     for k, v in entry.items():
+        if isinstance(v, Mapping):
+            continue  # a nested entry (Effects.laws): typed by the schema's own annotation
         f = fields[k]
         default = (
             f.default

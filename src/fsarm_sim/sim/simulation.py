@@ -16,12 +16,12 @@ from fsarm_sim.engine.model import ArmStructure, SimConfig, build_model, read_st
 from fsarm_sim.errors import (
     CallbackBypassError,
     InvalidParameterError,
+    ModelStructureError,
     RunFailedError,
     RunHealthError,
     SimulationWarningError,
 )
 from fsarm_sim.kernels import layout as L
-from fsarm_sim.kernels import physics
 from fsarm_sim.plant import transmissions
 from fsarm_sim.sim import scenarios
 
@@ -173,7 +173,9 @@ def initial_state(model: mujoco.MjModel, data: mujoco.MjData, st: ArmStructure) 
     data.qpos[st.qadr[3]] = (st.coef_s * data.qpos[st.qadr[2]] + twist) / st.coef_m
     tr = transmissions.by_kind(prm[L.P_TRANS])
     block = prm[L.P_TR : L.P_TR + L.N_TR]
-    for i, v in enumerate(tr.initial_states(block, twist, bend)):
+    # the transmission's states at the twist its law sees (the backlash play taken up is not)
+    elastic = tr.twist_for_torque(block, tau_shaft, bend) if prm[L.P_EN_SERIES] >= 0.5 else 0.0
+    for i, v in enumerate(tr.initial_states(block, elastic, bend)):
         data.act[st.act_slip + i] = v
     data.act[st.act_branch[0]] = bend
     data.act[st.act_branch[1]] = bend
@@ -196,13 +198,21 @@ def static_twist(prm: Array, tau_shaft: float, bend: float) -> float:
 
 
 class Simulation:
-    """One configured model and data, stepped with fsarm's callbacks."""
+    """One configured model and data, stepped with fsarm's callbacks.
+
+    ``lean`` (default): step the lean twin (:mod:`fsarm_sim.engine.lean`: no visual geoms or
+    sensors, the same dynamics to the last bit); ``lean=False`` keeps them in ``self.model``.
+    """
 
     def __init__(
-        self, config: SimConfig, ref_table: Array, backend: Backend = DEFAULT_BACKEND
+        self,
+        config: SimConfig,
+        ref_table: Array,
+        backend: Backend = DEFAULT_BACKEND,
+        lean: bool = True,
     ) -> None:
         self.config = config
-        self.model = build_model(config, ref_table)
+        self.model = build_model(config, ref_table, lean=lean)
         self.data = mujoco.MjData(self.model)
         self.structure = read_structure(self.model)
         if backend not in ("python", "native"):
@@ -331,26 +341,49 @@ class Simulation:
         stride = steps_per_tick * log_every_ticks if log_every_ticks > 0 else n_steps + 1
         n_rec = n_steps // stride + 1 if log_every_ticks > 0 else 0
         self._stride = stride
-        t_rec = np.empty(n_rec)
-        qpos_rec = np.empty((n_rec, m.nq))
-        qvel_rec = np.empty((n_rec, m.nv))
-        act_rec = np.empty((n_rec, m.na))
-        ud_rec = np.empty((n_rec, L.N_USERDATA_LOGGED))
+        width = L.rec_width(m.nq, m.nv, m.na)
+        cap = (m.nuserdata - L.N_USERDATA) // width
+        if n_rec and cap < 1:
+            raise ModelStructureError(
+                f"the model has no recording buffer (nuserdata {m.nuserdata} < "
+                f"{L.N_USERDATA + width}): build it with engine.model.build_model"
+            )
+        rec = np.empty((n_rec, width))
         self._step0 = self.step_index()
         self.interrupted = False
         self._rows = 0
         failure: RunFailedError | None = None
+        ud = d.userdata
+        ud[L.U_REC_STRIDE] = stride if n_rec else 0.0
+        ud[L.U_REC_NEXT] = self._step0
+        ud[L.U_REC_LAST] = -1.0
+        ud[L.U_REC_ROWS] = 0.0
+        ud[L.U_REC_CAP] = cap
+        ud[L.U_REC_LOST] = 0.0
         with callbacks.active(self.backend):
             start = _time.perf_counter()
             try:
-                self._loop(n_steps, n_rec, stride, t_rec, qpos_rec, qvel_rec, act_rec, ud_rec)
+                self._loop(n_steps, n_rec, stride, rec, cap)
             except KeyboardInterrupt:
                 self.interrupted = True
             except RunFailedError as exc:
                 failure = exc
+            finally:
+                ud[L.U_REC_STRIDE] = 0.0  # recording off outside run()
             wall = _time.perf_counter() - start
+        if ud[L.U_REC_LOST] > 0.0:
+            raise ModelStructureError(
+                f"the run recorder lost {int(ud[L.U_REC_LOST])} rows (a full buffer): a bug"
+            )
         r = self._rows
-        cols = self._columns(t_rec[:r], qpos_rec[:r], qvel_rec[:r], act_rec[:r], ud_rec[:r])
+        nq, nv, na = m.nq, m.nv, m.na
+        cols = self._columns(
+            rec[:r, 0],
+            rec[:r, 1 : 1 + nq],
+            rec[:r, 1 + nq : 1 + nq + nv],
+            rec[:r, 1 + nq + nv : 1 + nq + nv + na],
+            rec[:r, 1 + nq + nv + na :],
+        )
         try:
             if failure is not None:
                 raise failure
@@ -362,69 +395,64 @@ class Simulation:
             raise
         return cols, wall
 
-    def _loop(
-        self,
-        n_steps: int,
-        n_rec: int,
-        stride: int,
-        t_rec: Array,
-        qpos_rec: Array,
-        qvel_rec: Array,
-        act_rec: Array,
-        ud_rec: Array,
-    ) -> None:
-        """Step ``n_steps``, recording a row every ``stride`` steps; check warnings as it goes.
+    def _loop(self, n_steps: int, n_rec: int, stride: int, rec: Array, cap: int) -> None:
+        """Step ``n_steps`` in chunks; the control kernel records a row every ``stride`` steps
+        into the recorder's buffer (``physics.record_row``), drained into ``rec`` after every
+        chunk (a chunk never holds more rows than the buffer). Warnings and health are checked
+        between chunks, and per-tick hooks run at their ticks.
 
-        ``self._rows`` counts the complete rows, so an interruption keeps them."""
+        ``self._rows`` counts the rows drained, so an interruption keeps them."""
         m, d = self.model, self.data
-        r = 0
+        ud = d.userdata
+        width = rec.shape[1]
+        buf = ud[L.U_REC_BUF : L.U_REC_BUF + cap * width].reshape(cap, width) if n_rec else rec
         step = 0
         per_tick = round(self.config.gains.ctrl_dt_s / m.opt.timestep)
         hooks = self.hooks
         next_check = WARNING_CHECK_EVERY
-        while step < n_steps:
-            if step >= next_check:
-                raise_on_warning(d)
-                self.health()
-                next_check = step + WARNING_CHECK_EVERY
-            if hooks and step % per_tick == 0:
-                for hook in hooks:
-                    hook(step // per_tick)
-            if r < n_rec and step % stride == 0:
-                t_rec[r] = d.time
-                qpos_rec[r] = d.qpos
-                qvel_rec[r] = d.qvel
-                act_rec[r] = d.act
-                mujoco.mj_step(m, d)
-                ud_rec[r] = d.userdata[: L.N_USERDATA_LOGGED]
-                r += 1
-                self._rows = r
-                step += 1
-                continue
-            chunk = min(next_check - step, n_steps - step)
-            if n_rec:
-                chunk = min(chunk, stride - step % stride)
-            if hooks:
-                chunk = min(chunk, per_tick - step % per_tick)
-            mujoco.mj_step(m, d, nstep=chunk)
-            step += chunk
+        try:
+            while step < n_steps:
+                if step >= next_check:
+                    raise_on_warning(d)
+                    self.health()
+                    next_check = step + WARNING_CHECK_EVERY
+                if hooks and step % per_tick == 0:
+                    for hook in hooks:
+                        hook(step // per_tick)
+                chunk = min(next_check - step, n_steps - step)
+                if n_rec:
+                    chunk = min(chunk, cap * stride - step % stride)
+                if hooks:
+                    chunk = min(chunk, per_tick - step % per_tick)
+                mujoco.mj_step(m, d, nstep=chunk)
+                step += chunk
+                self._drain(rec, buf)
+        finally:
+            self._drain(rec, buf)
+
+    def _drain(self, rec: Array, buf: Array) -> None:
+        """Move the recorder's rows into ``rec`` (after ``self._rows``)."""
+        ud = self.data.userdata
+        rows = int(ud[L.U_REC_ROWS])
+        if rows == 0:
+            return
+        r = self._rows
+        n = min(rows, rec.shape[0] - r)
+        rec[r : r + n] = buf[:n]
+        self._rows = r + n
+        ud[L.U_REC_ROWS] = 0.0
+        ud[L.U_REC_LAST] = -1.0
 
     def _columns(
         self, t: Array, qpos: Array, qvel: Array, act: Array, ud: Array
     ) -> dict[str, Array]:
-        st, prm = self.structure, self.params
+        st = self.structure
         ref = self.model.numeric(L.REF_NAME).data.reshape(-1, L.REF_COLS)
         # the tick each row's step belongs to (the control clock's own count, never data.time)
         per_tick = round(self.config.gains.ctrl_dt_s / self.model.opt.timestep)
         stride = self._stride
         steps = self._step0 + stride * np.arange(len(t))
         k = np.clip(steps // per_tick, 0, ref.shape[0] - 1)
-        tau_shaft = np.array(
-            [physics.shaft_torque(prm, qpos[i], qvel[i], act[i]) for i in range(len(t))]
-        )
-        bend = np.array(
-            [physics.bending_torques(prm, qpos[i], qvel[i], act[i]) for i in range(len(t))]
-        ).reshape(-1, 2)
         theta_m = st.coef_m * qpos[:, st.qadr[3]]
         theta_s = st.coef_s * qpos[:, st.qadr[2]]
         log = ud[:, L.U_LOG :]
@@ -446,12 +474,13 @@ class Simulation:
             phi_b=qpos[:, st.qadr[1]],
             omega_m=st.coef_m * qvel[:, st.dof[3]],
             omega_d=log[:, L.L_OMEGA_D],
-            tau_shaft=tau_shaft,
+            # computed by the passive kernel at the row's state (never recomputed here)
+            tau_shaft=log[:, L.L_TAU_SHAFT],
             tau_model=log[:, L.L_TAU_MODEL],
             tau_d_shaft=log[:, L.L_TAU_D_SHAFT],
             tau_d_joint3=log[:, L.L_TAU_D_JOINT],
-            tau_bend=bend[:, 0],
-            tau_conduit=bend[:, 1],
+            tau_bend=log[:, L.L_TAU_BEND],
+            tau_conduit=log[:, L.L_TAU_CONDUIT],
             pid_p=log[:, L.L_PID_P],
             pid_i=log[:, L.L_PID_I],
             pid_d=log[:, L.L_PID_D],
@@ -591,9 +620,11 @@ def run_scenario(
     payload_kg: float | None = None,
     backend: Backend = DEFAULT_BACKEND,
     log_every_ticks: int = 1,
+    lean: bool = True,
 ) -> RunResult:
     """Run a registered scenario (or a :class:`~fsarm_sim.sim.scenarios.Scenario`) headless and
-    compute its metrics. Its disturbance and outer loop, if any, run once per control tick."""
+    compute its metrics. Its disturbance and outer loop, if any, run once per control tick.
+    ``lean``: step the lean twin of the model (the same dynamics; see :class:`Simulation`)."""
     sc = name if isinstance(name, scenarios.Scenario) else scenarios.get(name)
     duration = check_duration(sc.duration_s if duration_s is None else duration_s)
     if (
@@ -611,7 +642,7 @@ def run_scenario(
     check_run_size(duration, timestep, cfg.gains.ctrl_dt_s, int(log_every_ticks), 120)
     n_ticks = round(duration / cfg.gains.ctrl_dt_s) + 1
     table = sc.reference(np.arange(n_ticks, dtype=np.float64) * cfg.gains.ctrl_dt_s)
-    sim = Simulation(cfg, table, backend)
+    sim = Simulation(cfg, table, backend, lean=lean)
     if sc.disturbance is not None:
         sim.hooks.append(disturbance_hook(sim, sc.disturbance))
     if sc.outer_loop is not None:

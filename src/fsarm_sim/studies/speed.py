@@ -15,17 +15,31 @@ the machine may be shared):
   per-repetition ratios. Raw MuJoCo without the shaft and controller lets the arm fall; the block is
   short (0.2 s) so it does not reach a joint limit (``raw_nefc`` reports the constraint count at the
   end of the block: 0 means no limit was active).
-* real-time factor - ``Simulation.run`` of 10 s ``fig14-sine`` without logging
-  (``log_every_ticks=0``) on the native path: simulated time / stepping wall time.
+  A fourth path, *native lean*, steps the lean twin of the same model (no visual geoms or
+  sensors: :mod:`fsarm_sim.engine.lean`, what ``Simulation`` steps by default) from the same state;
+  its ratio is taken against raw MuJoCo on the FULL model (the shipped scene).
+* real-time factor - ``Simulation.run`` of 10 s ``fig14-sine`` on the native path, with the
+  default full logging (one row per control tick, recorded by the control kernel) and without
+  logging (``log_every_ticks=0``): simulated time / stepping wall time.
+* whole process - ``fsarm run fig14-sine --duration 10 --out TMP`` as a subprocess (wall time
+  from start to exit), and the same steps timed inside one fresh interpreter: imports of the CLI,
+  loading the native kernels, building and stepping the run, writing the output.
+* sweep - ``fsarm_sim.studies.sweep.run_sweep`` of 12 tracking points of 10 s (four diameters x
+  three lengths) into a new store, with 1 and 2 workers: throughput per core as a real-time factor,
+  against the single-run one.
 * batch - differently configured runs (every catalogue shaft D/L, series hysteresis on), each in
   its own thread through ``mujoco.rollout`` (:mod:`fsarm_sim.sim.batch`), with 1..N workers.
 """
 
 from __future__ import annotations
 
+import json
 import statistics
+import subprocess
+import sys
+import tempfile
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -42,8 +56,11 @@ from fsarm_sim.sim.simulation import Simulation
 SCENARIO = "fig14-sine"
 WARMUP_STEPS = 50  # untimed steps of the same path before each timed block
 GOAL_NATIVE_OVER_RAW = 1.3
-GOAL_REALTIME_FACTOR = 300.0
-GOAL_SCALING_2_CORES = 1.7
+GOAL_LEAN_OVER_RAW = 1.0  # the default stepping (lean twin + callbacks) vs the shipped scene raw
+GOAL_REALTIME_FACTOR = 400.0  # default run: native, full logging
+GOAL_PROCESS_S = 0.5  # whole `fsarm run fig14-sine --duration 10`
+GOAL_SWEEP_PER_CORE = 0.8  # sweep throughput per core / single-run real-time factor
+GOAL_SCALING_2_CORES = 1.8
 
 
 @dataclass(frozen=True)
@@ -72,6 +89,18 @@ class SpeedReport:
     compile_s: float  # import of fsarm_sim.engine.native: compile, or load from cache
     compile_cache_hits: int  # 3: all three callbacks came from the cache
     machine_note: str
+    lean_us: float = float("nan")  # native callbacks on the lean twin, median per step
+    lean_us_best: float = float("nan")
+    lean_over_raw: float = float("nan")  # median of per-repetition lean / raw (full model)
+    rtf_logged: float = float("nan")  # real-time factor with full logging (the default run)
+    rtf_logged_best: float = float("nan")
+    process_s: float = float("nan")  # whole `fsarm run` process, median
+    process_phases: dict[str, float] = field(default_factory=dict)  # phase -> median s
+    kernel_source: str = ""  # where a fresh process took the native callbacks from
+    sweep_points: int = 0
+    sweep_duration_s: float = 0.0
+    sweep_rtf_per_core: dict[int, float] = field(default_factory=dict)  # workers -> median
+    sweep_scaling: dict[int, float] = field(default_factory=dict)  # workers -> vs 1 worker
 
 
 def _full_config() -> SimConfig:
@@ -97,19 +126,26 @@ def _time_block(m: mujoco.MjModel, d: mujoco.MjData, s0: Any, n: int) -> float:
 def _per_step(reps: int, block_steps: int) -> tuple[dict[str, list[float]], int, float]:
     INTEGRATION = mujoco.mjtState.mjSTATE_INTEGRATION
     cfg = _full_config()
-    sim = Simulation(cfg, _table(block_steps * 0.001 + 1.0, cfg.gains.ctrl_dt_s), "native")
+    table = _table(block_steps * 0.001 + 1.0, cfg.gains.ctrl_dt_s)
+    sim = Simulation(cfg, table, "native", lean=False)
     m, d = sim.model, sim.data
+    twin = Simulation(cfg, table, "native")  # the lean twin: same state layout (checked)
     s0 = np.empty(mujoco.mj_stateSize(m, INTEGRATION))
     mujoco.mj_getState(m, d, s0, INTEGRATION)
-    times: dict[str, list[float]] = {"raw": [], "python": [], "native": []}
-    order = ["raw", "python", "native"]
+    if mujoco.mj_stateSize(twin.model, INTEGRATION) != s0.size:
+        raise InvalidParameterError("the lean twin's state differs in size from the full model's")
+    times: dict[str, list[float]] = {"raw": [], "python": [], "native": [], "lean": []}
+    order = ["raw", "python", "native", "lean"]
     nefc = 0
     for rep in range(reps + 1):  # repetition 0 warms caches up and is dropped
-        for path in order[rep % 3 :] + order[: rep % 3]:
+        for path in order[rep % 4 :] + order[: rep % 4]:
             if path == "raw":
                 with callbacks.suspended():
                     dt = _time_block(m, d, s0, block_steps)
                     nefc = int(d.nefc)
+            elif path == "lean":
+                with callbacks.active("native"):
+                    dt = _time_block(twin.model, twin.data, s0, block_steps)
             else:
                 with callbacks.active(path):
                     dt = _time_block(m, d, s0, block_steps)
@@ -118,15 +154,90 @@ def _per_step(reps: int, block_steps: int) -> tuple[dict[str, list[float]], int,
     return times, nefc, float(m.opt.timestep)
 
 
-def _realtime(reps: int, duration_s: float) -> list[float]:
+def _realtime(reps: int, duration_s: float, log_every_ticks: int = 0) -> list[float]:
     cfg = _full_config()
     table = _table(duration_s, cfg.gains.ctrl_dt_s)
     walls = []
     for _ in range(reps):
         sim = Simulation(cfg, table, "native")
-        _, wall = sim.run(duration_s, log_every_ticks=0)
+        _, wall = sim.run(duration_s, log_every_ticks=log_every_ticks)
         walls.append(wall)
     return walls
+
+
+# the phases of `fsarm run fig14-sine`, timed inside one fresh interpreter
+_PHASES = """
+import json, sys, tempfile, time
+from pathlib import Path
+t = [time.perf_counter()]
+import fsarm_sim.cli  # the command and what it imports at start
+t.append(time.perf_counter())
+from fsarm_sim.engine import callbacks  # loading the compiled kernels
+source = callbacks.native_source()
+t.append(time.perf_counter())
+from fsarm_sim.sim.simulation import run_scenario
+r = run_scenario("fig14-sine", duration_s=float(sys.argv[1]))
+t.append(time.perf_counter())
+from fsarm_sim.records.timeseries import write_timeseries
+with tempfile.TemporaryDirectory() as tmp:
+    write_timeseries(r, Path(tmp))
+t.append(time.perf_counter())
+names = ["imports", "kernel load", "build + step", "output"]
+out = {n: t[i + 1] - t[i] for i, n in enumerate(names)}
+out["stepping (of build + step)"] = float(r.metrics["wall_time_s"])
+print(json.dumps({"phases": out, "source": source}))
+"""
+
+
+def _process(reps: int, duration_s: float) -> tuple[list[float], dict[str, list[float]], str]:
+    """Whole `fsarm run` processes (wall from spawn to exit) and the phases of fresh runs."""
+    fsarm = Path(sys.executable).with_name("fsarm")
+    cmd = [str(fsarm)] if fsarm.exists() else [sys.executable, "-m", "fsarm_sim.cli"]
+    walls: list[float] = []
+    phases: dict[str, list[float]] = {}
+    source = ""
+    with tempfile.TemporaryDirectory(prefix="fsarm-bench-") as tmp:
+        for _ in range(reps):
+            start = time.perf_counter()
+            subprocess.run(
+                [*cmd, "run", SCENARIO, "--duration", f"{duration_s:g}", "--out", tmp],
+                check=True,
+                capture_output=True,
+            )
+            walls.append(time.perf_counter() - start)
+            got = subprocess.run(
+                [sys.executable, "-c", _PHASES, f"{duration_s:g}"],
+                check=True,
+                capture_output=True,
+                text=True,
+            )
+            res = json.loads(got.stdout.strip().splitlines()[-1])
+            source = str(res["source"])
+            for k, v in res["phases"].items():
+                phases.setdefault(k, []).append(float(v))
+    return walls, phases, source
+
+
+def _sweep(reps: int, duration_s: float, max_workers: int) -> tuple[int, dict[int, list[float]]]:
+    """Real-time factor per core of a 12-point tracking sweep, per number of workers."""
+    from fsarm_sim.studies import sweep
+
+    spec = sweep.build_spec(
+        grid=["diameter_mm=6,8,10,12", "length_mm=335,435,535"],
+        fixed=["scenario=fig14-sine", f"duration_s={duration_s:g}"],
+        outputs=["tracking"],
+        name="bench",
+    )
+    n_points = len(sweep.points(spec))
+    out: dict[int, list[float]] = {}
+    for _ in range(reps):
+        for w in range(1, max_workers + 1):
+            with tempfile.TemporaryDirectory(prefix="fsarm-bench-") as tmp:
+                rep = sweep.run_sweep(spec, Path(tmp) / "s.sqlite", workers=w)
+            if rep.failed:
+                raise InvalidParameterError(f"benchmark sweep points failed: {rep.errors[:2]}")
+            out.setdefault(w, []).append(n_points * duration_s / rep.wall_s / w)
+    return n_points, out
 
 
 def _batch(
@@ -179,8 +290,10 @@ def measure_speed(
     batch_runs: int | None = None,
     batch_duration_s: float = 2.0,
     max_workers: int | None = None,
+    process_reps: int = 3,
+    sweep_reps: int = 1,
 ) -> SpeedReport:
-    """Run the whole benchmark (about 10-20 s on 2 cores) and return its medians."""
+    """Run the whole benchmark (about a minute on 2 cores) and return its medians."""
     for name, v in (("reps", reps), ("block_steps", block_steps), ("rtf_reps", rtf_reps)):
         if not isinstance(v, int) or v < 1:
             raise InvalidParameterError(f"{name} must be an integer >= 1, got {v!r}")
@@ -194,7 +307,13 @@ def measure_speed(
     times, nefc, timestep = _per_step(reps, block_steps)
     ratio_native = [n / r for n, r in zip(times["native"], times["raw"], strict=True)]
     ratio_python = [p / r for p, r in zip(times["python"], times["raw"], strict=True)]
+    ratio_lean = [n / r for n, r in zip(times["lean"], times["raw"], strict=True)]
     walls = _realtime(rtf_reps, rtf_duration_s)
+    walls_logged = _realtime(rtf_reps, rtf_duration_s, log_every_ticks=1)
+    proc, phases, source = _process(process_reps, rtf_duration_s)
+    sweep_n, sweep = (
+        _sweep(sweep_reps, rtf_duration_s, min(n_workers, 2)) if sweep_reps > 0 else (0, {})
+    )
     thr, scale, thr_best = _batch(batch_reps, n_runs, batch_duration_s, n_workers)
     return SpeedReport(
         reps=reps,
@@ -221,6 +340,21 @@ def measure_speed(
         compile_s=native.COMPILE_INFO.seconds,
         compile_cache_hits=native.COMPILE_INFO.cache_hits,
         machine_note=_load_note(cores),
+        lean_us=statistics.median(times["lean"]) * 1e6,
+        lean_us_best=min(times["lean"]) * 1e6,
+        lean_over_raw=statistics.median(ratio_lean),
+        rtf_logged=rtf_duration_s / statistics.median(walls_logged),
+        rtf_logged_best=rtf_duration_s / min(walls_logged),
+        process_s=statistics.median(proc),
+        process_phases={k: statistics.median(v) for k, v in phases.items()},
+        kernel_source=source,
+        sweep_points=sweep_n,
+        sweep_duration_s=rtf_duration_s,
+        sweep_rtf_per_core={w: statistics.median(v) for w, v in sweep.items()},
+        sweep_scaling={
+            w: statistics.median(a * w / b for a, b in zip(v, sweep[1], strict=True))
+            for w, v in sweep.items()
+        },
     )
 
 
@@ -251,10 +385,44 @@ def format_report(r: SpeedReport) -> str:
         f"  native callbacks            {r.native_us:8.3f} us {r.native_us_best:8.3f} us"
         f"   native/raw = {r.native_over_raw:6.3f}"
         f"   goal <= {GOAL_NATIVE_OVER_RAW}: {goal(r.native_over_raw <= GOAL_NATIVE_OVER_RAW)}",
-        f"real-time factor, {r.rtf_duration_s:g} s {SCENARIO}, native, no logging: "
-        f"{r.rtf_native:.0f}x (best {r.rtf_native_best:.0f}x)"
-        f"   goal >= {GOAL_REALTIME_FACTOR:g}x: {goal(r.rtf_native >= GOAL_REALTIME_FACTOR)}",
-        f"  (ceiling set by raw MuJoCo's best step alone: {r.timestep_s / (r.raw_us_best * 1e-6):.0f}x)",
+        f"  native, lean twin (default)  {r.lean_us:8.3f} us {r.lean_us_best:8.3f} us"
+        f"   lean/raw = {r.lean_over_raw:6.3f}"
+        f"   goal <= {GOAL_LEAN_OVER_RAW}: {goal(r.lean_over_raw <= GOAL_LEAN_OVER_RAW)}",
+        f"real-time factor, {r.rtf_duration_s:g} s {SCENARIO}, native (the default run):",
+        f"  full logging (default)  {r.rtf_logged:6.0f}x (best {r.rtf_logged_best:.0f}x)"
+        f"   goal >= {GOAL_REALTIME_FACTOR:g}x: {goal(r.rtf_logged >= GOAL_REALTIME_FACTOR)}",
+        f"  no logging              {r.rtf_native:6.0f}x (best {r.rtf_native_best:.0f}x)",
+        f"  (ceiling set by raw MuJoCo's best step alone, full model: "
+        f"{r.timestep_s / (r.raw_us_best * 1e-6):.0f}x)",
+        f"whole process `fsarm run {SCENARIO} --duration {r.rtf_duration_s:g} --out DIR`: "
+        f"{r.process_s:.2f} s   goal <= {GOAL_PROCESS_S:g} s: {goal(r.process_s <= GOAL_PROCESS_S)}",
+        f"  phases in a fresh interpreter (native callbacks from the {r.kernel_source}): "
+        + ", ".join(f"{k} {v:.3f} s" for k, v in r.process_phases.items()),
+    ]
+    if r.sweep_points:
+        single = r.rtf_logged
+        lines.append(
+            f"sweep: {r.sweep_points} tracking points x {r.sweep_duration_s:g} s (run_sweep, "
+            "process workers):"
+        )
+        for w, v in r.sweep_rtf_per_core.items():
+            lines.append(
+                f"  {w} worker{'s' if w > 1 else ' '}  {v:6.0f}x real time per core"
+                f" ({v / single:.2f} of the single run), scaling {r.sweep_scaling[w]:.2f}x"
+            )
+        if 1 in r.sweep_rtf_per_core:
+            per = r.sweep_rtf_per_core[1] / single
+            lines.append(
+                f"  goal per core >= {GOAL_SWEEP_PER_CORE} x single run: "
+                f"{goal(per >= GOAL_SWEEP_PER_CORE)}"
+                + (
+                    f"; goal 2 workers >= {GOAL_SCALING_2_CORES}x: "
+                    f"{goal(r.sweep_scaling[2] >= GOAL_SCALING_2_CORES)}"
+                    if 2 in r.sweep_scaling
+                    else ""
+                )
+            )
+    lines += [
         f"batch: {r.batch_runs} runs x {r.batch_duration_s:g} s, different shafts (D/L), "
         "mujoco.rollout in worker threads:",
     ]

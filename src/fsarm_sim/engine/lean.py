@@ -1,0 +1,36 @@
+"""The lean twin of a run's model: the same dynamics without what only a viewer needs.
+
+``mj_step`` spends part of every step on elements that do not change the arm's motion here: the
+visual geoms (no geom of the arm collides: ``contype``/``conaffinity`` 0, see
+``models/fsarm/fsarm.xml``) have their poses computed every step, and the sensors are evaluated
+every step although fsarm reads its channels from the state. :func:`strip` removes them from a
+run's MjSpec before it is compiled (``engine.model.build_model(..., lean=True)``):
+
+* a non-colliding geom is deleted only where its body states its inertia explicitly, so no body
+  loses mass or inertia (a body whose inertia comes from its geoms keeps them);
+* every sensor is deleted.
+
+Bodies, joints, sites, tendons and actuators are kept, so every address the kernels read
+(``fsarm_params``' structure block) is the same as in the full model, and the dynamics are the
+same to the last bit (``tests/test_lean.py`` steps the twin beside the full model for 10 s of
+every scenario with every transmission). ``fsarm bench-speed`` reports what it saves. Review
+(the 3-D view) and anything that needs the geoms or sensors use the full model.
+"""
+
+from __future__ import annotations
+
+import mujoco
+
+
+def strip(spec: mujoco.MjSpec) -> tuple[int, int]:
+    """Delete the non-colliding geoms of bodies with explicit inertia, and every sensor, from
+    ``spec`` (in place); returns (geoms deleted, sensors deleted)."""
+    geoms = [
+        g for g in spec.geoms if g.contype == 0 and g.conaffinity == 0 and g.parent.explicitinertial
+    ]
+    sensors = list(spec.sensors)
+    for g in geoms:
+        spec.delete(g)
+    for s in sensors:
+        spec.delete(s)
+    return len(geoms), len(sensors)

@@ -1,0 +1,225 @@
+"""The native callbacks as a prebuilt shared library: no Numba at run time.
+
+Importing Numba and loading its cached code is most of the start-up of a short run (about 0.5 s of
+a 1 s ``fsarm run``). So the three callbacks are also built once as a shared library - the very
+functions :mod:`fsarm_sim.engine.native` compiles, taken through Numba's LLVM pipeline and
+emitted as position-independent machine code for this CPU, linked by the C compiler into
+``<cache>/lib-<key>/libfsarm_callbacks.so`` - and later processes load that library with
+``ctypes`` and hand its three functions to MuJoCo without importing Numba. ``<key>`` is
+:func:`fsarm_sim.engine.native_abi.source_key` plus the CPU, so an edit of any kernel, another
+MuJoCo struct layout or another machine builds a new library.
+
+The build needs Numba, llvmlite and a C compiler; it runs once per key, from
+:func:`fsarm_sim.engine.callbacks.active` after the first native run (``FSARM_PREBUILT=0``
+switches the library off) or from ``python -m fsarm_sim.engine.native_lib``
+(``scripts/setup_env.sh`` does this). The code paths that would raise a Python exception from a
+compiled kernel (there are none by construction: ``error_model="numpy"``, no reference counting)
+call Numba's runtime helpers; the library links stubs for them that abort with a message instead
+of continuing silently. ``tests/test_native_lib.py`` checks that the library steps the arm bit for
+bit as the Numba-compiled callbacks do.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import mujoco
+
+from fsarm_sim.engine.native_abi import NativeBackendError, cache_dir, source_key, struct_offsets
+
+ENV = "FSARM_PREBUILT"  # "0": never load or build the library (the Numba path then runs)
+LIB_NAME = "libfsarm_callbacks.so"
+NAMES = ("passive", "act_dyn", "control")
+
+# Numba runtime helpers referenced only from the exception paths of the compiled wrappers
+_STUBS_C = r"""
+#include <stdio.h>
+#include <stdlib.h>
+static void fsarm_fail(const char *what) {
+  fprintf(stderr, "fsarm: a compiled kernel reached %s (an exception path that the kernels never"
+                  " take by design); aborting rather than continuing with a wrong state\n", what);
+  abort();
+}
+#define STUB(name) void name(void) { fsarm_fail(#name); }
+STUB(NRT_Free)
+STUB(NRT_MemInfo_call_dtor)
+STUB(numba_do_raise)
+STUB(numba_gil_ensure)
+STUB(numba_gil_release)
+STUB(numba_runtime_build_excinfo_struct)
+STUB(numba_unpickle)
+"""
+
+
+def enabled() -> bool:
+    return os.environ.get(ENV, "1") != "0"
+
+
+def _cpu() -> str:
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as f:
+            for line in f:
+                if line.startswith(("model name", "flags")):
+                    return line.strip()
+    except OSError:
+        pass
+    return "unknown-cpu"
+
+
+def library_dir() -> Path:
+    """Where this build of the kernels lives (see the module docstring)."""
+    import hashlib
+
+    key = source_key(struct_offsets())
+    cpu = hashlib.sha256(_cpu().encode()).hexdigest()[:8]
+    return cache_dir() / f"lib-{key}-{cpu}"
+
+
+@dataclass(frozen=True)
+class Library:
+    """The loaded library: the three callbacks as ctypes function pointers MuJoCo accepts, with
+    the same ``install``/``installed``/``uninstall`` and ``PASSIVE``/``ACT_DYN``/``CONTROL`` as
+    :mod:`fsarm_sim.engine.native` (the callbacks module uses either)."""
+
+    path: Path
+    handle: Any
+    PASSIVE: Any
+    ACT_DYN: Any
+    CONTROL: Any
+
+    def install(self) -> None:
+        mujoco.set_mjcb_passive(self.PASSIVE)
+        mujoco.set_mjcb_act_dyn(self.ACT_DYN)
+        mujoco.set_mjcb_control(self.CONTROL)
+
+    def installed(self) -> bool:
+        return (
+            mujoco.get_mjcb_passive() is self.PASSIVE
+            and mujoco.get_mjcb_act_dyn() is self.ACT_DYN
+            and mujoco.get_mjcb_control() is self.CONTROL
+        )
+
+    def uninstall(self) -> None:
+        if mujoco.get_mjcb_passive() is self.PASSIVE:
+            mujoco.set_mjcb_passive(None)
+        if mujoco.get_mjcb_act_dyn() is self.ACT_DYN:
+            mujoco.set_mjcb_act_dyn(None)
+        if mujoco.get_mjcb_control() is self.CONTROL:
+            mujoco.set_mjcb_control(None)
+
+
+_PASSIVE_T = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p)
+_ACT_DYN_T = ctypes.CFUNCTYPE(ctypes.c_double, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_int)
+_CONTROL_T = _PASSIVE_T
+
+
+def load() -> Library | None:
+    """The prebuilt library of the current kernels, or None (not built yet, switched off, or it
+    cannot be loaded here)."""
+    if not enabled():
+        return None
+    d = library_dir()
+    path, meta = d / LIB_NAME, d / "symbols.json"
+    if not path.exists() or not meta.exists():
+        return None
+    try:
+        symbols = json.loads(meta.read_text())
+        handle = ctypes.CDLL(str(path))
+        fns = [
+            t(int(ctypes.cast(getattr(handle, symbols[n]), ctypes.c_void_p).value or 0))
+            for n, t in zip(NAMES, (_PASSIVE_T, _ACT_DYN_T, _CONTROL_T), strict=True)
+        ]
+    except (OSError, ValueError, KeyError, AttributeError):
+        return None
+    return Library(path, handle, *fns)
+
+
+def build() -> Path:
+    """Compile the callbacks with Numba (uncached), emit them as PIC machine code and link the
+    library; returns its path. Raises NativeBackendError where that cannot be done here."""
+    from fsarm_sim.engine.native_abi import _compiler
+
+    cc = _compiler()
+    if cc is None:
+        raise NativeBackendError("no C compiler to link the prebuilt callbacks library")
+    import llvmlite.binding as llvm
+    from numba import cfunc
+
+    from fsarm_sim.engine import native
+
+    llvm.initialize_native_target()
+    llvm.initialize_native_asmprinter()
+    target = llvm.Target.from_default_triple()
+    tm = target.create_target_machine(
+        cpu=llvm.get_host_cpu_name(),
+        features=llvm.get_host_cpu_features().flatten(),
+        opt=3,
+        reloc="pic",
+        codemodel="default",
+    )
+    d = library_dir()
+    d.mkdir(parents=True, exist_ok=True)
+    symbols: dict[str, str] = {}
+    with tempfile.TemporaryDirectory(prefix="fsarm-lib-", dir=d) as tmp:
+        objects = []
+        callbacks: tuple[Any, ...] = (native._passive_cb, native._act_dyn_cb, native._control_cb)
+        for name, cb in zip(NAMES, callbacks, strict=True):
+            fresh: Any = cfunc(cb._sig, cache=False, error_model="numpy")(cb._pyfunc)
+            obj = Path(tmp) / f"{name}.o"
+            obj.write_bytes(tm.emit_object(fresh._library._final_module))
+            objects.append(str(obj))
+            symbols[name] = fresh.native_name
+        stubs = Path(tmp) / "stubs.c"
+        stubs.write_text(_STUBS_C)
+        out = Path(tmp) / LIB_NAME
+        link = subprocess.run(
+            [cc, "-shared", "-fPIC", "-O2", "-o", str(out), *objects, str(stubs), "-lm"],
+            capture_output=True,
+            text=True,
+            check=False,
+        )
+        if link.returncode != 0:
+            raise NativeBackendError(
+                f"linking the callbacks library failed:\n{link.stderr[-2000:]}"
+            )
+        meta = Path(tmp) / "symbols.json"
+        meta.write_text(json.dumps(symbols))
+        os.replace(out, d / LIB_NAME)
+        os.replace(meta, d / "symbols.json")
+    return d / LIB_NAME
+
+
+def build_quietly() -> None:
+    """:func:`build`, with any failure said once on stderr (the Numba path keeps working)."""
+    try:
+        build()
+    except Exception as exc:  # a build problem must never break a run
+        sys.stderr.write(f"fsarm: the prebuilt callbacks library was not built ({exc})\n")
+
+
+def build_in_background() -> None:
+    """Start ``python -m fsarm_sim.engine.native_lib`` detached (it outlives this process), so
+    that the next processes load the library; concurrent builds replace the files atomically."""
+    with contextlib.suppress(OSError):
+        subprocess.Popen(
+            [sys.executable, "-m", "fsarm_sim.engine.native_lib"],
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            start_new_session=True,
+        )
+
+
+if __name__ == "__main__":  # python -m fsarm_sim.engine.native_lib: build it unless it is built
+    with contextlib.suppress(KeyboardInterrupt):
+        found = load()
+        print(found.path if found is not None else build())

@@ -1,0 +1,50 @@
+"""The lean twin (fsarm_sim.engine.lean): the same dynamics as the full model, fewer elements."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from fsarm_sim.engine.model import SimConfig, build_model
+from fsarm_sim.errors import FsarmError
+from fsarm_sim.kernels import layout as L
+from fsarm_sim.plant import transmissions
+from fsarm_sim.sim import scenarios
+from fsarm_sim.sim.simulation import run_scenario
+
+STATE = ("q1", "q2", "q3", "qd1", "qd2", "qd3", "theta_m", "omega_m", "tau_shaft", "tau_motor")
+
+
+def test_the_twin_drops_visual_geoms_and_sensors_only() -> None:
+    ref = np.zeros((2, L.REF_COLS))
+    full = build_model(SimConfig(payload_kg=5.0), ref)
+    lean = build_model(SimConfig(payload_kg=5.0), ref, lean=True)
+    assert lean.nsensor == 0 < full.nsensor
+    assert lean.ngeom < full.ngeom
+    for name in ("nbody", "njnt", "nq", "nv", "na", "nu", "nsite", "ntendon", "nuserdata"):
+        assert getattr(lean, name) == getattr(full, name), name
+    np.testing.assert_array_equal(lean.body_mass, full.body_mass)
+    np.testing.assert_array_equal(lean.body_inertia, full.body_inertia)
+    np.testing.assert_array_equal(
+        lean.numeric(L.PARAMS_NAME).data, full.numeric(L.PARAMS_NAME).data
+    )
+
+
+@pytest.mark.parametrize("transmission", transmissions.names())
+def test_every_scenario_runs_the_same_on_the_twin(transmission: str) -> None:
+    """10 s of every scenario (with its disturbance and outer loop): states within 1e-9."""
+    for sc in scenarios.REGISTRY.values():
+        cfg = SimConfig(transmission=transmission)
+        out = []
+        for lean in (False, True):
+            try:
+                r = run_scenario(sc.name, cfg, duration_s=10.0, lean=lean)
+                out.append(r.columns)
+            except FsarmError as exc:  # e.g. a spring that cannot hold the payload, a failed run
+                out.append({"failed": str(exc)})
+        if "failed" in out[0] or "failed" in out[1]:
+            assert out[0] == out[1], (sc.name, transmission)
+            continue
+        for key in STATE:
+            err = float(np.max(np.abs(out[0][key] - out[1][key])))
+            assert err <= 1e-9, (sc.name, transmission, key, err)
