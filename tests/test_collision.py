@@ -236,3 +236,60 @@ def test_cli_table_and_json(monkeypatch: pytest.MonkeyPatch, tmp_path) -> None: 
     assert data["hand_guiding"]["pushes"][0]["travel_rad"] == 0.2
     bad = CliRunner().invoke(app, ["collision", "--backend", "gpu"])
     assert bad.exit_code != 0
+
+
+# ------------------------------------------------------------------ seed 004's Algorithms 1-2
+
+# seed 004 Table 2, bend pi/2: (P, Q, M) per direction
+RC = (-0.208, 0.916, 0.301)
+RA = (-0.030, 0.913, -0.063)
+
+
+def _columns(th2: np.ndarray, noise: float = 0.0) -> dict[str, np.ndarray]:
+    w = np.gradient(th2)
+    th1 = np.where(w > 0, np.polyval(RC, th2), np.polyval(RA, th2))
+    rng = np.random.default_rng(0)
+    th1 = th1 + noise * rng.standard_normal(len(th2))
+    return {"t": np.arange(len(th2)) * 1e-3, "theta_m": th1, "q3": th2, "qd3": w / 1e-3}
+
+
+def test_identification_recovers_the_branches_and_sets_delta_a() -> None:
+    th2 = 0.8 * np.sin(np.linspace(0.0, 4.0 * math.pi, 4001))
+    model = C.identify_position_model([_columns(th2, noise=1e-3)], ["synthetic"])
+    np.testing.assert_allclose(model.up, RC, atol=5e-3)
+    np.testing.assert_allclose(model.down, RA, atol=5e-3)
+    assert 0.0 < model.max_error_rad < 0.01
+    assert model.threshold_rad == pytest.approx(C.MARGIN * model.max_error_rad)
+    # a joint that never moves one way cannot be identified (eq. 19 needs both fits)
+    with pytest.raises(C.CollisionError, match="both ways"):
+        C.identify_position_model([_columns(np.linspace(0.0, 1.0, 500))], ["one way"])
+
+
+def test_algorithm1_delta_sees_a_displacement_error() -> None:
+    th2 = 0.8 * np.sin(np.linspace(0.0, 4.0 * math.pi, 4001))
+    cols = _columns(th2)
+    clean = C.algorithm1_delta(cols, RC, RA)
+    assert np.max(np.abs(clean)) < 1e-12
+    hit = dict(cols)
+    hit["theta_m"] = cols["theta_m"].copy()
+    hit["theta_m"][2000:2050] -= 0.1  # the joint pushed back: motor ahead of both branches
+    d = C.algorithm1_delta(hit, RC, RA)
+    assert np.max(np.abs(d[2000:2050])) > 0.05
+    found = C.alarms(cols["t"], d, 0.05)
+    assert len(found) == 1 and found[0].start_s == pytest.approx(2.0)
+
+
+def test_algorithm2_hand_guiding_follows_the_push_and_holds() -> None:
+    from fsarm_sim.engine.model import SimConfig
+    from fsarm_sim.sim import scenarios
+    from fsarm_sim.sim.simulation import run_scenario
+
+    sc = C.algorithm2_scenario()
+    assert sc.disturbance is not None
+    res = run_scenario(sc, SimConfig(transmission="tendon-sheath"), backend="python")
+    g = C.evaluate_guiding(res, sc.disturbance, [(a, b) for a, b, _ in scenarios.HAND_PUSHES])
+    for p in g.pushes:
+        assert math.copysign(1.0, p["travel_rad"]) == math.copysign(1.0, p["mean_push_nm"])
+        assert abs(p["travel_rad"]) > math.radians(1.0)  # the joint yields to a 9 N*m push
+        assert abs(p["drift_after_release_rad"]) < math.radians(0.5)  # and stays where left
+        assert abs(p["speed_after_release_rad_s"]) < 0.05

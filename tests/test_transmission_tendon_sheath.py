@@ -215,10 +215,12 @@ def test_dahl_loop_matches_the_stick_slip_capstan_loop(bend: float, x1: float, x
 
 def test_friction_state_stays_bounded() -> None:
     tr = TR.block()
-    # explicit steps with |x'| dt / delta <= 1 never leave [-1, 1] even without the state limit
+    # explicit steps with |x'| dt / delta + dt / T_r <= 1 never leave [-1, 1] even without the
+    # state limit (T_r: the friction's relaxation)
+    relax = DT / tr[ts.I_RELAX]
     for x in (0.0, 0.05):
         delta = ts.presliding_rad(tr, x, 0.0)
-        for xdot in (-delta / DT, 0.3 * delta / DT, delta / DT):
+        for xdot in (-(1 - relax) * delta / DT, 0.3 * delta / DT, (1 - relax) * delta / DT):
             for z0 in np.linspace(-1.0, 1.0, 9):
                 z1 = z0 + DT * ts.state_rate(tr, x, xdot, 0.0, act_at(float(z0)), 0, 0)
                 assert -1.0 - 1e-12 <= z1 <= 1.0 + 1e-12
@@ -294,3 +296,87 @@ def test_kernels_compile_with_numba() -> None:
             ts.potential_j(tr, x, -1.1, act, 0),
         ]
         np.testing.assert_allclose(got, want, rtol=1e-12)
+
+
+# ------------------------------------------------------------------ single tendon, sheath, routing
+
+
+def test_single_tendon_only_pulls() -> None:
+    # seed 004 Sec. II-B: a single TSA only pulls; slack (negative twist) carries nothing
+    single = TR.block({"single_tendon": 1.0})
+    pair = TR.block()
+    for z in (-1.0, 0.0, 1.0):
+        for x in (-0.05, -0.001):
+            assert ts.torque_nm(single, x, 0.3, 0.5, act_at(z), 0) == 0.0
+            assert ts.potential_j(single, x, 0.5, act_at(z), 0) == 0.0
+        assert ts.torque_nm(single, 0.03, 0.3, 0.5, act_at(z), 0) == pytest.approx(
+            ts.torque_nm(pair, 0.03, 0.3, 0.5, act_at(z), 0), rel=1e-12
+        )
+    assert TR.sensor_torque(single, -0.02, 0.0) == 0.0 and TR.stiffness(single, -0.02, 0.0) == 0.0
+    assert TR.sensor_torque(pair, -0.02, 0.0) < 0.0  # the pull-pull pair drives both ways
+    with pytest.raises(TransmissionError, match="single_tendon"):
+        TR.block({"single_tendon": 2.0})
+
+
+def test_sheath_compliance_is_in_series_over_the_sheath_length() -> None:
+    ea_t = 193e9 * math.pi * 0.6e-3**2
+    rigid = TR.block({"mu": 0.0})
+    soft = TR.block({"mu": 0.0, "sheath_ea_n": 5e4})
+    # mu = 0: C = L_t / EA_t + L_s / EA_sheath
+    assert ts.compliance_pull(rigid, 0.0) == pytest.approx(1.2 / ea_t, rel=1e-12)
+    assert ts.compliance_pull(soft, 0.0) == pytest.approx(1.2 / ea_t + 0.8 / 5e4, rel=1e-12)
+    # the capstan ratio between the branches stays exact with a compliant sheath
+    tr = TR.block({"sheath_ea_n": 5e4})
+    ratio = ts.compliance_release(tr, 0.4) / ts.compliance_pull(tr, 0.4)
+    assert ratio == pytest.approx(math.exp(0.15 * (math.pi / 2 + 0.4)), rel=1e-12)
+
+
+def test_routing_wrap_adds_to_the_total_bend() -> None:
+    tr = TR.block({"routing_wrap_rad": 1.0})
+    assert ts.total_wrap_rad(tr, -0.5) == pytest.approx(1.0 + math.pi / 2 + 0.5)
+
+
+def test_valid_twist_is_the_elastic_limit_on_the_soft_branch() -> None:
+    tr = TR.block()
+    f_lim = ts.ELASTIC_STRAIN * 193e9 * math.pi * 0.6e-3**2
+    assert TR.valid_twist_rad(tr) == pytest.approx(f_lim * ts.compliance_release(tr, 0.0) / 0.025)
+    # a compliant sheath twists further before the tendon reaches the same tension
+    assert TR.valid_twist_rad(TR.block({"sheath_ea_n": 5e3})) > 10.0 * TR.valid_twist_rad(tr)
+
+
+def test_friction_step_is_the_exact_solution_of_the_state_rate() -> None:
+    tr = TR.block({"friction_relaxation_s": 0.0})
+    x, z, dx = 0.04, -0.3, 2e-4
+    n = 2000
+    zz = z
+    for _ in range(n):  # fine explicit integration at constant x (presliding held fixed)
+        zz += (dx / n) * ts.state_rate(tr, x, 1.0, 0.0, act_at(zz), 0, 0)
+    assert ts.friction_step(tr, x, dx, 0.0, z) == pytest.approx(zz, rel=1e-3)
+    assert ts.friction_step(tr, x, 0.0, 0.0, z) == z
+
+
+def test_mobilised_friction_relaxes_at_rest() -> None:
+    # friction_relaxation_s (Table 1's rate effect): at rest z decays as exp(-t / T_r)
+    tr = TR.block()
+    assert tr[ts.I_RELAX] == 28.0
+    assert ts.state_rate(tr, 0.05, 0.0, 0.3, act_at(0.8), 0, 0) == pytest.approx(-0.8 / 28.0)
+    assert ts.friction_step(tr, 0.05, 0.0, 0.3, 0.8, 28.0) == pytest.approx(0.8 / math.e)
+    off = TR.block({"friction_relaxation_s": 0.0})
+    assert ts.state_rate(off, 0.05, 0.0, 0.3, act_at(0.8), 0, 0) == 0.0
+    assert ts.friction_step(off, 0.05, 0.0, 0.3, 0.8, 28.0) == 0.8
+
+
+def test_play_inside_the_data_range_is_not_resolved() -> None:
+    # gap(theta2) = dP th^2 + dQ th + dM ~ G cos(theta2) + b = (G + b) - G th^2 / 2: b = dM + 2 dP,
+    # evaluated from the fitted terms themselves (no extrapolation beyond the data)
+    rows = [*ts.TABLE_2_BEND.values(), *ts.TABLE_1_VELOCITY.values()]
+    b = []
+    for row in rows:
+        dp, _, dm = _separations(row)
+        b.append(dm + 2.0 * dp)
+    assert b == pytest.approx([0.008, 0.062, 0.067, 0.114, 0.013, -0.001], abs=1e-9)
+    mean, spread = float(np.mean(b)), float(np.std(b))
+    largest_me = max(v[3] for row in rows for v in row.values())
+    assert mean == pytest.approx(0.044, abs=1e-3) and spread > 0.9 * mean
+    assert spread < largest_me  # within the fits' own maximal error: no play resolved
+    assert TR.block()[ts.I_BACKLASH] == 0.0

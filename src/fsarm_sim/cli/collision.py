@@ -1,8 +1,9 @@
 """``fsarm collision``: sensorless collision detection and hand guiding at joint 3 (seed 004).
 
 Identifies the detection threshold on collision-free runs, then runs ``collision-hit`` (and its
-collision-free twin), ``fig14-sine`` and ``p2p-payload`` through Algorithm 1 and ``hand-guide``
-through Algorithm 2 (:mod:`fsarm_sim.studies.collision`); prints detection delay, false alarms and the
+collision-free twin), ``fig14-sine`` and ``p2p-payload`` through the momentum observer and, on the
+same runs, seed 004's own Algorithm 1 (eq. 19 branches identified without disturbance, the delta
+rule), and ``hand-guide`` through the admittance loop (:mod:`fsarm_sim.studies.collision`); prints detection delay, false alarms and the
 hand-guided motion as tables, optionally as JSON.
 """
 
@@ -11,7 +12,7 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 from rich.console import Console
@@ -76,7 +77,9 @@ def register(app: typer.Typer) -> None:
             f"{', '.join(cal.runs)})",
             markup=False,
         )
-        table = Table(title="collision detection (seed 004 Algorithm 1)")
+        table = Table(
+            title="collision detection (momentum observer, Algorithm 1's delta rule on r)"
+        )
         for col in (
             "run",
             "contact [s]",
@@ -102,6 +105,7 @@ def register(app: typer.Typer) -> None:
                 str(d.false_alarms),
             )
         console.print(table)
+        _print_algorithm1(console, bat)
         for d in bat.detection:
             if d.skipped is not None:
                 console.print(f"{d.run} skipped: {d.skipped}", markup=False)
@@ -110,7 +114,7 @@ def register(app: typer.Typer) -> None:
             console.print(f"hand-guide skipped: {bat.guiding_skipped}", markup=False)
             _write_json(json_file, bat.as_dict(), console)
             return
-        gt = Table(title="hand guiding (seed 004 Algorithm 2, admittance on joint 3)")
+        gt = Table(title="hand guiding (observer + admittance on joint 3)")
         for col in (
             "push [s]",
             "mean tau_ext [N·m]",
@@ -128,12 +132,71 @@ def register(app: typer.Typer) -> None:
                 f"{math.degrees(p['speed_after_release_rad_s']):.3g}",
             )
         console.print(gt)
+        if bat.guiding_alg2_failed is not None:
+            console.print(
+                f"hand guiding by Algorithm 2 failed: {bat.guiding_alg2_failed}", markup=False
+            )
+        if bat.guiding_alg2 is not None:
+            g2 = Table(title="hand guiding (seed 004 Algorithm 2: the motor follows the joint)")
+            for col in (
+                "push [s]",
+                "mean tau_ext [N·m]",
+                "travel [deg]",
+                "drift after release [deg]",
+                "max speed after release [deg/s]",
+            ):
+                g2.add_column(escape(col), justify="right")
+            for p in bat.guiding_alg2.pushes:
+                g2.add_row(
+                    f"{p['start_s']:g}-{p['end_s']:g}",
+                    f"{p['mean_push_nm']:.3g}",
+                    f"{math.degrees(p['travel_rad']):.3g}",
+                    f"{math.degrees(p['drift_after_release_rad']):.3g}",
+                    f"{math.degrees(p['speed_after_release_rad_s']):.3g}",
+                )
+            console.print(g2)
         console.print(
             f"work of the hand on joint 3: {g.human_work_j:.3g} J; final joint-3 speed "
             f"{math.degrees(g.final_speed_rad_s):.3g} deg/s",
             markup=False,
         )
         _write_json(json_file, bat.as_dict(), console)
+
+
+def _print_algorithm1(console: Console, bat: Any) -> None:
+    """Seed 004's Algorithm 1 (eq. 19 branches, delta rule) beside the observer, same runs."""
+    pm = bat.position_model
+    if pm is None:
+        console.print(f"Algorithm 1 not run: {bat.position_model_skipped}", markup=False)
+        return
+    console.print(
+        f"seed 004 Algorithm 1 on the same runs: eq. 19 fitted on {', '.join(pm.runs)}; "
+        f"M.E. {pm.max_error_rad:.4g} rad, delta_a = {pm.threshold_rad:.4g} rad",
+        markup=False,
+    )
+    table = Table(title="collision detection: observer vs seed 004 Algorithm 1 (same runs)")
+    for col in (
+        "run",
+        "observer delay [ms]",
+        "observer false alarms",
+        "Alg. 1 peak |delta| [rad]",
+        "Alg. 1 delay [ms]",
+        "Alg. 1 false alarms",
+    ):
+        table.add_column(escape(col), justify="left" if col == "run" else "right")
+    for obs, alg in zip(bat.detection, bat.detection_alg1, strict=True):
+        if obs.skipped is not None:
+            table.add_row(escape(obs.run), "skipped", "", "", "", "")
+            continue
+        table.add_row(
+            escape(obs.run),
+            _fmt(obs.delay_s, 1e3),
+            str(obs.false_alarms),
+            f"{alg.peak_estimate_nm:.3g}",
+            _fmt(alg.delay_s, 1e3) if alg.contact_s else "-",
+            str(alg.false_alarms),
+        )
+    console.print(table)
 
 
 def _write_json(path: Path | None, data: dict[str, object], console: Console) -> None:

@@ -13,6 +13,8 @@ All torques are joint-side (q3), N*m; times in s.
 
 from __future__ import annotations
 
+import functools
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
@@ -20,7 +22,9 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
+from fsarm_sim.controllers.tendon_sheath_compliance import collision_monitor
 from fsarm_sim.engine.model import SimConfig, build_model, read_structure
+from fsarm_sim.errors import RunHealthError
 from fsarm_sim.kernels import layout as L
 from fsarm_sim.plant.transmissions.base import TransmissionError
 from fsarm_sim.sim import scenarios
@@ -38,6 +42,7 @@ from fsarm_sim.sim.outer_loops import (
     CollisionReaction,
     HandGuiding,
     JointThreeObserver,
+    Simulator,
     check_positive,
     hand_guiding_loop,
     identification_reference,
@@ -72,6 +77,7 @@ __all__ = [
     "MARGIN",
     "SETTLE_TIME_CONSTANTS",
     "Alarm",
+    "Algorithm2Guiding",
     "Battery",
     "Calibration",
     "CollisionError",
@@ -80,12 +86,17 @@ __all__ = [
     "GuidingReport",
     "HandGuiding",
     "JointThreeObserver",
+    "PositionModel",
     "alarms",
+    "algorithm1_delta",
+    "algorithm2_scenario",
     "calibrate",
+    "evaluate_algorithm1",
     "evaluate_detection",
     "evaluate_guiding",
     "external_torque",
     "hand_guiding_loop",
+    "identify_position_model",
     "reaction_loop",
     "residual",
     "run_battery",
@@ -290,6 +301,164 @@ def without_disturbance(sc: scenarios.Scenario) -> scenarios.Scenario:
 
 
 # --------------------------------------------------------------------------------------------
+# Seed 004's own detector: Algorithm 1 on the identified position transmission (eq. 19)
+# --------------------------------------------------------------------------------------------
+
+# Joint speeds below this (rad/s) belong to neither direction when the branches are fitted.
+DIRECTION_DEADBAND_RAD_S = 1e-3
+
+
+@dataclass(frozen=True)
+class PositionModel:
+    """Eq. 19 identified without disturbance: ``theta_m = P q3^2 + Q q3 + M`` per direction of
+    joint motion (``up``: qd3 > 0, the seed's p branch; ``down``: qd3 < 0, its r branch), the
+    largest |delta| of Algorithm 1 over the identification (M.E.), and the threshold
+    ``delta_a = MARGIN * M.E.`` (the seed's "maximum allowable error")."""
+
+    up: tuple[float, float, float]
+    down: tuple[float, float, float]
+    max_error_rad: float
+    threshold_rad: float
+    runs: tuple[str, ...]
+
+    def as_dict(self) -> dict[str, object]:
+        return {
+            "up_PQM": list(self.up),
+            "down_PQM": list(self.down),
+            "max_error_rad": self.max_error_rad,
+            "threshold_rad": self.threshold_rad,
+            "runs": list(self.runs),
+        }
+
+
+def algorithm1_delta(
+    columns: dict[str, Array], up: tuple[float, float, float], down: tuple[float, float, float]
+) -> Array:
+    """Algorithm 1's monitor value ``delta`` per recorded row (nearer branch - motor angle)."""
+    th1, th2 = columns["theta_m"], columns["q3"]
+    out = np.empty(len(th1))
+    prev = float(th1[0]) if len(th1) else 0.0
+    for k in range(len(th1)):
+        out[k], _, _ = collision_monitor(float(th1[k]), float(th2[k]), prev, math.inf, *up, *down)
+        prev = float(th1[k])
+    return out
+
+
+def identify_position_model(
+    columns: Sequence[dict[str, Array]], runs: Sequence[str], margin: float = MARGIN
+) -> PositionModel:
+    """Fit eq. 19 per direction over collision-free runs; M.E. and ``delta_a`` from them."""
+    check_positive("margin", margin)
+    th1 = np.concatenate([c["theta_m"] for c in columns])
+    th2 = np.concatenate([c["q3"] for c in columns])
+    w2 = np.concatenate([c["qd3"] for c in columns])
+    coefs = []
+    for sel in (w2 > DIRECTION_DEADBAND_RAD_S, w2 < -DIRECTION_DEADBAND_RAD_S):
+        if np.count_nonzero(sel) < 3 or np.ptp(th2[sel]) <= 0.0:
+            raise CollisionError(
+                "the identification runs do not move joint 3 both ways: eq. 19 needs one fit "
+                "per direction"
+            )
+        c = np.polyfit(th2[sel], th1[sel], 2)
+        coefs.append((float(c[0]), float(c[1]), float(c[2])))
+    up, down = coefs[0], coefs[1]
+    worst = max(float(np.max(np.abs(algorithm1_delta(c, up, down)))) for c in columns)
+    if worst <= 0.0:
+        raise CollisionError("the identification runs gave no model error: no threshold")
+    return PositionModel(up, down, worst, margin * worst, tuple(runs))
+
+
+@functools.lru_cache(maxsize=16)
+def position_model(config: SimConfig, backend: Backend = DEFAULT_BACKEND) -> PositionModel:
+    """Eq. 19 identified on the observer's collision-free identification run at the
+    configuration's payload (seed 004 identifies at its one load, Sec. III-IV), cached per
+    configuration."""
+    cols, runs = [], []
+    dt = config.gains.ctrl_dt_s
+    n_ticks = round(IDENTIFICATION_DURATION_S / dt) + 1
+    ref = identification_reference(np.arange(n_ticks, dtype=np.float64) * dt)
+    for payload in (config.payload_kg,):
+        cfg = config
+        try:
+            c, _ = Simulation(cfg, ref, backend).run(IDENTIFICATION_DURATION_S, log_every_ticks=1)
+        except TransmissionError as exc:
+            runs.append(f"{IDENTIFICATION_NAME} @ {payload:g} kg skipped ({exc})")
+            continue
+        cols.append(c)
+        runs.append(f"{IDENTIFICATION_NAME} @ {payload:g} kg")
+    if not cols:
+        raise CollisionError(f"no identification run possible: {'; '.join(runs)}")
+    return identify_position_model(cols, runs)
+
+
+def evaluate_algorithm1(
+    run: str,
+    result: RunResult,
+    model: PositionModel,
+    disturbance: scenarios.Disturbance | None = None,
+    late_s: float = SETTLE_TIME_CONSTANTS / GAIN_RAD_S,
+) -> DetectionReport:
+    """Detection delay and false alarms of seed 004's Algorithm 1 over a recorded run (alarm:
+    ``|delta| > delta_a``), in the observer's report format (torques read as rad of motor
+    angle: ``peak_estimate_nm`` holds the largest |delta| in rad)."""
+    t = result.columns["t"]
+    d = algorithm1_delta(result.columns, model.up, model.down)
+    found = alarms(t, d, model.threshold_rad)
+    window = disturbance.window_s if disturbance is not None else None
+    detected = None
+    false = 0
+    for a in found:
+        inside = window is not None and window[0] <= a.start_s <= window[1] + late_s
+        if inside and detected is None:
+            detected = a.start_s
+        elif not inside:
+            false += 1
+    return DetectionReport(
+        run=run,
+        threshold_nm=model.threshold_rad,
+        contact_s=window,
+        detected_s=detected,
+        delay_s=None if detected is None or window is None else detected - window[0],
+        false_alarms=false,
+        peak_external_nm=(
+            float(np.max(np.abs(external_torque(result, disturbance))))
+            if disturbance is not None
+            else 0.0
+        ),
+        peak_estimate_nm=float(np.max(np.abs(d))) if len(d) else 0.0,
+    )
+
+
+class Algorithm2Guiding:
+    """Seed 004's Algorithm 2 on the arm's cascade (a scenario outer loop, once per tick).
+
+    The seed commands the motor to the no-load position-transmission relation at the measured
+    joint angle, ``theta_h`` (the nearer of its two identified branches), so a joint pushed by
+    hand drags the motor along and stays where it is left. On our cascade the joint-3 reference
+    is set to the joint encoder's reading (speed and acceleration 0): the motor command of the
+    joint-3 controller is then the controller's own no-load relation at that angle (its copy
+    of the transmission law and the arm's gravity stand in for eq. 19's fitted branches).
+    """
+
+    def __init__(self, sim: Simulator) -> None:
+        self.sim = sim
+        self.ref = sim.model.numeric(L.REF_NAME).data.reshape(-1, L.REF_COLS)
+        self.qadr = int(read_structure(sim.model).qadr[2])
+
+    def __call__(self, k: int) -> None:
+        if k < self.ref.shape[0]:
+            self.ref[k, 2] = float(self.sim.data.qpos[self.qadr])
+            self.ref[k, 5] = 0.0
+            self.ref[k, 8] = 0.0
+
+
+def algorithm2_scenario() -> scenarios.Scenario:
+    """``hand-guide`` with Algorithm 2 as its outer loop instead of the admittance."""
+    hg = scenarios.get("hand-guide")
+    return replace(hg, name=f"{hg.name} (Algorithm 2)", outer_loop=Algorithm2Guiding)
+
+
+# --------------------------------------------------------------------------------------------
 # The scripted battery (``fsarm collision``)
 # --------------------------------------------------------------------------------------------
 
@@ -298,7 +467,8 @@ FREE_RUNS = ("fig14-sine", "p2p-payload")  # collision-free runs checked for fal
 
 @dataclass(frozen=True)
 class Battery:
-    """Calibration, detection over the scripted runs, and hand guiding, for one configuration."""
+    """Calibration, detection over the scripted runs, and hand guiding, for one configuration;
+    beside the observer, seed 004's own Algorithm 1 on the same runs (``detection_alg1``)."""
 
     transmission: str
     calibration: Calibration
@@ -306,6 +476,11 @@ class Battery:
     detection: tuple[DetectionReport, ...]
     guiding: GuidingReport | None
     guiding_skipped: str | None = None
+    position_model: PositionModel | None = None
+    detection_alg1: tuple[DetectionReport, ...] = ()
+    position_model_skipped: str | None = None
+    guiding_alg2: GuidingReport | None = None
+    guiding_alg2_failed: str | None = None  # the Algorithm 2 run diverged (why)
 
     def as_dict(self) -> dict[str, object]:
         cal = self.calibration
@@ -319,7 +494,15 @@ class Battery:
                 "runs": list(cal.runs),
             },
             "detection": [d.as_dict() for d in self.detection],
+            "algorithm1": {
+                "position_model": self.position_model.as_dict() if self.position_model else None,
+                "skipped": self.position_model_skipped,
+                "detection": [d.as_dict() for d in self.detection_alg1],
+                "units": "threshold and peak_estimate in rad of motor angle (delta)",
+            },
             "hand_guiding": self.guiding.as_dict() if self.guiding else None,
+            "hand_guiding_algorithm2": self.guiding_alg2.as_dict() if self.guiding_alg2 else None,
+            "hand_guiding_algorithm2_failed": self.guiding_alg2_failed,
             "hand_guiding_skipped": self.guiding_skipped,
         }
 
@@ -331,34 +514,71 @@ def _detect(
     backend: Backend,
     threshold_nm: float,
     dist: scenarios.Disturbance | None,
-) -> DetectionReport:
+    model: PositionModel | None = None,
+) -> tuple[DetectionReport, DetectionReport | None]:
+    """The observer's report of one run and, with ``model``, Algorithm 1's on the same run."""
     try:
         res = run_scenario(sc, config, backend=backend)
-    except TransmissionError as exc:
+    except (TransmissionError, RunHealthError) as exc:  # cannot hold the load / diverged
         window = dist.window_s if dist is not None else None
-        return DetectionReport(label, threshold_nm, window, None, None, None, 0.0, 0.0, str(exc))
-    return evaluate_detection(label, res, threshold_nm, dist)
+        skipped = DetectionReport(label, threshold_nm, window, None, None, None, 0.0, 0.0, str(exc))
+        return skipped, (replace(skipped, threshold_nm=model.threshold_rad) if model else None)
+    alg1 = evaluate_algorithm1(label, res, model, dist) if model is not None else None
+    return evaluate_detection(label, res, threshold_nm, dist), alg1
 
 
 def run_battery(config: SimConfig, backend: Backend = DEFAULT_BACKEND) -> Battery:
-    """collision-hit, its collision-free twin, fig14-sine and p2p-payload through Algorithm 1;
-    hand-guide through Algorithm 2. A run the transmission cannot make (it cannot hold the
-    scenario's load statically) is reported as skipped, with the reason."""
+    """collision-hit, its collision-free twin, fig14-sine and p2p-payload through the observer
+    and, on the same runs, seed 004's Algorithm 1 (eq. 19 identified on the collision-free
+    identification runs); hand-guide through the admittance loop. A run the transmission cannot
+    make (it cannot hold the scenario's load statically) is reported as skipped, with the
+    reason."""
     cal = calibrate(config, backend=backend)
     thr = cal.threshold_nm
+    model: PositionModel | None = None
+    model_skipped: str | None = None
+    try:
+        model = position_model(config, backend)
+    except CollisionError as exc:
+        model_skipped = str(exc)
     hit = scenarios.get("collision-hit")
     twin = without_disturbance(hit)
-    reports = [
-        _detect(hit.name, hit, config, backend, thr, hit.disturbance),
-        _detect(twin.name, twin, config, backend, thr, None),
+    pairs = [
+        _detect(hit.name, hit, config, backend, thr, hit.disturbance, model),
+        _detect(twin.name, twin, config, backend, thr, None, model),
     ]
-    reports += [_detect(name, name, config, backend, thr, None) for name in FREE_RUNS]
+    pairs += [_detect(name, name, config, backend, thr, None, model) for name in FREE_RUNS]
+    reports = [p[0] for p in pairs]
+    alg1 = tuple(p[1] for p in pairs if p[1] is not None)
     hg = scenarios.get("hand-guide")
     assert hg.disturbance is not None
+    guiding: GuidingReport | None = None
+    guiding_alg2: GuidingReport | None = None
+    guiding_skipped: str | None = None
+    pushes = [(a, b) for a, b, _ in scenarios.HAND_PUSHES]
+    guiding_alg2_failed: str | None = None
     try:
         res = run_scenario(hg, config, backend=backend)
-    except TransmissionError as exc:
-        return Battery(config.transmission, cal, GAIN_RAD_S, tuple(reports), None, str(exc))
-    pushes = [(a, b) for a, b, _ in scenarios.HAND_PUSHES]
-    guiding = evaluate_guiding(res, hg.disturbance, pushes)
-    return Battery(config.transmission, cal, GAIN_RAD_S, tuple(reports), guiding)
+    except (TransmissionError, RunHealthError) as exc:
+        guiding_skipped = str(exc)
+    else:
+        guiding = evaluate_guiding(res, hg.disturbance, pushes)
+        try:
+            res2 = run_scenario(algorithm2_scenario(), config, backend=backend)
+        except RunHealthError as exc:  # no position stiffness left on a torque cascade
+            guiding_alg2_failed = str(exc)
+        else:
+            guiding_alg2 = evaluate_guiding(res2, hg.disturbance, pushes)
+    return Battery(
+        config.transmission,
+        cal,
+        GAIN_RAD_S,
+        tuple(reports),
+        guiding,
+        guiding_skipped,
+        position_model=model,
+        detection_alg1=alg1,
+        position_model_skipped=model_skipped,
+        guiding_alg2=guiding_alg2,
+        guiding_alg2_failed=guiding_alg2_failed,
+    )

@@ -29,7 +29,11 @@ Direction-dependent law (eq. 14, 19: one branch per direction of motion) as a sm
 Dahl element ``z`` (state slot 0, ``|z| <= 1``) tends to the sign of the twist rate::
 
     tau   = scale (K_m x_eff + K_d |x_eff| z)            (z = +1: K_pull branch, -1: K_rel)
-    dz/dt = (x' - |x'| z) / (delta0 + K_d/K_m |x_eff|)      (K_d/K_m = tanh(mu Theta / 2))
+    dz/dt = (x' - |x'| z) / (delta0 + K_d/K_m |x_eff|) - z / T_r   (K_d/K_m = tanh(mu Theta / 2))
+
+``T_r`` (``friction_relaxation_s``) lets the mobilised friction relax over tens of seconds, which
+makes the branch gap of seed 004's slow validation cycles grow with the motion velocity
+(Table 1); on the arm's second-scale motions it is negligible.
 
 The presliding deflection grows with the load: after a reversal the joint-side tension holds
 while the actuator end relaxes through ``x (1 - e^-mT)`` (seed 004 phases C and F: the motor
@@ -42,10 +46,31 @@ with its model, eq. 14) cannot tell the direction branch from the encoders' angl
 uses the centre line ``K_m x_eff`` (Algorithm 1 picks the nearer branch; the centre is the best
 single guess).
 
+Single tendon or pair (``single_tendon``): seed 004's actuator is one tendon that only pulls
+(Sec. II-B; gravity returns the joint): with ``single_tendon`` = 1 a negative twist is slack
+(no torque, no stiffness, no energy). The arm's joint 3 must be driven both ways, so it defaults
+to a pull-pull pair of the same tendon-sheaths (0; the seed's future-work double TSA).
+
+Sheath compliance and routing: ``sheath_ea_n`` puts the sheath's axial compliance in series with
+the tendon over the sheath length (the same capstan-weighted tension compresses it, so the
+branch ratio stays exactly e^(mu Theta)); ``routing_wrap_rad`` adds the routing's curvature to
+the total bend. Both default to "absent" (rigid sheath, designed bend only): the seed gives
+neither.
+
 Limits of the mapping: the interface carries one torque for both ends, so the capstan loss
 between the ends (motor end ``e^(mu Theta)`` times the joint end while pulling) is not charged to
 the motor; the direction is the twist rate's, not the tendon's sliding velocity (which the
-interface does not give).
+interface does not give). Consequence, measured by ``fsarm reproduce --paper 004``: in the
+seed's validation (motor sweeping, joint under gravity ``M g l cos theta_2``) the twist rises and
+falls within one stroke of the motor as the load does, so the friction state follows the load's
+rate rather than the stroke; the branch gap at theta_2 = 0 keeps the trends of Tables 1-2 (up
+with bend, up with speed through ``T_r``) but is ~1e-4 rad against their 0.2-0.6 rad. The
+tables' size is not a steel tendon's: 0.36 rad at the 1 kg load (l = 0.1 m, estimate) needs
+Delta(1/K) ~ 0.37 rad/(N*m); fitting ``mu``, ``routing_wrap_rad`` and ``sheath_ea_n`` to Table 2
+with the sliding-keyed capstan drives mu to 0.01 and K_m to 0.14 N*m/rad (tens of radians of
+twist at the arm's 7 N*m), so those parameters stay at "absent". Keying the friction to the
+sliding direction needs the joint-side (or motor-side) speed in the law's arguments: an
+interface change.
 """
 
 from __future__ import annotations
@@ -103,7 +128,14 @@ I_L_TENDON = 5
 I_L_SHEATH = 6
 I_BACKLASH = 7
 I_DELTA0 = 8
-I_SCALE = 9
+I_ROUTING = 9
+I_SHEATH_EA = 10
+I_RELAX = 11
+I_SINGLE = 12
+I_SCALE = 13
+
+# estimate: elastic limit of drawn stainless wire ~0.3 % strain (yield ~600 MPa / 193 GPa)
+ELASTIC_STRAIN = 0.003
 
 PARAMS: tuple[Param, ...] = (
     Param(
@@ -185,9 +217,11 @@ PARAMS: tuple[Param, ...] = (
         "backlash_rad",
         0.0,
         "rad",
-        "dead band width; Tables 1-2 show none resolvable: the two branches of eq. 19 meet at "
-        "zero load (theta2 = pi/2) within 0.071 rad for the bend rows, so the seed's 'backlash' "
-        "(phases C, F) is the load-proportional capstan hysteresis carried by the friction state",
+        "dead band width; Tables 1-2 resolve none. Inside their data range the branch gap is "
+        "G cos(theta2) + b (load-proportional capstan part + play): b = dM + 2 dP = 0.008, "
+        "0.062, 0.067 rad (Table 2) and 0.114, 0.013, -0.001 rad (Table 1), mean 0.044 with a "
+        "scatter of 0.045 rad, inside the fits' M.E. (0.021-0.055 rad); so the seed's "
+        "'backlash' (phases C, F) is the load-proportional hysteresis of the friction state",
         non_negative(
             "a dead band width: >= 0, below the law's twist range TWIST_RANGE_RAD = 0.15 rad "
             "(wider play leaves no elastic range)",
@@ -205,6 +239,54 @@ PARAMS: tuple[Param, ...] = (
             "0.15 rad (a larger 'presliding' deflection is the whole law)",
             TWIST_RANGE_RAD,
         ),
+    ),
+    Param(
+        "routing_wrap_rad",
+        0.0,
+        "rad",
+        "curvature angle of the routing outside the designed bend (entries onto a plate, into the "
+        "pulleys); 0: seed 004 states only the designed bend. Table 2's branch gaps "
+        "(0.364/0.484/0.585 rad at pi/2, pi, 3pi/2) lie on a line through 0.25 rad at zero bend, "
+        "which a routing curvature of ~3.6 rad would explain (not applied: see the module note)",
+        non_negative(
+            "a curvature angle: >= 0 (curvature angles add as magnitudes), <= 4 pi (two loops; "
+            "more is a coiled sheath, not a routing)",
+            4.0 * math.pi,
+        ),
+    ),
+    Param(
+        "sheath_ea_n",
+        0.0,
+        "N",
+        "axial stiffness E A of the sheath (and its end fittings) in series with the tendon over "
+        "the sheath length; 0: a rigid sheath (seed 004 gives no sheath stiffness; its Fig. 10(b) "
+        "shows the tendon radius barely matters, which points at the sheath's compliance)",
+        non_negative(
+            "an axial stiffness: >= 0 (0 = rigid sheath), <= 1e9 N (a solid steel tube of the "
+            "sheath's size is ~1e7 N)",
+            1e9,
+        ),
+    ),
+    Param(
+        "friction_relaxation_s",
+        28.0,
+        "s",
+        "fitted to seed 004 Table 1 (estimate): the mobilised capstan friction relaxes with this "
+        "time constant (creep of the wound sheath and its lubricant; 0: none). Table 1's branch "
+        "gap grows with the motion velocity at quasi-static speeds (0.02-0.06 rad/s, 50-160 s "
+        "per cycle), where inertia and viscosity are negligible: a time effect of tens of "
+        "seconds. 28 s gives gap ratios 0.38/0.79 (0.02, 0.04 vs 0.06 rad/s) on the seed's "
+        "cycle; Table 1: 0.43/0.76",
+        non_negative("a time constant: >= 0 (0 = no relaxation), <= 1e4 s", 1e4),
+    ),
+    Param(
+        "single_tendon",
+        0.0,
+        "-",
+        "1: seed 004's single tendon (pull only: no torque when slack, Sec. II-B); 0: a pull-pull "
+        "pair of the same tendon-sheaths (what joint 3 needs to be driven both ways; the seed's "
+        "future-work double TSA)",
+        Bounds(0.0, 1.0, "a switch: 0 (pull-pull pair) or 1 (single tendon)"),
     ),
     Param(
         "scale",
@@ -234,8 +316,8 @@ def validate(tr: FloatArray) -> None:
 
 
 def total_wrap_rad(tr: Any, bend: float) -> float:
-    """Total curvature angle of the sheath: its own bend plus the bend over joint 2."""
-    return tr[I_WRAP] + abs(bend)
+    """Total curvature angle of the sheath: routing + its designed bend + the bend over joint 2."""
+    return tr[I_ROUTING] + tr[I_WRAP] + abs(bend)
 
 
 def capstan_ratio(mu: float, wrap_rad: float) -> float:
@@ -247,6 +329,15 @@ def _axial_stiffness(tr: Any) -> float:
     """E A of the tendon (N)."""
     r = tr[I_TENDON_R]
     return tr[I_E] * math.pi * r * r
+
+
+def _sheathed_compliance(tr: Any) -> float:
+    """Axial compliance per metre of the sheathed run: tendon stretch + sheath compression (1/N);
+    ``sheath_ea_n`` = 0 is a rigid sheath."""
+    c = 1.0 / _axial_stiffness(tr)
+    if tr[I_SHEATH_EA] > 0.0:
+        c += 1.0 / tr[I_SHEATH_EA]
+    return c
 
 
 def _free_length(tr: Any) -> float:
@@ -265,18 +356,18 @@ def compliance_pull(tr: Any, bend: float) -> float:
     """Eq. 11 Theta_p: stretch per actuator-end tension while the motor pulls (m/N)."""
     m = tr[I_MU] * total_wrap_rad(tr, bend)
     lf = _free_length(tr)
-    return (
-        0.5 * lf * (1.0 + math.exp(-m)) + tr[I_L_SHEATH] * _sheath_factor(-m)
-    ) / _axial_stiffness(tr)
+    return 0.5 * lf * (1.0 + math.exp(-m)) / _axial_stiffness(tr) + tr[I_L_SHEATH] * _sheath_factor(
+        -m
+    ) * _sheathed_compliance(tr)
 
 
 def compliance_release(tr: Any, bend: float) -> float:
     """Eq. 11 Theta_r: stretch per actuator-end tension while the load pulls back (m/N)."""
     m = tr[I_MU] * total_wrap_rad(tr, bend)
     lf = _free_length(tr)
-    return (0.5 * lf * (1.0 + math.exp(m)) + tr[I_L_SHEATH] * _sheath_factor(m)) / _axial_stiffness(
-        tr
-    )
+    return 0.5 * lf * (1.0 + math.exp(m)) / _axial_stiffness(tr) + tr[I_L_SHEATH] * _sheath_factor(
+        m
+    ) * _sheathed_compliance(tr)
 
 
 def branch_stiffness_pull(tr: Any, bend: float) -> float:
@@ -298,6 +389,21 @@ def _sheath_factor_slope(m: float) -> float:
     return (m * math.exp(m) - math.expm1(m)) / (m * m)
 
 
+def effective_twist_rad(tr: Any, x: float) -> float:
+    """Twist reaching the tendon through the dead band of width backlash_rad (centred at 0);
+    a single tendon (``single_tendon`` = 1) is slack below it: no negative twist reaches it."""
+    half = 0.5 * tr[I_BACKLASH]
+    if x > half:
+        return x - half
+    if x < -half and tr[I_SINGLE] < 0.5:
+        return x + half
+    return 0.0
+
+
+def _mean_stiffness(tr: Any, bend: float) -> float:
+    return 0.5 * (branch_stiffness_pull(tr, bend) + branch_stiffness_release(tr, bend))
+
+
 def bend_torque_nm(tr: Any, x: float, bend: float, act: Any, a0: int) -> float:
     """-dV/dphi_B: the capstan factor e^(mu Theta) grows with the bend over joint 2, so the
     branch stiffnesses (eq. 11) and the stored energy change with it at constant twist."""
@@ -306,37 +412,27 @@ def bend_torque_nm(tr: Any, x: float, bend: float, act: Any, a0: int) -> float:
     m = tr[I_MU] * total_wrap_rad(tr, bend)
     lf = _free_length(tr)
     ea = _axial_stiffness(tr)
+    cs = _sheathed_compliance(tr)
     r2 = tr[I_RADIUS] * tr[I_RADIUS]
     c_p = compliance_pull(tr, bend)
     c_r = compliance_release(tr, bend)
-    dc_p = (-0.5 * lf * math.exp(-m) - tr[I_L_SHEATH] * _sheath_factor_slope(-m)) / ea
-    dc_r = (0.5 * lf * math.exp(m) + tr[I_L_SHEATH] * _sheath_factor_slope(m)) / ea
+    dc_p = -0.5 * lf * math.exp(-m) / ea - tr[I_L_SHEATH] * _sheath_factor_slope(-m) * cs
+    dc_r = 0.5 * lf * math.exp(m) / ea + tr[I_L_SHEATH] * _sheath_factor_slope(m) * cs
     dkm_dm = 0.5 * (-r2 * dc_p / (c_p * c_p) - r2 * dc_r / (c_r * c_r))
     xe = effective_twist_rad(tr, x)
     dm_db = tr[I_MU] * math.copysign(1.0, bend)
     return -tr[I_SCALE] * 0.5 * xe * xe * dkm_dm * dm_db
 
 
-def effective_twist_rad(tr: Any, x: float) -> float:
-    """Twist reaching the tendon through the dead band of width backlash_rad (centred at 0)."""
-    half = 0.5 * tr[I_BACKLASH]
-    if x > half:
-        return x - half
-    if x < -half:
-        return x + half
-    return 0.0
-
-
 def sensor_torque_nm(tr: Any, x: float, bend: float) -> float:
-    km = 0.5 * (branch_stiffness_pull(tr, bend) + branch_stiffness_release(tr, bend))
-    return tr[I_SCALE] * km * effective_twist_rad(tr, x)
+    return tr[I_SCALE] * _mean_stiffness(tr, bend) * effective_twist_rad(tr, x)
 
 
 def stiffness_nm_per_rad(tr: Any, x: float, bend: float) -> float:
-    if abs(x) < 0.5 * tr[I_BACKLASH]:  # inside the play (no play: never)
+    half = 0.5 * tr[I_BACKLASH]
+    if abs(x) < half or (tr[I_SINGLE] > 0.5 and x < half):  # in the play, or slack
         return 0.0
-    km = 0.5 * (branch_stiffness_pull(tr, bend) + branch_stiffness_release(tr, bend))
-    return tr[I_SCALE] * km
+    return tr[I_SCALE] * _mean_stiffness(tr, bend)
 
 
 def torque_nm(tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int) -> float:
@@ -366,16 +462,25 @@ def state_rate(tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int, i
         z = 1.0
     elif z < -1.0:
         z = -1.0
-    return (xdot - abs(xdot) * z) / presliding_rad(tr, x, bend)
+    rate = (xdot - abs(xdot) * z) / presliding_rad(tr, x, bend)
+    if tr[I_RELAX] > 0.0:
+        rate -= z / tr[I_RELAX]
+    return rate
 
 
 def potential_j(tr: Any, x: float, bend: float, act: Any, a0: int) -> float:
-    km = 0.5 * (branch_stiffness_pull(tr, bend) + branch_stiffness_release(tr, bend))
     xe = effective_twist_rad(tr, x)
-    return tr[I_SCALE] * 0.5 * km * xe * xe
+    return tr[I_SCALE] * 0.5 * _mean_stiffness(tr, bend) * xe * xe
 
 
 # ------------------------------------------------------------------ Python side
+
+
+def valid_twist_rad(tr: Any) -> float:
+    """Twist at which the tendon reaches its elastic limit on the softer (releasing) branch,
+    straight: ``ELASTIC_STRAIN E A C_rel / r`` (the twist the law is valid for)."""
+    f_lim = ELASTIC_STRAIN * _axial_stiffness(tr)
+    return float(f_lim * compliance_release(tr, 0.0) / tr[I_RADIUS] + 0.5 * tr[I_BACKLASH])
 
 
 def state_limits(tr: Any) -> list[tuple[float, float] | None]:
@@ -386,6 +491,17 @@ def state_limits(tr: Any) -> list[tuple[float, float] | None]:
 def initial_states(tr: Any, x: float, bend: float) -> list[float]:
     """Friction element relaxed."""
     return [0.0]
+
+
+def friction_step(tr: Any, x: float, dx: float, bend: float, z: float, dt: float = 0.0) -> float:
+    """z after a twist step ``dx`` taken over ``dt`` (the Dahl part solved exactly at constant
+    presliding deflection, then the relaxation over ``dt``): for quasi-static solutions."""
+    if dx != 0.0:
+        target = 1.0 if dx > 0.0 else -1.0
+        z = target + (z - target) * math.exp(-abs(dx) / presliding_rad(tr, x, bend))
+    if tr[I_RELAX] > 0.0 and dt > 0.0:
+        z *= math.exp(-dt / tr[I_RELAX])
+    return z
 
 
 def position_transmission_rad(theta2_hat: float, p: float, q: float, m: float) -> float:

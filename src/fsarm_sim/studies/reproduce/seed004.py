@@ -25,14 +25,16 @@ CLAIMS: tuple[Claim, ...] = (
         paper_value=6.0,
         unit="Hz",
         tolerance=Rel(0.15, partly=0.4),
-        not_implemented="seed 004's dual-encoder compliant position controller (motor with 38 N·m "
-        "drive torque, gains not printed) is not in the simulator; our joint-3 torque loop is a "
-        "different controller (the trend with it is a separate claim)",
+        not_implemented="the paper gives neither its servo drive's gains nor the frequency "
+        "response's procedure (signal, amplitude, which angle over which command), and its motor "
+        "(38 N·m drive torque) and bench are not the arm's; our arm runs the seed's dual-encoder "
+        "position scheme on its own motor and speed loop, whose bandwidth answers a different "
+        "question (the trend with bend is the next claim)",
     ),
     Claim(
         id="004-bandwidth-falls-with-bend",
         paper=P,
-        title="bandwidth falls as the total sheath bend grows (our loop, fixed gains)",
+        title="bandwidth falls as the total sheath bend grows (our loop, fixed model stiffness)",
         locator="Sec. V-C, Fig. 17",
         quote="the system bandwidth will decrease with the increase of the total sheath bending "
         "angle",
