@@ -1,0 +1,130 @@
+"""``fsarm model-selection`` (seed 003, Tables 3-5) and ``fsarm qa-throws`` (seed 002, Sec. VI-VII).
+
+Thin: options in, the studies of :mod:`fsarm_sim.studies.magnetic_spring_selection` and
+:mod:`fsarm_sim.studies.qa_joint_experiments` run, their tables printed (and written as JSON).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+# the studies are imported inside the commands, so that registering them keeps `fsarm` quick
+
+
+def _write_json(json_file: Path | None, data: Any) -> None:
+    if json_file is None:
+        return
+    from fsarm_sim.outputs import safe_write, write_text
+
+    text = json.dumps(data, indent=2, default=float)
+    where = safe_write(json_file, lambda p: write_text(p, text), "the numbers (--json)")
+    typer.echo(f"numbers: {where}")
+
+
+def _floats(option: str, text: str) -> list[float]:
+    try:
+        return [float(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise typer.BadParameter(f"{option} takes comma-separated numbers, got {text!r}") from None
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("model-selection")
+    def model_selection_cmd(
+        unbalance: Annotated[
+            float, typer.Option(help="bench flywheel unbalance w [N·m] (estimate; not in seed 003)")
+        ] = 9.81e-3,
+        output_damping: Annotated[
+            float, typer.Option(help="bench bearing damping y [N·m·s/rad] (estimate)")
+        ] = 2e-4,
+        trial_s: Annotated[float, typer.Option(help="length of each experiment-C trial [s]")] = 6.0,
+        seed: Annotated[int, typer.Option(help="noise seed of experiment A")] = 0,
+        free_run: Annotated[
+            bool, typer.Option(help="also the long-term simulations (eq. 7, Fig. 13-15)")
+        ] = False,
+        json_file: Annotated[
+            Path | None, typer.Option("--json", help="also write the numbers as JSON here")
+        ] = None,
+    ) -> None:
+        """Seed 003's model selection (experiments A, B, C; models A-F, A_L, F_L) as Table 4."""
+        from fsarm_sim.outputs import OutputPlan
+        from fsarm_sim.studies import magnetic_spring_selection as sel
+
+        OutputPlan().file("--json", json_file).check()
+        cfg = sel.BenchConfig(
+            unbalance_nm=unbalance, output_damping_nms=output_damping, trial_s=trial_s, seed=seed
+        )
+        st = sel.run_study(cfg, free_run=free_run)
+        typer.echo(st.table())
+        _write_json(
+            json_file,
+            {
+                "config": {k: v for k, v in asdict(cfg).items()},
+                "inertia_kgm2": st.inertia_kgm2,
+                "spring_law": asdict(st.law),
+                "rows": {m: asdict(r) for m, r in st.rows.items()},
+                "free_run_rms_deg": st.free_run_deg,
+            },
+        )
+
+    @app.command("qa-throws")
+    def qa_throws_cmd(
+        presets: Annotated[
+            str, typer.Option(help="Table IV presets σ [deg], comma-separated")
+        ] = "3,7,11,15",
+        speeds: Annotated[
+            str, typer.Option(help="motor speeds θ'_d [deg/s], comma-separated")
+        ] = "60,75,90,100,120",
+        adjust: Annotated[
+            str, typer.Option(help="stiffness adjustment eq. 20: none, drive or ideal")
+        ] = "none",
+        lever_arms: Annotated[
+            str, typer.Option(help="impact lever arms r [m] for the Sec. VII impact (empty: none)")
+        ] = "",
+        json_file: Annotated[
+            Path | None, typer.Option("--json", help="also write the numbers as JSON here")
+        ] = None,
+    ) -> None:
+        """Seed 002's strike-out throws (ε = q'/θ'_d, Fig. 10) and impacts on the Table V bench."""
+        from fsarm_sim.outputs import OutputPlan
+        from fsarm_sim.studies import qa_joint_experiments as qx
+
+        OutputPlan().file("--json", json_file).check()
+        sig = _floats("--presets", presets)
+        vel = _floats("--speeds", speeds)
+        rows = []
+        typer.echo(
+            f"{'σ [°]':>6} {'θd [°/s]':>9} {'ε':>6} {'q_f [°/s]':>10} {'t_s [s]':>8} "
+            f"{'φmax [°]':>9} {'|τJ| [N·m]':>11}"
+        )
+        for s in sig:
+            b = qx.bench(s)
+            for v in vel:
+                t = qx.best_throw(b, v, adjust=adjust)
+                rows.append(asdict(t))
+                if not t.feasible:
+                    typer.echo(
+                        f"{s:>6g} {v:>9g}   infeasible (no switch time meets the constraints)"
+                    )
+                    continue
+                typer.echo(
+                    f"{s:>6g} {v:>9g} {t.epsilon:>6.3f} {t.link_velocity_deg_s:>10.1f} "
+                    f"{t.t_switch_s:>8.3f} {t.phi_max_deg:>9.2f} {t.tau_j_max_nm:>11.1f}"
+                )
+        impacts = []
+        arms = _floats("--lever-arms", lever_arms)
+        if arms:
+            typer.echo("impact 4.2 kg at 1.07 m/s (Sec. VII): peak |τ_J| [N·m]")
+            for r in arms:
+                line = []
+                for s in sig:
+                    imp = qx.impact(s, r)
+                    impacts.append(asdict(imp))
+                    line.append(f"σ {s:g}°: {imp.peak_joint_torque_nm:.1f}")
+                typer.echo(f"  r = {r:g} m: " + ", ".join(line))
+        _write_json(json_file, {"adjust": adjust, "throws": rows, "impacts": impacts})
