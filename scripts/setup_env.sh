@@ -19,3 +19,22 @@ if [ "$(cat .venv/.setup-stamp 2>/dev/null)" != "$stamp" ]; then
   fi
   echo "$stamp" > .venv/.setup-stamp
 fi
+# The viewer check (tests/test_viewer_check.py) opens recordings in Rerun's web viewer in headless
+# Chromium (Playwright drives the system's browser; it cannot download its own). Install Debian's
+# package when it is missing and we may (root, apt-get); otherwise that test fails and says how.
+if [ -z "${FSARM_CHROMIUM:-}" ] && [ ! -x /usr/bin/chromium ] && [ "$(id -u)" = 0 ] \
+   && command -v apt-get >/dev/null 2>&1; then
+  echo "Installing Debian's chromium for the viewer check (log: .venv/setup.log) ..."
+  if ! { apt-get install -y chromium || { apt-get update && apt-get install -y chromium; }; } \
+       >>.venv/setup.log 2>&1; then
+    echo "could not install chromium (see .venv/setup.log): the viewer check will fail" >&2
+  fi
+fi
+# The native callbacks as a prebuilt library (fsarm_sim.engine.native_lib): built once per kernel
+# source and machine (about a minute), so later runs start without importing Numba. A failure
+# leaves the Numba path in place.
+if ! .venv/bin/python -c 'import sys; from fsarm_sim.engine import native_lib; sys.exit(native_lib.load() is None)' 2>/dev/null; then
+  echo "Building the native callbacks library (once; log: .venv/setup.log) ..."
+  MUJOCO_GL=disable .venv/bin/python -m fsarm_sim.engine.native_lib >>.venv/setup.log 2>&1 \
+    || echo "note: the native callbacks library was not built (see .venv/setup.log); runs use Numba" >&2
+fi

@@ -3,6 +3,8 @@ entities, time range and values checked against the run and against independent 
 
 from __future__ import annotations
 
+import io
+import json
 import math
 import shutil
 import subprocess
@@ -13,6 +15,7 @@ from typing import Any
 import mujoco
 import numpy as np
 import pytest
+from PIL import Image as PILImage
 
 from fsarm_sim.engine.model import model_path
 from fsarm_sim.errors import FsarmError, InvalidParameterError
@@ -105,9 +108,13 @@ def test_expected_entities(chunks: dict[str, list[dict[str, Any]]]) -> None:
         "/world/arm/link3/link3_tube",
         "/world/arm/payload/payload_geom",
         "/world/shaft",
-        "/loops/torque_twist/tau_shaft",
-        "/loops/torque_twist/tau_model",
-        "/loops/bending/moment_bend",
+        "/loops/torque_twist/plot",
+        "/loops/torque_twist/map",
+        "/loops/torque_twist/run/now",
+        "/loops/torque_twist/run/trace",
+        "/loops/bending/plot",
+        "/loops/bending/run/now",
+        "/loops/bending/run/trace",
     }
     for panel in recording.ARM_PANELS:
         expected |= {f"/{panel.entity}/{s.column}" for s in panel.series}
@@ -204,15 +211,50 @@ def test_3d_arm_follows_independent_kinematics(
 def test_loops_are_the_recorded_pairs(
     chunks: dict[str, list[dict[str, Any]]], run: RunResult
 ) -> None:
+    """The current point of the bending loop is (φ_B in deg, M = -tau_bend) of every logged row,
+    in the plot image's pixels: one affine map per axis (x to the right, y up = pixel v down),
+    the one stored beside the image, and every point inside the image."""
     cols = run.columns
     rows = recording.decimate(cols["t"], RATE_HZ)
-    _, segs = _temporal(chunks, "/loops/bending/moment_bend", "LineStrips2D:strips")
-    ends = np.array([np.asarray(s[0], dtype=float).reshape(2, 2)[1] for s in segs])
-    # x: bend in degrees; y: the moment M = -tau_bend, negated again for Rerun's downward y
-    np.testing.assert_allclose(
-        ends[:, 0], np.degrees(cols["phi_b"][rows[1:]]), rtol=1e-6, atol=1e-9
-    )
-    np.testing.assert_allclose(ends[:, 1], cols["tau_bend"][rows[1:]], rtol=1e-6, atol=1e-9)
+    _, now = _temporal(chunks, "/loops/bending/run/now", "Points2D:positions")
+    px = np.array([np.asarray(p, dtype=float).reshape(-1, 2)[0] for p in now])
+    x, m = np.degrees(cols["phi_b"][rows]), -cols["tau_bend"][rows]
+    assert len(px) == len(rows)
+    for values, pixels in ((x, px[:, 0]), (m, px[:, 1])):
+        slope, icpt = np.polyfit(values, pixels, 1)
+        np.testing.assert_allclose(pixels, icpt + slope * values, atol=1e-3)
+    assert np.polyfit(x, px[:, 0], 1)[0] > 0.0 and np.polyfit(m, px[:, 1], 1)[0] < 0.0
+    stored = json.loads(_static(chunks, "/loops/bending/map", "TextDocument:text")[0])
+    np.testing.assert_allclose(px[:, 0], stored["u"][0] + stored["u"][1] * x, atol=1e-3)
+    np.testing.assert_allclose(px[:, 1], stored["v"][0] + stored["v"][1] * m, atol=1e-3)
+    blob = _static(chunks, "/loops/bending/plot", "EncodedImage:blob")
+    with PILImage.open(io.BytesIO(bytes(np.asarray(blob[0], dtype=np.uint8)))) as im:
+        w, h = im.size
+    assert np.all((px >= 0.0) & (px <= [w, h]))
+    labels = _temporal(chunks, "/loops/bending/run/now", "Points2D:labels")[1]
+    assert f"{x[-1]:.1f}°" in labels[-1][0] and f"{m[-1]:.2f} N·m" in labels[-1][0]
+    _, strips = _temporal(chunks, "/loops/bending/run/trace", "LineStrips2D:strips")
+    grown = [len(np.asarray(s[0], dtype=float).reshape(-1, 2)) for s in strips]
+    assert grown == sorted(grown) and grown[-1] > 10  # the loop grows up to the cursor
+
+
+def test_blueprint_leaves_out_panels_without_information() -> None:
+    """fig14-sine holds joints 1 and 2: no joint-1/2 angle panels, no bending loop or bending
+    time series; p2p-payload moves every joint: all of them."""
+    held = run_scenario("fig14-sine", duration_s=0.3, backend="native")
+    cols = recording.with_derived(held.columns)
+    names = {p.name for p in recording.informative_panels(cols, recording.ARM_PANELS)}
+    assert {"joint1", "joint2", "bending"}.isdisjoint(names)
+    assert {"joint3", "errors", "shaft_torque", "twist_bend"} <= names
+    loops = [lp.name for lp in recording.ARM_LOOPS if recording.loop_is_informative(lp, cols)]
+    assert loops == ["torque_twist"]
+
+
+def test_moving_run_keeps_every_panel(run: RunResult) -> None:
+    cols = recording.with_derived(run.columns, tau_motor_limit_nm=1.0)
+    names = [p.name for p in recording.informative_panels(cols, recording.ARM_PANELS)]
+    assert names == [p.name for p in recording.ARM_PANELS]
+    assert all(recording.loop_is_informative(lp, cols) for lp in recording.ARM_LOOPS)
 
 
 def test_decimate() -> None:

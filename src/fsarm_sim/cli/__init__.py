@@ -68,7 +68,7 @@ def shafts_cmd(
             f"{p.k_series(0.0, 1):.2f}",
             f"{p.k_series(0.0, -1):.2f}",
             f"{p.k_series(math.pi / 2, 1):.2f}",
-            f"{p.kb:.2f}",
+            f"{p.kb_eq4:.2f}",  # eq. 4 (what eq. 2's test identifies)
             f"{p.rating_nm:.2f}",
         )
     console.print(table)
@@ -131,6 +131,13 @@ def run_cmd(
     figures: Annotated[
         Path | None, typer.Option(help="write the run's static figures (PNG) into this folder")
     ] = None,
+    rrd_compare: Annotated[
+        list[str] | None,
+        typer.Option(
+            help="also run with KEY=VALUE changed (series-hysteresis=on|off, diameter-mm, "
+            "length-mm, payload-kg, backend; repeatable) and record both into --rrd"
+        ),
+    ] = None,
     transmission: Annotated[
         str, typer.Option(help="joint 3's transmission (see `fsarm transmissions`)")
     ] = "flexible-shaft",
@@ -151,6 +158,9 @@ def run_cmd(
     from fsarm_sim.cli.review import check_review_options, review_outputs, run_output_plan
 
     check_review_options(rrd_rate)
+    from fsarm_sim.cli.review import parse_compare
+
+    compare_changes = parse_compare(rrd_compare or [], rrd)
     run_output_plan(
         scenario, fmt, out=out, json_file=json_file, rrd=rrd, spawn=spawn, figures=figures
     ).input("the coefficient file of --shaft-file", shaft_file).check()
@@ -187,7 +197,7 @@ def run_cmd(
         )
     what = (
         f"D={diameter_mm:g} mm, L={length_mm:g} mm"
-        if transmission == "flexible-shaft"
+        if result.config.transmission_model().takes_shaft
         else f"transmission {transmission}"
     )
     table = Table(title=f"{scenario}: {what}, payload={result.config.payload_kg:g} kg")
@@ -213,7 +223,7 @@ def run_cmd(
     if isinstance(over, float) and over > 1.0:
         advice = (
             f"for D = {diameter_mm:g} mm): choose a thicker shaft"
-            if transmission == "flexible-shaft"
+            if result.config.transmission_model().takes_shaft
             else f"of {transmission})"
         )
         err_console.print(
@@ -235,6 +245,19 @@ def run_cmd(
         where = writes.write(json_file, summary, "the summary (--json)")
         if where is not None:
             console.print(f"summary: {where}")
+    compare = None
+    if compare_changes:
+        from fsarm_sim.cli.review import compare_run
+
+        compare = compare_run(
+            compare_changes,
+            result,
+            shaft_file=shaft_file,
+            extrapolate=extrapolate,
+            series_hysteresis=series_hysteresis,
+            backend=backend,
+            log_every=log_every,
+        )
     review_outputs(
         result,
         rrd=rrd,
@@ -244,6 +267,7 @@ def run_cmd(
         out=out,
         console=console,
         writes=writes,
+        compare=compare,
     )
     writes.finish()
     if result.interrupted:
@@ -260,6 +284,7 @@ def _register_extensions() -> None:
     importlib.import_module("fsarm_sim.cli.transmissions").register(app)
     importlib.import_module("fsarm_sim.cli.collision").register(app)
     importlib.import_module("fsarm_sim.cli.reproduce").register(app)
+    importlib.import_module("fsarm_sim.cli.seed_experiments").register(app)
 
 
 _register_extensions()

@@ -66,6 +66,50 @@ def check_review_options(rrd_rate: float | None) -> None:
         )
 
 
+COMPARE_KEYS = ("series-hysteresis", "diameter-mm", "length-mm", "payload-kg", "backend")
+
+
+def parse_compare(items: list[str], rrd: Path | None) -> dict[str, str]:
+    """``--rrd-compare KEY=VALUE`` (repeatable): what the second configuration changes. Checked
+    before any run: known keys, valid values, and a ``--rrd`` to write the comparison to."""
+    changes: dict[str, str] = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        key, value = key.strip(), value.strip()
+        if not sep or key not in COMPARE_KEYS:
+            raise InvalidParameterError(
+                f"--rrd-compare takes KEY=VALUE with KEY among {', '.join(COMPARE_KEYS)}, "
+                f"got {item!r}"
+            )
+        if key == "series-hysteresis" and value not in ("on", "off"):
+            raise InvalidParameterError(f"--rrd-compare series-hysteresis=on|off, got {value!r}")
+        if key == "backend" and value not in ("python", "native"):
+            raise InvalidParameterError(f"--rrd-compare backend=python|native, got {value!r}")
+        if key in ("diameter-mm", "length-mm", "payload-kg"):
+            try:
+                v = float(value)
+            except ValueError:
+                v = math.nan
+            if not math.isfinite(v) or v < 0.0 or (v == 0.0 and key != "payload-kg"):
+                raise InvalidParameterError(
+                    f"--rrd-compare {key} must be a finite number > 0 (payload >= 0), got {value!r}"
+                )
+        if key in changes:
+            raise InvalidParameterError(f"--rrd-compare gives {key} twice")
+        changes[key] = value
+    if changes and rrd is None:
+        raise InvalidParameterError("--rrd-compare needs --rrd FILE to write the comparison to")
+    return changes
+
+
+def compare_tags(changes: dict[str, str], base: dict[str, str]) -> tuple[str, str]:
+    """Names of the two configurations: the changed keys' values, as given and as changed."""
+    return (
+        "+".join(f"{k}={base[k]}" for k in changes),
+        "+".join(f"{k}={v}" for k, v in changes.items()),
+    )
+
+
 def review_outputs(
     result: RunResult,
     *,
@@ -76,17 +120,27 @@ def review_outputs(
     out: Path,
     console: Console,
     writes: SafeWriter | None = None,
+    compare: tuple[str, str, RunResult] | None = None,
 ) -> None:
     """Write the recording / figures a ``run`` asked for and report where they are (through
-    ``writes``: a failed write goes to a rescue folder instead of being lost)."""
+    ``writes``: a failed write goes to a rescue folder instead of being lost). ``compare``:
+    (this run's name, the other's name, the other run) - both go into one recording."""
     w = writes if writes is not None else SafeWriter()
     if rrd is not None or spawn:
         from fsarm_sim.review.recording import DEFAULT_RATE_HZ, record_run, spawn_viewer
 
         rate = DEFAULT_RATE_HZ if rrd_rate is None else rrd_rate
+
+        def write(p: Path) -> Path:
+            if compare is None:
+                return record_run(result, p, rate)
+            from fsarm_sim.review.comparison import record_runs
+
+            return record_runs([(compare[0], result), (compare[1], compare[2])], p, rate)
+
         path = w.write(
             rrd if rrd is not None else out / f"{result.scenario}.rrd",
-            lambda p: record_run(result, p, rate),
+            write,
             "the Rerun recording (--rrd)",
         )
         if path is not None:
@@ -172,3 +226,56 @@ def register(app: typer.Typer) -> None:
         for name, paths in (written or {}).items():
             console.print(f"{name}: {', '.join(str(p) for p in paths)}", markup=False)
         writes.finish()
+
+
+def compare_run(
+    changes: dict[str, str],
+    result: RunResult,
+    *,
+    shaft_file: Path | None,
+    extrapolate: bool,
+    series_hysteresis: bool | None,
+    backend: str,
+    log_every: int,
+) -> tuple[str, str, RunResult]:
+    """Run ``result``'s scenario again with ``changes`` (:func:`parse_compare`); return (this
+    run's name, the other's name, the other run) for a comparison recording."""
+    from dataclasses import replace
+
+    from fsarm_sim.plant.shaft import load_catalogue
+    from fsarm_sim.sim.simulation import run_scenario
+
+    cfg = result.config
+    sh = cfg.shaft
+    base = {
+        "series-hysteresis": "on" if any(k > 0.0 for k in sh.slip_k) else "off",
+        "diameter-mm": f"{sh.diameter_mm:g}",
+        "length-mm": f"{sh.length_mm:g}",
+        "payload-kg": f"{cfg.payload_kg:g}",
+        "backend": backend,
+    }
+    same = [f"{k}={v}" for k, v in changes.items() if v == base[k]]
+    if same:
+        raise InvalidParameterError(
+            f"--rrd-compare {', '.join(same)} changes nothing: this run already has it"
+        )
+    other_cfg = cfg
+    if {"series-hysteresis", "diameter-mm", "length-mm"} & set(changes):
+        hyst = {"on": True, "off": False}.get(changes.get("series-hysteresis", ""))
+        shaft = load_catalogue(shaft_file).shaft(
+            float(changes.get("diameter-mm", sh.diameter_mm)),
+            float(changes.get("length-mm", sh.length_mm)),
+            extrapolate=extrapolate,
+            series_hysteresis=series_hysteresis if hyst is None else hyst,
+        )
+        other_cfg = replace(cfg, shaft=shaft)
+    other = run_scenario(
+        result.scenario,
+        other_cfg,
+        duration_s=result.duration_s,
+        payload_kg=float(changes.get("payload-kg", cfg.payload_kg)),
+        backend=changes.get("backend", backend),  # type: ignore[arg-type]
+        log_every_ticks=log_every,
+    )
+    mine, theirs = compare_tags(changes, base)
+    return mine, theirs, other

@@ -3,8 +3,8 @@
 Everything is logged *after* the run from the recorded columns (``RunResult.columns``), so a
 recording can never change a simulation's results. The logging functions are generic over plain
 column dicts (``{"t": ..., "q3": ..., ...}``): a bench run or a sweep can reuse
-:func:`log_scalar_panels`, :func:`log_loops` and :func:`blueprint` with its own
-:class:`Panel` / :class:`Loop` lists.
+:func:`log_scalar_panels`, :func:`.loop_panels.log_loop_panel` and :func:`blueprint` with its own
+:class:`Panel` / :class:`.loop_panels.Loop` lists.
 
 Entity layout of an arm recording (timeline ``sim_time``, simulation clock):
 
@@ -13,12 +13,15 @@ Entity layout of an arm recording (timeline ``sim_time``, simulation clock):
 * ``world/arm/<body>/<geom>``      - static Capsules3D / Cylinders3D / Boxes3D from the MJCF geoms
 * ``world/shaft``                  - LineStrips3D: the shaft route shaft_in -> (bend) -> shaft_out
 * ``signals/<panel>/<series>``     - Scalars (one TimeSeriesView per panel)
-* ``loops/<loop>/<curve>``         - LineStrips2D segments (the loop grows with the time cursor);
-  ``.../<curve>/full`` the whole loop (static, faint), ``loops/<loop>/axes`` the zero lines.
-  Rerun's 2-D views point y down, so y values are logged negated (positive torque shows upwards).
+* ``loops/<loop>/...``             - the loop panels (Fig. 6/7, Fig. 9): a plot image with axes,
+  ticks, numbers and the catalogue's model curve, the loop up to the time cursor and the current
+  point drawn over it (:mod:`.loop_panels`).
 
-A blueprint (:func:`blueprint`) lays this out: 3-D view, the loops and the metadata on the left, one
-time-series view per panel on the right. Open a file with ``rerun FILE.rrd``.
+A blueprint (:func:`blueprint`) lays this out: 3-D view and metadata, the loops, one time-series
+view per panel. It is chosen per run: panels that carry no information for the run (a held
+joint's angle, the bending loop when joint 2 holds the bend, constant signals) are left out
+(:func:`informative_panels`, :func:`.loop_panels.loop_is_informative`); their data stay in the
+recording. Open a file with ``rerun FILE.rrd``.
 """
 
 from __future__ import annotations
@@ -29,7 +32,7 @@ import os
 import shutil
 import subprocess
 import sys
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast
@@ -43,6 +46,18 @@ from fsarm_sim.engine import callbacks
 from fsarm_sim.engine.model import build_spec, read_structure
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.kernels import layout as L
+from fsarm_sim.review.figures import moving_joints
+from fsarm_sim.review.loop_panels import (
+    ARM_LOOPS,
+    Loop,
+    Trace,
+    bending_shown,
+    log_loop_panel,
+    loop_image,
+    loop_is_informative,
+    shaft_model_curves,
+    varies,
+)
 
 if TYPE_CHECKING:
     import rerun as rr
@@ -59,6 +74,8 @@ DEFAULT_RATE_HZ = 100.0  # logged rows per simulated second: smooth playback, sm
 RAD2DEG = 180.0 / math.pi
 SHAFT_POINTS = 24  # points of the drawn shaft curve (visual only)
 SHAFT_RADIUS_M = 0.006  # drawn radius of the shaft line (visual only, not the shaft's D)
+CAMERA_EYE_M = (1.05, -1.35, 0.95)  # default 3-D viewpoint (visual only)
+CAMERA_TARGET_M = (0.25, 0.0, 0.45)
 
 # colors (visual only)
 BLUE = (31, 119, 180)
@@ -85,35 +102,18 @@ class Series:
 
 @dataclass(frozen=True)
 class Panel:
-    """A time-series plot: its series are logged under ``signals/<name>/<column>``."""
+    """A time-series plot: its series are logged under ``signals/<name>/<column>``.
+    ``informative``: does a run's column dict carry information for it? (None: whenever one of
+    its series varies.)"""
 
     name: str
     title: str
     series: tuple[Series, ...]
+    informative: Callable[[Columns], bool] | None = None
 
     @property
     def entity(self) -> str:
         return f"signals/{self.name}"
-
-
-@dataclass(frozen=True)
-class Loop:
-    """A 2-D x-y plot traced over time (e.g. torque vs twist). ``curves``: (y column, label, color);
-    all curves share ``x``. Rerun's 2-D view has y pointing down, so y is logged negated
-    (``-y * y_scale``) to show positive values upwards."""
-
-    name: str
-    title: str
-    x: str
-    x_label: str
-    x_scale: float
-    curves: tuple[tuple[str, str, tuple[int, int, int]], ...]
-    y_label: str
-    y_scale: float = 1.0
-
-    @property
-    def entity(self) -> str:
-        return f"loops/{self.name}"
 
 
 def _ui(points: float) -> float:
@@ -130,16 +130,19 @@ ARM_PANELS: tuple[Panel, ...] = (
         "joint1",
         "joint 1 [deg]",
         (_deg("q1_ref", "q1 ref", GREY), _deg("q1", "q1", BLUE)),
+        informative=lambda c: 1 in moving_joints(c),
     ),
     Panel(
         "joint2",
         "joint 2 [deg]",
         (_deg("q2_ref", "q2 ref", GREY), _deg("q2", "q2", BLUE)),
+        informative=lambda c: 2 in moving_joints(c),
     ),
     Panel(
         "joint3",
         "joint 3 [deg]",
         (_deg("q3_ref", "q3 ref", GREY), _deg("q3", "q3", BLUE)),
+        informative=lambda c: 3 in moving_joints(c),
     ),
     Panel(
         "errors",
@@ -172,6 +175,7 @@ ARM_PANELS: tuple[Panel, ...] = (
             Series("tau_bend", "total", 1.0, BLUE),
             Series("tau_conduit", "conduit part", 1.0, ORANGE),
         ),
+        informative=bending_shown,
     ),
     Panel(
         "pid",
@@ -200,27 +204,6 @@ ARM_PANELS: tuple[Panel, ...] = (
         "joint_torques",
         "joint 1 / 2 torque commands [N·m]",
         (Series("tau1", "τ1", 1.0, BLUE), Series("tau2", "τ2", 1.0, ORANGE)),
-    ),
-)
-
-ARM_LOOPS: tuple[Loop, ...] = (
-    Loop(
-        "torque_twist",
-        "shaft torque vs twist (Fig. 6/7)",
-        x="twist",
-        x_label="twist Δθ [deg]",
-        x_scale=RAD2DEG,
-        curves=(("tau_shaft", "true", BLUE), ("tau_model", "model τ_m", ORANGE)),
-        y_label="τ [N·m]",
-    ),
-    Loop(
-        "bending",
-        "bending moment vs bend (Fig. 9)",
-        x="phi_b",
-        x_label="bend φ_B [deg]",
-        x_scale=RAD2DEG,
-        curves=(("moment_bend", "M = -τ_bend", BLUE),),
-        y_label="M [N·m]",
     ),
 )
 
@@ -294,81 +277,6 @@ def log_scalar_panels(
             )
             logged.append(path)
     return logged
-
-
-def log_loops(
-    rec: rr.RecordingStream,
-    cols: Columns,
-    loops: Sequence[Loop],
-    rows: npt.NDArray[np.intp],
-    time_column: str = "t",
-) -> list[str]:
-    """Log each loop as a static full curve (faint) plus one segment per logged row, so that the
-    view (time range: start .. cursor) draws the loop up to the current time."""
-    import rerun as rr
-
-    t = np.asarray(cols[time_column])[rows]
-    logged: list[str] = []
-    for loop in loops:
-        if loop.x not in cols:
-            continue
-        x = np.asarray(cols[loop.x], dtype=np.float64)[rows] * loop.x_scale
-        for column, label, color in loop.curves:
-            if column not in cols or len(rows) < 2:
-                continue
-            y = -np.asarray(cols[column], dtype=np.float64)[rows] * loop.y_scale
-            pts = np.stack([x, y], axis=1)
-            path = f"{loop.entity}/{column}"
-            faint = (*color, 70)
-            rec.log(
-                f"{path}/full",
-                rr.LineStrips2D([pts], colors=[faint], radii=[_ui(1.0)], labels=[label]),
-                static=True,
-            )
-            # segment i joins row i-1 to row i and appears at row i's time
-            seg = np.stack([pts[:-1], pts[1:]], axis=1)
-            rec.send_columns(
-                path,
-                indexes=[_time_column(t[1:])],
-                columns=rr.LineStrips2D.columns(strips=cast(Any, seg)).partition(
-                    np.ones(len(seg), dtype=int)
-                ),
-            )
-            rec.log(
-                path,
-                rr.LineStrips2D.from_fields(colors=[color], radii=[_ui(2.0)]),
-                static=True,
-            )
-            logged.append(path)
-        _log_loop_axes(rec, loop, x, cols, rows)
-    return logged
-
-
-def _log_loop_axes(
-    rec: rr.RecordingStream, loop: Loop, x: Array, cols: Columns, rows: npt.NDArray[np.intp]
-) -> None:
-    import rerun as rr
-
-    ys = [
-        -np.asarray(cols[c], dtype=np.float64)[rows] * loop.y_scale
-        for c, _, _ in loop.curves
-        if c in cols
-    ]
-    if not ys or len(x) == 0:
-        return
-    y = np.concatenate(ys)
-    x0, x1 = float(min(x.min(), 0.0)), float(max(x.max(), 0.0))
-    y0, y1 = float(min(y.min(), 0.0)), float(max(y.max(), 0.0))
-    rec.log(
-        f"{loop.entity}/axes",
-        rr.LineStrips2D(
-            [[[x0, 0.0], [x1, 0.0]], [[0.0, y0], [0.0, y1]]],
-            colors=[GREY],
-            labels=[loop.x_label, f"{loop.y_label} (up)"],
-            radii=[_ui(0.5)],
-        ),
-        static=True,
-    )
 
 
 # --------------------------------------------------------------------------- 3-D arm
@@ -544,49 +452,93 @@ def log_arm_motion(
 # --------------------------------------------------------------------------- blueprint, metadata
 
 
+def informative_panels(cols: Columns, panels: Sequence[Panel]) -> list[Panel]:
+    """The panels that carry information for this run: their own test when they have one, else
+    at least one series that exists and varies."""
+    out = []
+    for p in panels:
+        present = [s for s in p.series if s.column in cols]
+        if not present:
+            continue
+        ok = (
+            p.informative(cols)
+            if p.informative is not None
+            else any(varies(cols[s.column]) for s in present)
+        )
+        if ok:
+            out.append(p)
+    return out
+
+
+@dataclass(frozen=True)
+class LoopView:
+    """A loop panel in the blueprint: its entity, title and image size (its visual bounds)."""
+
+    entity: str
+    title: str
+    width: int
+    height: int
+
+
 def blueprint(
     panels: Sequence[Panel],
-    loops: Sequence[Loop],
+    loops: Sequence[LoopView],
     *,
     with_3d: bool = True,
-    loop_bounds: Mapping[str, tuple[tuple[float, float], tuple[float, float]]] | None = None,
+    metadata: str | None = "run/metadata",
 ) -> rrb.Blueprint:
-    """The default layout: 3-D arm, loops and metadata on the left, time series on the right."""
-    import rerun as rr
+    """The layout: 3-D arm and metadata, the loop panels (framed to their plot), one time-series
+    view per panel in a grid; Rerun's side panels start collapsed (the views get the room)."""
     import rerun.blueprint as rrb
 
-    grow = rr.VisibleTimeRange(
-        TIMELINE,
-        start=rr.TimeRangeBoundary.infinite(),
-        end=rr.TimeRangeBoundary.cursor_relative(),
-    )
-    loop_views = []
-    for lp in loops:
-        bounds = (loop_bounds or {}).get(lp.name)
-        loop_views.append(
-            rrb.Spatial2DView(
-                origin=lp.entity,
-                name=lp.title,
-                time_ranges=[grow],
-                visual_bounds=rrb.VisualBounds2D(x_range=bounds[0], y_range=bounds[1])
-                if bounds
-                else None,
-            )
+    loop_views = [
+        rrb.Spatial2DView(
+            origin=lp.entity,
+            name=lp.title,
+            visual_bounds=rrb.VisualBounds2D(x_range=(0.0, lp.width), y_range=(0.0, lp.height)),
+            background=(255, 255, 255),
         )
-    left: list[Any] = []
-    if with_3d:
-        left.append(rrb.Spatial3DView(origin="world", name="arm (3-D)"))
-    if loop_views:
-        left.append(rrb.Horizontal(*loop_views))
-    left.append(rrb.TextDocumentView(origin="run/metadata", name="run"))
+        for lp in loops
+    ]
+    meta = [rrb.TextDocumentView(origin=metadata, name="run")] if metadata is not None else []
+    arm = (
+        [
+            rrb.Spatial3DView(
+                origin="world",
+                name="arm (3-D)",
+                # the whole arm in view at any pose (reach ~0.85 m from the base; visual only)
+                eye_controls=rrb.EyeControls3D(
+                    kind=rrb.Eye3DKind.Orbital,
+                    position=CAMERA_EYE_M,
+                    look_target=CAMERA_TARGET_M,
+                    eye_up=(0.0, 0.0, 1.0),
+                ),
+            )
+        ]
+        if with_3d
+        else []
+    )
+    # one loop: it shares its column with the metadata and the arm gets a full column
+    left: list[Any] = arm + (meta if len(loop_views) != 1 else [])
+    middle: list[Any] = loop_views + (meta if len(loop_views) == 1 else [])
+    columns: list[Any] = []
+    shares: list[float] = []
+    for views, share in ((left, 2.0), (middle, 2.2)):
+        if views:
+            rows = [
+                3.0 if isinstance(v, rrb.Spatial3DView | rrb.Spatial2DView) else 1.0 for v in views
+            ]
+            columns.append(rrb.Vertical(*views, row_shares=rows))
+            shares.append(share)
     series_views = [rrb.TimeSeriesView(origin=p.entity, name=p.title) for p in panels]
+    if series_views:
+        columns.append(rrb.Grid(*series_views, grid_columns=2 if len(series_views) > 4 else 1))
+        shares.append(3.0)
     return rrb.Blueprint(
-        rrb.Horizontal(
-            rrb.Vertical(*left, row_shares=[3, 2, 1][: len(left)]),
-            rrb.Grid(*series_views, grid_columns=2),
-            column_shares=[2, 3],
-        ),
-        collapse_panels=False,
+        rrb.Horizontal(*columns, column_shares=shares),
+        rrb.BlueprintPanel(state="collapsed"),
+        rrb.SelectionPanel(state="collapsed"),
+        rrb.TimePanel(state="collapsed"),
     )
 
 
@@ -614,29 +566,6 @@ def metadata_markdown(meta: Mapping[str, Any], metrics: Mapping[str, Any] | None
     return "\n".join(lines)
 
 
-def _loop_bounds(
-    cols: Columns, loops: Sequence[Loop]
-) -> dict[str, tuple[tuple[float, float], tuple[float, float]]]:
-    out = {}
-    for lp in loops:
-        if lp.x not in cols:
-            continue
-        x = np.asarray(cols[lp.x]) * lp.x_scale
-        ys = [-np.asarray(cols[c]) * lp.y_scale for c, _, _ in lp.curves if c in cols]
-        if not ys:
-            continue
-        y = np.concatenate(ys)
-        x0, x1, y0, y1 = (
-            float(min(x.min(), 0.0)),
-            float(max(x.max(), 0.0)),
-            float(min(y.min(), 0.0)),
-            float(max(y.max(), 0.0)),
-        )
-        mx, my = 0.08 * (x1 - x0) + 1e-6, 0.08 * (y1 - y0) + 1e-6
-        out[lp.name] = ((x0 - mx, x1 + mx), (y0 - my, y1 + my))
-    return out
-
-
 # --------------------------------------------------------------------------- an arm run
 
 
@@ -648,13 +577,7 @@ def log_arm_run(
 
     from fsarm_sim.records.timeseries import run_metadata
 
-    with callbacks.suspended():  # a private copy for kinematics only; it is never stepped
-        model = build_spec(result.config, np.zeros((1, L.REF_COLS))).compile()
-    st = read_structure(model)
-    cols = with_derived(result.columns, tau_motor_limit_nm=st.tau_max[2])
-    rows = decimate(cols["t"], rate_hz)
-    t = cols["t"][rows]
-
+    cols, rows = log_arm_world(rec, result, rate_hz)
     rec.log(
         "run/metadata",
         rr.TextDocument(
@@ -662,6 +585,24 @@ def log_arm_run(
         ),
         static=True,
     )
+    log_scalar_panels(rec, cols, ARM_PANELS, rows)
+    views = log_arm_loops(rec, result, cols, rows)
+    return blueprint(informative_panels(cols, ARM_PANELS), views)
+
+
+def log_arm_world(
+    rec: rr.RecordingStream, result: RunResult, rate_hz: float | None = DEFAULT_RATE_HZ
+) -> tuple[dict[str, Array], npt.NDArray[np.intp]]:
+    """Log the 3-D arm of a run (geoms, body motion, shaft route); return the run's columns with
+    the derived ones (:func:`with_derived`) and the logged row indices."""
+    import rerun as rr
+
+    with callbacks.suspended():  # a private copy for kinematics only; it is never stepped
+        model = build_spec(result.config, np.zeros((1, L.REF_COLS))).compile()
+    st = read_structure(model)
+    cols = with_derived(result.columns, tau_motor_limit_nm=st.tau_max[2])
+    rows = decimate(cols["t"], rate_hz)
+    t = cols["t"][rows]
     rec.log("world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
     skip = () if result.config.payload_kg > 0.0 else ("payload_geom",)
     log_geoms(rec, arm_geoms(model), skip=skip)
@@ -679,9 +620,35 @@ def log_arm_run(
         )
     qpos = joint_qpos({k: v[rows] for k, v in cols.items()}, model)
     log_arm_motion(rec, model, qpos, t)
-    log_scalar_panels(rec, cols, ARM_PANELS, rows)
-    log_loops(rec, cols, ARM_LOOPS, rows)
-    return blueprint(ARM_PANELS, ARM_LOOPS, loop_bounds=_loop_bounds(cols, ARM_LOOPS))
+    return cols, rows
+
+
+def log_arm_loops(
+    rec: rr.RecordingStream,
+    result: RunResult,
+    cols: Columns,
+    rows: npt.NDArray[np.intp],
+    loops: Sequence[Loop] = ARM_LOOPS,
+) -> list[LoopView]:
+    """Log the run's informative loop panels, with the catalogue's model curves when joint 3 is
+    driven by the flexible shaft; return their views for the blueprint."""
+    sh = result.config.shaft
+    flexible = result.config.transmission == "flexible-shaft"
+    subtitle = (
+        f"{result.scenario}: D = {sh.diameter_mm:g} mm, L = {sh.length_mm:g} mm"
+        if flexible
+        else f"{result.scenario}: {result.config.transmission}"
+    )
+    views = []
+    for lp in loops:
+        if not loop_is_informative(lp, cols):
+            continue
+        trace = Trace("run", "plant", BLUE, lp.y)
+        model = shaft_model_curves(lp, cols, sh) if flexible else []
+        image = loop_image(lp, [(trace, cols)], model, subtitle=subtitle)
+        log_loop_panel(rec, lp, [(trace, cols, rows)], image)
+        views.append(LoopView(lp.entity, lp.title, image.width, image.height))
+    return views
 
 
 def new_stream(result: RunResult) -> rr.RecordingStream:
