@@ -113,7 +113,7 @@ BAD_FILES: dict[str, tuple[Callable[[str], str], tuple[str, ...]]] = {
         ("validity.diameter_mm", "finite"),
     ),
     "nan coefficient": (
-        _edit("p = [0.434, ", "p = [nan, "),
+        _edit("p = [-1.816, ", "p = [nan, "),
         ("series.positive.p", "finite"),
     ),
     "section given as a value": (
@@ -457,7 +457,7 @@ def test_unknown_names_and_misplaced_parameters_stay_named_errors() -> None:
     for name in NAMES:
         with pytest.raises(TransmissionError, match="allowed"):
             transmissions.get(name).block({"no_such_parameter": 1.0})
-    with pytest.raises(FsarmError, match=r"SimConfig\.shaft"):
+    with pytest.raises(FsarmError, match=r"eq\. 3 must stay > 0"):  # an override, checked
         build_model(SimConfig(transmission_params=(("k_pos", 1.0),)), HOLD)
 
 

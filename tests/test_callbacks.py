@@ -205,6 +205,8 @@ def test_native_default_falls_back_to_the_python_path_with_a_message(
 
     monkeypatch.setattr(callbacks.importlib, "import_module", no_native)
     monkeypatch.setattr(callbacks, "_native_failure", [])
+    monkeypatch.setattr(callbacks, "_native", [])  # nothing loaded yet in this "process"
+    monkeypatch.setenv("FSARM_PREBUILT", "0")  # and no prebuilt library either
     assert callbacks.DEFAULT_BACKEND == "native"
     base = _trajectory(_sim(), 50)
     sim = _sim()

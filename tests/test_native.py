@@ -270,11 +270,9 @@ def test_offsets_are_verified_against_the_bindings() -> None:
         native_abi._verify_offsets(broken)
 
 
-@pytest.mark.skipif(
-    native_abi._compiler() is None, reason="no C compiler to run the offsetof probe"
-)
+@pytest.mark.skipif(native_abi.compiler() is None, reason="no C compiler to run the offsetof probe")
 def test_offsetof_probe_matches_table_in_use() -> None:
-    assert native_abi._offsets_from_compiler(native_abi._compiler() or "cc") == native.OFFSETS
+    assert native_abi._offsets_from_compiler(native_abi.compiler() or "cc") == native.OFFSETS
 
 
 def test_compiled_callbacks_are_cached() -> None:

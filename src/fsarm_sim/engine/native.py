@@ -316,6 +316,8 @@ COMPILE_INFO = CompileInfo(
     cache_path=str(_CACHE_PATH) if _CACHE_PATH is not None else "",
 )
 
+# the compiled callbacks (engine.native_lib rebuilds these very functions into its library)
+CFUNCS = (_passive_cb, _act_dyn_cb, _control_cb)
 # ctypes function pointers (cached on the CFunc objects; module globals keep them alive)
 PASSIVE = _passive_cb.ctypes
 ACT_DYN = _act_dyn_cb.ctypes

@@ -136,7 +136,7 @@ def _headers_digest() -> str:
     return h.hexdigest()[:16]
 
 
-def _compiler() -> str | None:
+def compiler() -> str | None:
     for name in (os.environ.get("CC"), "cc", "gcc", "clang"):
         if name and shutil.which(name):
             return name
@@ -183,7 +183,7 @@ def struct_offsets() -> dict[str, dict[str, list[int]]]:
             return cached
         except NativeBackendError as exc:
             problems.append(f"cached table {path}: {exc}")
-    cc = _compiler()
+    cc = compiler()
     if cc is not None:
         try:
             probed = _offsets_from_compiler(cc)

@@ -146,9 +146,9 @@ def load() -> Library | None:
 def build() -> Path:
     """Compile the callbacks with Numba (uncached), emit them as PIC machine code and link the
     library; returns its path. Raises NativeBackendError where that cannot be done here."""
-    from fsarm_sim.engine.native_abi import _compiler
+    from fsarm_sim.engine.native_abi import compiler
 
-    cc = _compiler()
+    cc = compiler()
     if cc is None:
         raise NativeBackendError("no C compiler to link the prebuilt callbacks library")
     import llvmlite.binding as llvm
@@ -171,8 +171,8 @@ def build() -> Path:
     symbols: dict[str, str] = {}
     with tempfile.TemporaryDirectory(prefix="fsarm-lib-", dir=d) as tmp:
         objects = []
-        callbacks: tuple[Any, ...] = (native._passive_cb, native._act_dyn_cb, native._control_cb)
-        for name, cb in zip(NAMES, callbacks, strict=True):
+        cfuncs: tuple[Any, ...] = native.CFUNCS
+        for name, cb in zip(NAMES, cfuncs, strict=True):
             fresh: Any = cfunc(cb._sig, cache=False, error_model="numpy")(cb._pyfunc)
             obj = Path(tmp) / f"{name}.o"
             obj.write_bytes(tm.emit_object(fresh._library._final_module))
