@@ -28,6 +28,7 @@ import os
 import subprocess
 import sys
 import tempfile
+import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -206,12 +207,33 @@ def build_quietly() -> None:
         sys.stderr.write(f"fsarm: the prebuilt callbacks library was not built ({exc})\n")
 
 
+LOCK_NAME = "building.lock"
+LOCK_STALE_S = 900.0  # a lock older than this is a build that died: another may start
+
+
+def _claim_build() -> bool:
+    """Take the build lock of this key; False if a live build holds it. (Two processes racing
+    here may both build: each replaces the files atomically, so the result is the same.)"""
+    lock = library_dir() / LOCK_NAME
+    try:
+        if lock.exists() and time.time() - lock.stat().st_mtime < LOCK_STALE_S:
+            return False
+        lock.parent.mkdir(parents=True, exist_ok=True)
+        lock.write_text(str(os.getpid()))
+    except OSError:
+        return False
+    return True
+
+
 def build_in_background() -> None:
     """Start ``python -m fsarm_sim.engine.native_lib`` detached (it outlives this process), so
-    that the next processes load the library; concurrent builds replace the files atomically."""
+    that the next processes load the library - unless a build of this key is already running
+    (one build at a time per key: a lock file in its folder, removed when the build ends)."""
+    if not _claim_build():
+        return
     with contextlib.suppress(OSError):
         subprocess.Popen(
-            [sys.executable, "-m", "fsarm_sim.engine.native_lib"],
+            [sys.executable, "-m", "fsarm_sim.engine.native_lib", "--locked"],
             stdin=subprocess.DEVNULL,
             stdout=subprocess.DEVNULL,
             stderr=subprocess.DEVNULL,
@@ -219,7 +241,21 @@ def build_in_background() -> None:
         )
 
 
-if __name__ == "__main__":  # python -m fsarm_sim.engine.native_lib: build it unless it is built
-    with contextlib.suppress(KeyboardInterrupt):
+def main(argv: list[str]) -> None:
+    """``python -m fsarm_sim.engine.native_lib``: build the library unless it is built.
+    ``--locked``: started by :func:`build_in_background`, which holds the lock for it."""
+    locked = "--locked" in argv
+    if not locked and not _claim_build():
+        print("a build of this library is already running")
+        return
+    try:
         found = load()
         print(found.path if found is not None else build())
+    finally:
+        with contextlib.suppress(OSError):
+            (library_dir() / LOCK_NAME).unlink()
+
+
+if __name__ == "__main__":
+    with contextlib.suppress(KeyboardInterrupt):
+        main(sys.argv[1:])
