@@ -158,6 +158,11 @@ def test_replay_agrees_with_mujoco_series_bench(load: object) -> None:
         max_timestep_s=1e-4 if inertia else 1e-3,
     )
     model = nominal_from_shaft("series_bench", sh, 0.01 if inertia else None)
+    # with its slip elements the plant's spring is eq. 3 less their apparent stiffness
+    # (transmissions.flexible_shaft): the replay gets the same spring
+    for side, tag in ((1, "pos"), (-1, "neg")):
+        model.nominal[f"k_{tag}"] = sh.k_spring(0.0, side)
+        model.nominal[f"s_{tag}"] = sh.k_spring(1.0, side) - sh.k_spring(0.0, side)
     model.effects += [
         EffectInstance("viscous_damping", "shaft", {"b_nms": 0.02}),
         EffectInstance(

@@ -210,3 +210,32 @@ def test_one_effect_text_parser_for_every_setup() -> None:
     ):
         with pytest.raises(InvalidParameterError, match=words):
             parse_effect(text, setup, 0.4)
+
+
+def _toy_pair(d_amp: float, seed: int = 2) -> ToySetup:
+    """Two effects that each look like nothing alone: columns a = s + d and b = s - d with a
+    large common part s the output does not contain, and the output holding (a - b) / 2 = d."""
+    toy = _toy(offset=0.0, friction=0.0, seed=seed)
+    t = toy.dataset.columns["t"]
+    s = np.sin(2 * np.pi * 0.23 * t + 0.4)  # absent from the output
+    d = d_amp * np.sin(2 * np.pi * 3.1 * t)
+    toy.cols["sensor_offset"] = s + d
+    toy.cols["coulomb_friction"] = s - d
+    toy.y = toy.y + d
+    toy.noise_var = noise_floor(toy.y) ** 2
+    return toy
+
+
+def test_effects_that_come_together_are_named_together() -> None:
+    # alone, neither candidate explains more than ~1 % of what is missing (it earns no place)
+    greedy = core.diagnose(_toy_pair(0.1), max_effects=4, joint=False)
+    assert greedy.named == []
+    diag = core.diagnose(_toy_pair(0.1), max_effects=4)
+    assert sorted(diag.named) == ["coulomb_friction", "sensor_offset"]
+    joint = diag.steps[1]
+    assert joint.joint and joint.added_effects == diag.named
+    assert joint.scores[0].earns_place and "joint search" in joint.reason
+    assert diag.gap_over_noise(diag.final) < 1.1
+    # the same pair hidden below the noise: the joint search does not even start
+    quiet = core.diagnose(_toy_pair(0.002), max_effects=4)
+    assert quiet.named == [] and not any(st.joint for st in quiet.steps)

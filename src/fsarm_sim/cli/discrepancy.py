@@ -35,6 +35,10 @@ def register(app: typer.Typer) -> None:
             Path | None, typer.Option("--model", help="write the final model (JSON) here")
         ] = None,
         max_effects: Annotated[int, typer.Option(help="most effects to add")] = 4,
+        rrd: Annotated[
+            Path | None,
+            typer.Option(help="write a Rerun recording: measured vs models, residuals, loops"),
+        ] = None,
     ) -> None:
         """Replay the nominal model on a record, name the missing effects, fit them.
 
@@ -47,7 +51,7 @@ def register(app: typer.Typer) -> None:
         table, side = dataset_files(data)
         OutputPlan().input(f"the dataset {table}", table).input(
             f"the sidecar of the dataset {table}", side
-        ).file("--json", json_file).file("--model", model_file).folder(
+        ).file("--json", json_file).file("--model", model_file).file("--rrd", rrd).folder(
             "--report", report, rep.REPORT_FILES
         ).check()
         console = make_console()
@@ -63,7 +67,66 @@ def register(app: typer.Typer) -> None:
             model_file=model_file,
             writes=writes,
         )
+        if rrd is not None:
+            from fsarm_sim.cli.diagnose_rrd import diagnosis_recording
+
+            where = writes.write(
+                rrd, lambda p: diagnosis_recording(diag, p), "the recording (--rrd)"
+            )
+            if where is not None:
+                console.print(f"rerun recording: {where}", markup=False)
         writes.finish()
+
+    @app.command("design-experiment")
+    def design_cmd(
+        data: Annotated[
+            Path, typer.Argument(help="bench dataset: NAME.csv / NAME.parquet (+ NAME.json)")
+        ],
+        out: Annotated[
+            Path,
+            typer.Option("--out", help="the trajectory file to write (CSV: t and the input angle)"),
+        ] = Path("designed_input.csv"),
+        json_file: Annotated[
+            Path | None, typer.Option("--json", help="write every design's expected margins here")
+        ] = None,
+    ) -> None:
+        """Propose the bench input that best separates the diagnosis' closest two candidates.
+
+        Diagnoses DATA, takes the named effect with the smallest held-out BIC margin over its
+        runner-up, replays both fitted models on a family of inputs (shape, amplitude, bias)
+        and writes the input with the largest expected margin as a trajectory file the bench
+        plays (`fsarm synth --input-file` reads it too)."""
+        import json
+
+        from fsarm_sim.discrepancy import design as D
+        from fsarm_sim.discrepancy import synth
+        from fsarm_sim.discrepancy.report import json_clean
+        from fsarm_sim.records.measured import dataset_files, load_dataset
+
+        table, side = dataset_files(data)
+        OutputPlan().input(f"the dataset {table}", table).input(
+            f"the sidecar of the dataset {table}", side
+        ).file("--out", out).file("--json", json_file).check()
+        ds = load_dataset(data)
+        res = D.design(ds)
+        synth.write_input_file(out, res["t"], res["u"], ds.setup)
+        best = res["best"]
+        own = res["own_input_expected_margin"]
+        own_txt = f"{own:.1f}" if math.isfinite(own) else "an effect below the noise variance there"
+        typer.echo(
+            f"near-tie at step {res['step']}: {res['A']} vs {res['B']}, held-out BIC margin "
+            f"{res['record_margin']:.1f} on this record (expected on its own input: {own_txt})"
+        )
+        typer.echo(
+            f"designed input: {best['design']}; expected margin {best['expected_margin']:.1f} "
+            f"(if {res['A']}: {best['expected_margin_if_A']:.1f}, if {res['B']}: "
+            f"{best['expected_margin_if_B']:.1f})"
+        )
+        typer.echo(f"wrote {out} (columns t, {res['input_column']})")
+        if json_file is not None:
+            body = {k: v for k, v in res.items() if k not in ("t", "u")}
+            json_file.write_text(json.dumps(json_clean(body), indent=2) + "\n", "utf-8")
+            typer.echo(f"result: {json_file}")
 
     @app.command("synth")
     def synth_cmd(
@@ -112,6 +175,15 @@ def register(app: typer.Typer) -> None:
         amplitude: Annotated[float | None, typer.Option(help="input amplitude, rad")] = None,
         bend_deg: Annotated[float, typer.Option(help="series bench: held bend angle, deg")] = 0.0,
         seed: Annotated[int, typer.Option(help="random seed")] = 0,
+        input_file: Annotated[
+            Path | None,
+            typer.Option(
+                "--input-file",
+                help="benches: drive the bench with this trajectory file (t and theta_m / "
+                "phi_b, as fsarm design-experiment writes) instead of --trajectory; the "
+                "duration defaults to the file's",
+            ),
+        ] = None,
     ) -> None:
         """Write a SYNTHETIC measured-format dataset with chosen hidden effects and noise."""
         from fsarm_sim.discrepancy import synth
@@ -145,6 +217,9 @@ def register(app: typer.Typer) -> None:
                 scenario=scenario, duration_s=duration, noise_rad=noise_rad, seed=seed
             )
         else:
+            if input_file is not None and duration is None:
+                t_in, _ = synth.read_input_file(input_file, setup)
+                duration = float(t_in[-1] - t_in[0])
             rec = synth.Recording(
                 duration_s=30.0 if duration is None else duration,
                 rate_hz=rate,
@@ -153,6 +228,7 @@ def register(app: typer.Typer) -> None:
                 amplitude=amplitude,
                 bend_rad=math.radians(bend_deg),
                 seed=seed,
+                input_file=None if input_file is None else str(input_file),
             )
         cols, side, hidden = synth.synthesize_setup(
             setup,

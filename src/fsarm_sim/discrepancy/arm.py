@@ -104,6 +104,9 @@ __all__ = [
 
 MAX_EFFECTS = 3
 CHANNELS = ("q3", "theta_m", "q2", "twist")  # the report's channels
+# the core's joint search of pairs / triples (issue 16) is not run on the arm yet: each arm
+# candidate is a set of closed-loop simulations, and its runtime there has not been measured
+JOINT_SEARCH = False
 WITHIN_NOISE = 1.15  # residual (noise-floor units, channel average) "within noise"
 ARM_LOOK_ALIKES = (
     *LOOK_ALIKES,
@@ -268,7 +271,7 @@ class ArmSetup:
 def diagnose_arm(ds: Dataset, *, max_effects: int = MAX_EFFECTS) -> core.Diagnosis[ArmFit]:
     """Replay an arm record closed loop, refit the nominal model, name and fit what is missing."""
     t0 = time.perf_counter()
-    return core.diagnose(ArmSetup(ds), max_effects, started=t0)
+    return core.diagnose(ArmSetup(ds), max_effects, started=t0, joint=JOINT_SEARCH)
 
 
 def residual_signature(

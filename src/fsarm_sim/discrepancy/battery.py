@@ -20,10 +20,11 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from fsarm_sim.discrepancy import candidates as C
 from fsarm_sim.discrepancy import replay as R
@@ -36,6 +37,8 @@ from fsarm_sim.discrepancy.selection import Step
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.plant.effects import registry
 from fsarm_sim.records.measured import Dataset, load_dataset, stated_shaft, validate_columns
+
+FloatArray = npt.NDArray[np.float64]
 
 SMALL = 0.03  # effect size: RMS of the unexplained clean output / its range
 LARGE = 0.08
@@ -61,6 +64,10 @@ class Case:
     stiffness_scale: float = 1.1
     duration_s: float = 30.0
     sign: float = 1.0
+    rate_hz: float = 1000.0
+    # out-of-library residual: (kind, size) with kind in OUT_OF_LIBRARY, size the RMS of what it
+    # adds to the clean output / its range
+    extra: tuple[str, float] | None = None
 
 
 @dataclass
@@ -163,11 +170,54 @@ def _clip_to_bounds(effect: str, variant: str, p: dict[str, Any]) -> dict[str, A
     return q
 
 
-def _dataset(truth: BenchModel, case: Case, noise: float) -> Dataset:
+OUT_OF_LIBRARY = ("line", "drift", "signal")
+LINE_HZ = 50.0  # mains pickup on the torque amplifier (50 Hz grid)
+RIPPLE_PERIOD = 0.25  # signal: a ripple of the twist, period / the twist's reference amplitude
+
+
+def out_of_library(
+    kind: str, size: float, y: FloatArray, t: FloatArray, twist: FloatArray, seed: int
+) -> tuple[FloatArray, dict[str, float]]:
+    """(what an out-of-library disturbance adds to the clean output, its truth): ``line`` a
+    50 Hz line, ``drift`` the output's gain (the stiffness) rising linearly over the record,
+    ``signal`` a ripple periodic in the twist (no library effect models it) - each scaled to an
+    RMS of ``size`` x the clean output's range."""
+    span = float(np.ptp(y))
+    rng = np.random.default_rng(seed + 31)
+    if kind == "line":
+        amp = math.sqrt(2.0) * size * span
+        add = amp * np.sin(2 * np.pi * LINE_HZ * t + rng.uniform(0, 2 * np.pi))
+        return add, {"frequency_hz": LINE_HZ, "amplitude": amp}
+    if kind == "drift":
+        tau = (t - 0.5 * (t[0] + t[-1])) / float(t[-1] - t[0])
+        base = (y - y.mean()) * tau
+        g = size * span / float(np.sqrt(np.mean(base * base)))
+        return g * base, {"relative_change_over_record": g}
+    if kind == "signal":
+        x_ref = float(np.quantile(np.abs(twist), 0.995)) or 1.0
+        ripple = np.sin(2 * np.pi * twist / (RIPPLE_PERIOD * x_ref))
+        amp = size * span / float(np.sqrt(np.mean(ripple * ripple)))
+        return amp * ripple, {"amplitude": amp, "period_rad": RIPPLE_PERIOD * x_ref}
+    raise KeyError(kind)
+
+
+def dataset(truth: BenchModel, case: Case, noise: float) -> Dataset:
+    """The synthetic record of a case (its out-of-library disturbance added, then the noise)."""
     rec = synth.Recording(
-        duration_s=case.duration_s, noise=noise, trajectory=case.trajectory, seed=case.seed
+        duration_s=case.duration_s,
+        noise=0.0 if case.extra else noise,
+        trajectory=case.trajectory,
+        seed=case.seed,
+        rate_hz=case.rate_hz,
     )
     cols, side = synth.synthesize(truth, rec)
+    if case.extra:
+        out = "tau_s" if truth.setup == "series_bench" else "m_b"
+        twist = cols["theta_m"] - cols["theta_s"] if out == "tau_s" else cols["phi_b"]
+        y = cols[out]
+        add, _ = out_of_library(case.extra[0], case.extra[1], y, cols["t"], twist, case.seed)
+        rng = np.random.default_rng(case.seed + 7919)
+        cols[out] = y + add + noise * float(np.ptp(y)) * rng.standard_normal(y.size)
     validate_columns(truth.setup, cols, synth.Path(case.name))
     sh = stated_shaft()
     return Dataset(
@@ -180,9 +230,13 @@ def _dataset(truth: BenchModel, case: Case, noise: float) -> Dataset:
     )
 
 
+_dataset = dataset  # the name the battery's older callers use
+
+
 def effect_size(truth: BenchModel, case: Case) -> float:
-    """RMS of what the refit nominal model cannot reproduce of the clean output / its range."""
-    ds = _dataset(truth, case, 0.0)
+    """RMS of what the refit nominal model cannot reproduce of the clean output / its range
+    (without the case's out-of-library disturbance)."""
+    ds = _dataset(truth, replace(case, extra=None), 0.0)
     inp = R.prepare_inputs(ds)
     ctx = C.make_context(inp, stated_model(ds))
     fit = C.nominal(ctx)
@@ -202,7 +256,7 @@ def _nominal_truth(case: Case) -> BenchModel:
 def deflection_amplitude(truth: BenchModel, case: Case) -> float:
     """99.5th percentile of |input - output angle| of the clean nominal record: the deflection
     the shaft actually sees (an inertia load follows the input, leaving a small twist)."""
-    ds = _dataset(truth, case, 0.0)
+    ds = _dataset(truth, replace(case, extra=None), 0.0)
     c = ds.columns
     x = c["theta_m"] - c["theta_s"] if truth.setup == "series_bench" else c["phi_b"]
     return float(np.quantile(np.abs(x), 0.995))

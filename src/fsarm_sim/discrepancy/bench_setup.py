@@ -39,6 +39,9 @@ from fsarm_sim.discrepancy.residuals import (
     signature,
 )
 from fsarm_sim.discrepancy.selection import Score
+from fsarm_sim.discrepancy.uncertainty import intervals
+from fsarm_sim.discrepancy.unexplained import Signals, characterise
+from fsarm_sim.discrepancy.unexplained import plot as plot_signature
 from fsarm_sim.plant.effects import registry
 from fsarm_sim.records.measured import Dataset
 
@@ -154,7 +157,51 @@ class BenchSetup:
         self, nominal: C.Fit, final: C.Fit, named: Sequence[str]
     ) -> tuple[str, dict[str, Any]]:
         sigma_in = input_error_floor(self.dataset, self.ctx, final.model)
-        return verdict(self.ctx, nominal, final, named, sigma_in), {"sigma_inputs": sigma_in}
+        extras: dict[str, Any] = {"sigma_inputs": sigma_in}
+        extras["unexplained"] = unexplained(self.ctx, final, sigma_in)
+        sig = characterise(self.signal_set(final))
+        extras["residual_signature"] = sig
+        extras["confidence_intervals"] = intervals(
+            final.model, self.ctx.inp, self.ctx.teach, final.yhat, self.ctx.multi_bend
+        )
+        text = verdict(self.ctx, nominal, final, named, sigma_in)
+        if extras["unexplained"]:
+            text += f"; what remains: {sig['summary']}"
+        return text, extras
+
+    def signal_set(self, fit: C.Fit) -> Signals:
+        """The main channel's residual (warm-up excluded) and the signals it may depend on."""
+        inp = self.ctx.inp
+        use = self.ctx.teach | self.ctx.held
+        s = inp.theta_s if inp.inertia_load and inp.theta_s is not None else inp.s
+        x = inp.u - s
+        xd = np.gradient(x, inp.h)
+        cand = {
+            "twist": x,
+            "twist rate": xd,
+            "direction": np.sign(xd) * (np.abs(xd) > 0.05 * float(np.std(xd))),
+            "|twist|": np.abs(x),
+            "input angle": inp.u,
+            "bend": inp.phi,
+            "input acceleration": inp.uacc,
+            "model output": fit.yhat,
+        }
+        signals: dict[str, C.FloatArray] = {}
+        for name, v in cand.items():
+            v = np.asarray(v, dtype=np.float64)[use]
+            if any(v.shape == w.shape and np.allclose(v, w) for w in signals.values()):
+                continue  # the same signal by another name (e.g. the blocked bench's twist)
+            signals[name] = v
+        return Signals(
+            channel=self.main_channel,
+            unit="N·m",
+            t=inp.t[use],
+            residual=(inp.y - fit.yhat)[use],
+            output=fit.yhat[use],
+            sigma=self.ctx.sigma_y,
+            inputs=[inp.u[use]],
+            signals=signals,
+        )
 
     # ------------------------------------------------------------------ report
 
@@ -235,9 +282,22 @@ class BenchSetup:
             f"held-out NRMSE of {ds.output_column}: nominal {100 * diag.gap_before:.3f} % -> "
             f"final {100 * diag.gap_after:.3f} %",
             diag.verdict,
+            *interval_lines(diag.extras.get("confidence_intervals")),
             *ds.column_notes(),
             f"runtime {diag.runtime_s:.1f} s",
         ]
+
+
+def interval_lines(ci: dict[str, Any] | None) -> list[str]:
+    """The print-out of the fitted parameters' confidence intervals."""
+    if not ci or not ci.get("parameters"):
+        return []
+    out = [
+        f"fitted parameters, {100 * ci['level']:.0f} % intervals ({ci['method'].split(':')[0]}):"
+    ]
+    for p in ci["parameters"]:
+        out.append(f"  {p['name']:<44} {p['value']:.5g}  [{p['lower']:.5g}, {p['upper']:.5g}]")
+    return out
 
 
 def _floors(diag: core.Diagnosis[C.Fit]) -> BenchDiagnosis:
@@ -255,6 +315,20 @@ def diagnose(ds: Dataset, *, max_effects: int = S.MAX_EFFECTS) -> BenchDiagnosis
     return core.diagnose(BenchSetup(ds), max_effects, kind=BenchDiagnosis, started=t0)
 
 
+UNEXPLAINED = math.sqrt(2.0)  # residual RMS / noise floor from which the rest is "unexplained"
+
+
+def unexplained(ctx: C.Context, final: C.Fit, sigma_in: float = 0.0) -> bool:
+    """True when the final model leaves a held-out residual clearly above the noise floor: what
+    lies above the noise (output noise and the recorded inputs' own errors together, in
+    variance) is at least as large as the noise itself - the size an extra effect must explain
+    to be named (:data:`.selection.MIN_EXPLAINED_EXTRA` = 1 noise variance). Residual RMS above
+    :data:`UNEXPLAINED` x that floor."""
+    rms = math.sqrt(final.mse_held)
+    total = math.hypot(ctx.sigma_y, sigma_in)
+    return bool(rms > UNEXPLAINED * total)
+
+
 def verdict(
     ctx: C.Context,
     nom: C.Fit,
@@ -270,16 +344,18 @@ def verdict(
     rms = math.sqrt(final.mse_held)
     ratio = rms / ctx.sigma_y if ctx.sigma_y > 0 else math.inf
     within = ratio <= WITHIN_NOISE
+    unexp = unexplained(ctx, final, sigma_in)
     floor_txt = (
         f"noise floor {100 * floor:.3g} %; gap above the floor "
         f"{100 * gap_excess(gap_b, floor):.3g} % -> {100 * gap_excess(gap_a, floor):.3g} %"
     )
     if not named:
-        if within:
+        if within or not unexp:
             return (
                 "nothing is missing within noise: the refit nominal model leaves a held-out "
-                f"residual of {rms:.4g} (noise floor {ctx.sigma_y:.4g}); no candidate earns its "
-                "place"
+                f"residual of {rms:.4g} (noise floor {ctx.sigma_y:.4g}"
+                + ("" if within else "; what lies above the noise is smaller than the noise")
+                + "); no candidate earns its place"
             )
         return (
             f"no library effect earns its place, but the refit nominal model leaves "
@@ -294,6 +370,11 @@ def verdict(
             f"a residual of {ratio:.2g} x the output noise floor remains, within what the output "
             f"noise and the recorded inputs' own errors (quantisation / noise, propagated: "
             f"{100 * nrmse_floor(y, sigma_in, held):.3g} % NRMSE) explain together"
+        )
+    elif not unexp:
+        rest = (
+            f"a residual of {ratio:.2g} x the noise floor remains; what lies above the noise is "
+            "smaller than the noise (the size an extra effect must explain)"
         )
     else:
         rest = f"a residual of {ratio:.2g} x the noise floor remains that no further effect claims"
@@ -403,7 +484,14 @@ def write_plots(diag: core.Diagnosis[C.Fit], folder: str | Path) -> list[Path]:
     fig.savefig(files[-1], dpi=110)
     plt.close(fig)
 
-    # 3. NRMSE per channel
+    # 3. what the final model leaves: spectrum, drift, dependence, where
+    sig = diag.extras.get("residual_signature")
+    if isinstance(diag.setup, BenchSetup) and sig is not None:
+        files.append(
+            plot_signature(sig, diag.setup.signal_set(diag.final), out / "residual_signature.png")
+        )
+
+    # 4. NRMSE per channel
     floor = nrmse_floor(inp.y, ctx.sigma_y, ctx.held)
     files.append(
         plot_channel_nrmse(

@@ -9,7 +9,10 @@ to replay its records and fit its models; the core knows how to choose. :func:`d
    (:meth:`Setup.candidates`), scored by the rules of :mod:`.selection` (:func:`.selection.judge`
    on the setup's :meth:`~Setup.cost`; every BIC of a step uses the effective sample counts of
    the candidate that fits the held-out samples best), ranked by effect (best variant each);
-   the best effect is added when it earns its place, else the selection stops,
+   the best effect is added when it earns its place; else, when the held-out residual stays at
+   least :data:`JOINT_TRIGGER` x the noise floor, pairs and triples are fitted jointly
+   (:func:`joint_step`: effects that come together, neither earning its place alone) and named
+   together when the combination and each member earn their places; else the selection stops,
 3. the final model (:meth:`Setup.finish`) and the setup's verdict (:meth:`Setup.conclude`).
 
 The report (:mod:`.report`) is the core's too: the common keys of the result, the model file
@@ -184,6 +187,9 @@ class Diagnosis(Generic[F]):
     runtime_s: float
     verdict: str
     extras: dict[str, Any] = field(default_factory=dict)
+    # per step: (the model it started from, the best fit of each effect ranked) - for
+    # :mod:`.design` (not in the result file)
+    trail: list[tuple[F, list[tuple[Score, F]]]] = field(default_factory=list)
 
     @property
     def ctx(self) -> Any:
@@ -268,13 +274,14 @@ def why_not(top: Score, mse_name: str) -> str:
     return f"best candidate {top.label} does not earn its place: " + "; ".join(why)
 
 
-def step(
-    setup: Setup[F], cur: F, named: Sequence[str], index: int, nom: F
-) -> tuple[Step, F | None]:
-    """One selection step: (the step, the accepted fit or None when nothing earns its place)."""
+def rank(
+    setup: Setup[F], cur: F, named: Sequence[str], nom: F
+) -> tuple[list[F], float, float, list[tuple[Score, F]], list[Score]]:
+    """Fit and score every candidate on top of ``cur``: (fits, n_teach, n_held, the best variant
+    of each effect ranked by held-out BIC change, every score ranked)."""
     fits = setup.candidates(cur, named)
     if not fits:
-        return Step(index, [], None, None, None, None, False, "no candidate could be fitted"), None
+        return [], 0.0, 0.0, [], []
     n_t, n_h = common_n_eff(setup, fits)
     scored = sorted(
         ((score(setup, cur, f, n_t, n_h, nom), f) for f in fits), key=lambda sf: sf[0].d_bic_held
@@ -282,33 +289,242 @@ def step(
     per_effect: dict[str, tuple[Score, F]] = {}
     for s, f in scored:  # the best variant of each effect (ties: the first fitted)
         per_effect.setdefault(s.effect, (s, f))
-    ranked = list(per_effect.values())
+    return fits, n_t, n_h, list(per_effect.values()), [s for s, _ in scored]
+
+
+def _margin(top: Score, runner: Score | None) -> tuple[float | None, float | None]:
+    """(held-out BIC margin, BIC's probability of the winner over the runner-up)."""
+    if runner is None:
+        return None, None
+    margin = runner.d_bic_held - top.d_bic_held
+    return margin, 1.0 / (1.0 + math.exp(-min(margin, 700.0) / 2.0))
+
+
+def step(
+    setup: Setup[F], cur: F, named: Sequence[str], index: int, nom: F
+) -> tuple[Step, F | None]:
+    """One selection step: (the step, the accepted fit or None when nothing earns its place)."""
+    st, accepted, _ = _step(setup, cur, named, index, nom)
+    return st, accepted
+
+
+def _step(
+    setup: Setup[F], cur: F, named: Sequence[str], index: int, nom: F
+) -> tuple[Step, F | None, list[tuple[Score, F]]]:
+    fits, _, _, ranked, scores = rank(setup, cur, named, nom)
+    if not fits:
+        return (
+            Step(index, [], None, None, None, None, False, "no candidate could be fitted"),
+            None,
+            [],
+        )
     top_s, top_f = ranked[0]
     runner = ranked[1][0] if len(ranked) > 1 else None
-    margin = (runner.d_bic_held - top_s.d_bic_held) if runner is not None else None
-    prob = 1.0 / (1.0 + math.exp(-min(margin, 700.0) / 2.0)) if margin is not None else None
+    margin, prob = _margin(top_s, runner)
     look = runner is not None and frozenset({top_s.effect, runner.effect}) in setup.look_alikes
-    scores = [s for s, _ in scored]
     if not top_s.earns_place:
         reason = why_not(top_s, setup.mse_name)
-        return Step(index, scores, None, top_s.effect, margin, prob, look, reason), None
+        return Step(index, scores, None, top_s.effect, margin, prob, look, reason), None, ranked
     reason = (
         f"{top_s.label} lowers held-out BIC by {-top_s.d_bic_held:.1f} and held-out "
         f"{setup.mse_name} by {100 * top_s.gain_held:.1f} %"
     )
     runner_up = runner.effect if runner else None
-    return Step(index, scores, top_s.effect, runner_up, margin, prob, look, reason), top_f
+    return Step(index, scores, top_s.effect, runner_up, margin, prob, look, reason), top_f, ranked
+
+
+# ---------------------------------------------------------------------------- joint search
+
+JOINT_TRIGGER = 2.0  # held-out residual RMS / noise floor from which the joint search runs
+JOINT_FIRST = 4  # the best single effects whose fits are extended by a second effect
+JOINT_TRIPLES_FROM = 2  # the best pairs extended by a third (when no pair earns its place)
+
+
+@dataclass
+class _Combo(Generic[F]):
+    """A joint candidate: its members (effect, variant) in the order fitted, the fit, and the
+    fits of its sub-models (each without one member)."""
+
+    members: list[tuple[str, str]]
+    fit: F
+    subs: dict[str, F]  # member effect -> the fit without it
+
+    @property
+    def effects(self) -> frozenset[str]:
+        return frozenset(e for e, _ in self.members)
+
+
+def _label(members: Sequence[tuple[str, str]]) -> str:
+    return " + ".join(f"{e}[{v}]" for e, v in members)
+
+
+def _joint_params(setup: Setup[F], fit: F, members: Sequence[tuple[str, str]]) -> dict[str, Any]:
+    """The fitted parameters of every member of a joint fit (the setup reads one effect)."""
+    keep = fit.effect, fit.variant
+    out: dict[str, Any] = {}
+    try:
+        for e, v in members:
+            fit.effect, fit.variant = e, v
+            out[f"{e}[{v}]"] = setup.effect_params(fit)
+    finally:
+        fit.effect, fit.variant = keep
+    return out
+
+
+def _extend(
+    setup: Setup[F], base: F, base_members: list[tuple[str, str]], exclude: Sequence[str]
+) -> list[tuple[list[tuple[str, str]], F]]:
+    """Every candidate fitted on top of ``base`` (its effects not in ``exclude``)."""
+    out = []
+    for f in setup.candidates(base, list(exclude)):
+        members = [*base_members, (f.effect or "", f.variant or "")]
+        f.label = _label(members)
+        out.append((members, f))
+    return out
+
+
+def _member_needed(setup: Setup[F], sub: F, full: F, n_t: float, n_h: float, nom: F) -> bool:
+    """Does the member that ``full`` adds to ``sub`` earn its place there, by the rule of an
+    extra effect (:mod:`.selection`)?"""
+    j = S.judge(setup.cost(sub), setup.cost(full), n_t, n_h, setup.noise_var, setup.cost(nom)[1])
+    return j.earns_place and j.explained_over_noise >= S.MIN_EXPLAINED_EXTRA
+
+
+def joint_step(
+    setup: Setup[F],
+    cur: F,
+    named: Sequence[str],
+    index: int,
+    nom: F,
+    ranked: list[tuple[Score, F]],
+    room: int,
+) -> tuple[Step, F | None]:
+    """Pairs (then triples) of effects fitted jointly on top of ``cur``, when no single effect
+    earns its place (``ranked``: that step's best fit of each effect) but the residual stays
+    well above the noise floor.
+
+    Pairs: each of the :data:`JOINT_FIRST` best single fits (lowest held-out cost) extended by
+    every other candidate (the candidates' own joint fit: linear parameters solved together,
+    nonlinear ones searched on top of the first member's). Triples (``room`` >= 3, no pair
+    earning): the :data:`JOINT_TRIPLES_FROM` best pairs extended by a third effect. Ranked by
+    held-out BIC change against ``cur`` (one effective sample count for the whole step). A
+    combination is named when it earns its place as a whole (the rule of a single effect, or
+    of an extra effect when effects are named already) *and* each member earns its place on
+    top of the others (the rule of an extra effect, against the combination without it), so
+    that no passenger rides along with a real pair."""
+    singles = {s.effect: f for s, f in ranked}
+    firsts = sorted(singles.items(), key=lambda ef: setup.cost(ef[1])[1])[:JOINT_FIRST]
+    combos: list[_Combo[F]] = []
+    done: list[str] = []
+    for e_a, f_a in firsts:
+        m_a = [(e_a, f_a.variant or "")]
+        for members, f in _extend(setup, f_a, m_a, [*named, e_a, *done]):
+            subs = {members[1][0]: f_a}
+            if members[1][0] in singles:
+                subs[e_a] = singles[members[1][0]]
+            combos.append(_Combo(members, f, subs))
+        done.append(e_a)
+    if room >= 3 and combos:
+        pairs = {c.effects: c for c in combos}
+        best_pairs = sorted(combos, key=lambda c: setup.cost(c.fit)[1])[:JOINT_TRIPLES_FROM]
+        seen: set[frozenset[str]] = set()
+        for pc in best_pairs:
+            for members, f in _extend(setup, pc.fit, pc.members, [*named, *pc.effects]):
+                effs = frozenset(e for e, _ in members)
+                sub_pairs = {e: pairs.get(effs - {e}) for e in effs}
+                if effs in seen or any(v is None for v in sub_pairs.values()):
+                    continue  # a member's need could not be judged without another fit
+                seen.add(effs)
+                combos.append(_Combo(members, f, {e: c.fit for e, c in sub_pairs.items() if c}))
+    if not combos:
+        return Step(index, [], None, None, None, None, False, "no joint candidate", True), None
+    n_t, n_h = common_n_eff(setup, [c.fit for c in combos])
+    scored: list[tuple[Score, _Combo[F]]] = []
+    for c in combos:
+        sc = score(setup, cur, c.fit, n_t, n_h, nom)
+        sc.label = _label(c.members)
+        sc.effect = "+".join(e for e, _ in c.members)
+        sc.variant = "+".join(v for _, v in c.members)
+        sc.params = _joint_params(setup, c.fit, c.members)
+        needed = len(c.subs) == len(c.members) and all(
+            _member_needed(setup, sub, c.fit, n_t, n_h, nom) for sub in c.subs.values()
+        )
+        if sc.earns_place and not needed:
+            sc.earns_place = False
+            sc.note = (sc.note + "; " if sc.note else "") + "a member does not earn its place"
+        scored.append((sc, c))
+    scored.sort(key=lambda sc_c: sc_c[0].d_bic_held)
+    per_set: dict[frozenset[str], tuple[Score, _Combo[F]]] = {}
+    for sc, c in scored:
+        per_set.setdefault(c.effects, (sc, c))
+    best = list(per_set.values())
+    scores = [sc for sc, _ in scored]
+    winners = [(sc, c) for sc, c in best if sc.earns_place]
+    if not winners:
+        top = best[0][0]
+        reason = "joint search: " + why_not(top, setup.mse_name)
+        if top.d_bic_held < -S.BIC_THRESHOLD and top.gain_held >= S.MIN_GAIN:
+            reason = f"joint search: best combination {top.label} has a member that does not earn its place"
+        return Step(index, scores, None, None, None, None, False, reason, True), None
+    top_s, top_c = winners[0]
+    others = [sc for sc, c in best if c is not top_c]
+    single_best = ranked[0][0] if ranked else None
+    runner = min(
+        [*others, *([single_best] if single_best else [])],
+        key=lambda sc: sc.d_bic_held,
+        default=None,
+    )
+    margin, prob = _margin(top_s, runner)
+    names = [e for e, _ in top_c.members]
+    reason = (
+        f"joint search: {top_s.label} together lower held-out BIC by {-top_s.d_bic_held:.1f} "
+        f"and held-out {setup.mse_name} by {100 * top_s.gain_held:.1f} %, each earning its "
+        "place on top of the other(s); no one of them earns it alone"
+    )
+    st = Step(
+        index,
+        scores,
+        "+".join(names),
+        runner.label if runner else None,
+        margin,
+        prob,
+        False,
+        reason,
+        True,
+        names,
+    )
+    fit = top_c.fit
+    fit.label = top_s.label
+    fit.effect = "+".join(names)
+    fit.variant = "+".join(v for _, v in top_c.members)
+    return st, fit
+
+
+def accept_joint(setup: Setup[F], fit: F, members: Sequence[tuple[str, str]]) -> F:
+    """The model that carries on after a joint step: the setup's :meth:`Setup.accept` once per
+    member (a setup reads the fit's ``effect`` to know what was named)."""
+    label = fit.label
+    for e, v in members:
+        fit.effect, fit.variant = e, v
+        fit = setup.accept(fit)
+    fit.label = label
+    return fit
 
 
 @overload
 def diagnose(
-    setup: Setup[F], max_effects: int, *, started: float | None = None
+    setup: Setup[F], max_effects: int, *, started: float | None = None, joint: bool = True
 ) -> Diagnosis[F]: ...
 
 
 @overload
 def diagnose(
-    setup: Setup[F], max_effects: int, *, kind: Callable[..., D], started: float | None = None
+    setup: Setup[F],
+    max_effects: int,
+    *,
+    kind: Callable[..., D],
+    started: float | None = None,
+    joint: bool = True,
 ) -> D: ...
 
 
@@ -318,9 +534,12 @@ def diagnose(
     *,
     kind: Callable[..., Any] = Diagnosis,
     started: float | None = None,
+    joint: bool = True,
 ) -> Any:
     """Forward selection on a setup: name and fit the effects missing from its nominal model,
-    one at a time while each earns its place (at most ``max_effects``). ``kind``: the
+    one at a time while each earns its place (at most ``max_effects``); when none does but the
+    held-out residual stays at least :data:`JOINT_TRIGGER` x the noise floor, a joint search
+    of pairs and triples (:func:`joint_step`, unless ``joint`` is False). ``kind``: the
     diagnosis class to return; ``started``: ``time.perf_counter()`` at the start of the work
     (the record's preparation included), for ``runtime_s``."""
     t0 = time.perf_counter() if started is None else started
@@ -328,11 +547,24 @@ def diagnose(
     nom = cur
     named: list[str] = []
     steps: list[Step] = []
+    trail: list[tuple[Any, list[tuple[Score, Any]]]] = []
     while len(named) < max_effects:
-        st, accepted = step(setup, cur, named, len(steps) + 1, nom)
+        st, accepted, ranked = _step(setup, cur, named, len(steps) + 1, nom)
         steps.append(st)
+        trail.append((cur, ranked))
         if accepted is None or st.added is None:
-            break
+            room = max_effects - len(named)
+            over = math.sqrt(setup.cost(cur)[1] / setup.noise_var) if setup.noise_var > 0 else 0.0
+            if not (joint and ranked and room >= 2 and over >= JOINT_TRIGGER):
+                break
+            jst, jfit = joint_step(setup, cur, named, len(steps) + 1, nom, ranked, room)
+            steps.append(jst)
+            if jfit is None:
+                break
+            members = list(zip(jst.added_effects, (jfit.variant or "").split("+"), strict=False))
+            named.extend(jst.added_effects)
+            cur = accept_joint(setup, jfit, members)
+            continue
         named.append(st.added)
         cur = setup.accept(accepted)
     final = setup.finish(cur, named)
@@ -350,4 +582,5 @@ def diagnose(
         runtime_s=time.perf_counter() - t0,
         verdict=verdict,
         extras=extras,
+        trail=trail,
     )

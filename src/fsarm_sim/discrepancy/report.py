@@ -3,9 +3,15 @@
 
 JSON keys (``specs/measured-data.md`` names first), common to all setups: ``named_effects``,
 ``gap_before``, ``gap_after`` (held-out NRMSE of the setup's main channel, fractions),
-``gap_catalogue`` (nominal model as stated, no refit), ``nothing_missing``, ``verdict``,
+``gap_catalogue`` (nominal model as stated, no refit), ``unexplained`` (the final model leaves
+the held-out residual clearly above the noise floor: what lies above the noise at least as large
+as the noise), ``nothing_missing`` (no effect named *and* not ``unexplained``),
+``residual_signature`` (what the final model leaves: spectral lines, drift, dependence on a
+signal, where it concentrates - :mod:`.unexplained`; benches), ``confidence_intervals`` (every
+fitted parameter's 95 % interval and the method - :mod:`.uncertainty`; benches), ``verdict``,
 ``confidence`` (per added effect: runner-up, BIC margin, probability, look-alike flag), ``steps``
-(every candidate's scores per step; ``mse_teach`` / ``mse_held`` in the setup's cost units),
+(every candidate's scores per step; ``mse_teach`` / ``mse_held`` in the setup's cost units; a
+joint step has ``joint`` true and its ``added_effects``),
 ``fitted_parameters`` (nominal + effects), ``nominal_refit``, ``noise_floor``, ``nrmse`` (per
 channel: catalogue / nominal / final), ``bic``, ``signatures`` (residual before / after),
 ``unused_columns`` (columns of the record the diagnosis does not read), ``undeclared_columns``
@@ -84,6 +90,20 @@ def confidence_line(st: Step) -> str | None:
     )
 
 
+UNEXPLAINED = math.sqrt(2.0)  # a setup without its own test: held-out residual RMS / noise
+
+
+def unexplained(diag: Diagnosis[Any]) -> bool:
+    """True when the final model leaves the residual clearly above the noise floor: the setup's
+    own test (``extras["unexplained"]``, e.g. the benches', which counts the recorded inputs'
+    errors too), else a held-out residual RMS above :data:`UNEXPLAINED` x the noise floor (what
+    lies above the noise at least as large as the noise)."""
+    if "unexplained" in diag.extras:
+        return bool(diag.extras["unexplained"])
+    nv = diag.setup.noise_var
+    return bool(nv > 0 and diag.gap_over_noise(diag.final) > UNEXPLAINED)
+
+
 def result_dict(diag: Diagnosis[Any], model_file: Path | None = None) -> dict[str, Any]:
     """The JSON result of a diagnosis (module docstring)."""
     setup = diag.setup
@@ -100,11 +120,14 @@ def result_dict(diag: Diagnosis[Any], model_file: Path | None = None) -> dict[st
         "gap_before": diag.gap_before,
         "gap_after": diag.gap_after,
         **parts.gaps,
-        "nothing_missing": not diag.named,
+        "unexplained": unexplained(diag),
+        "nothing_missing": not diag.named and not unexplained(diag),
+        "residual_signature": diag.extras.get("residual_signature"),
         "verdict": diag.verdict,
         "confidence": confidence(diag.steps),
         "steps": [s.as_dict() for s in diag.steps],
         "fitted_parameters": setup.parameters(diag.final.model),
+        "confidence_intervals": diag.extras.get("confidence_intervals"),
         "nominal_refit": parts.nominal_refit,
         "noise_floor": parts.noise_floor,
         "nrmse": parts.nrmse,
@@ -228,6 +251,7 @@ REPORT_FILES = {  # the files write_report may put in the folder
     "loops.png": "the loop plot",
     "nrmse.png": "the NRMSE plot",
     "bic.png": "the BIC plot",
+    "residual_signature.png": "the plot of what the final model leaves",
 }
 
 

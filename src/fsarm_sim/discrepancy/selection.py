@@ -61,7 +61,7 @@ is missing within noise"; when it adds nothing but the residual is not, the verd
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from fsarm_sim.discrepancy import variants as V
@@ -146,6 +146,12 @@ class Step:
     probability: float | None
     look_alike: bool
     reason: str
+    joint: bool = False  # a joint step: ``added`` names two or three effects ("a+b")
+    added_effects: list[str] = field(default_factory=list)  # the effects this step names
+
+    def __post_init__(self) -> None:
+        if self.added is not None and not self.added_effects:
+            self.added_effects = [self.added]
 
     def as_dict(self) -> dict[str, Any]:
         d = dict(self.__dict__)

@@ -76,7 +76,7 @@ def parallel_link_inertia() -> float:
     return float(full[dof, dof])
 
 
-def _envelope(t: FloatArray, ramp_s: float = 1.0) -> FloatArray:
+def envelope(t: FloatArray, ramp_s: float = 1.0) -> FloatArray:
     """Smooth start and end (raised cosine) so the input begins and ends at rest."""
     e = np.ones_like(t)
     a = np.clip(t / ramp_s, 0, 1)
@@ -130,7 +130,7 @@ def trajectory(
         raise InvalidParameterError(
             f"unknown trajectory {kind!r}; known: {', '.join(TRAJECTORIES)}"
         )
-    u = np.asarray(u, dtype=np.float64) * _envelope(t)
+    u = np.asarray(u, dtype=np.float64) * envelope(t)
     peak = float(np.max(np.abs(u)))
     u *= amplitude / peak if peak > 0 else 0.0
     rate = float(np.max(np.abs(np.gradient(u, t))))
@@ -152,6 +152,7 @@ class Recording:
     encoder_counts: int = ENCODER_COUNTS
     oversample: int = 10
     seed: int = 0
+    input_file: str | None = None  # a trajectory file (:func:`read_input_file`) instead
 
     def validate(self) -> None:
         for name in ("duration_s", "rate_hz"):
@@ -240,8 +241,18 @@ def synthesize(
     nf = (n - 1) * rec.oversample + 1
     tf = np.arange(nf, dtype=np.float64) * hf
     rate_limit = SERIES_RATE_LIMIT if truth.setup == "series_bench" else PARALLEL_RATE_LIMIT
-    amp = rec.amplitude if rec.amplitude is not None else default_amplitude(truth, sh)
-    u_true = trajectory(rec.trajectory, tf, amp, rate_limit, rec.seed)
+    if rec.input_file is not None:
+        t_in, u_in = read_input_file(rec.input_file, truth.setup)
+        if t_in[-1] - t_in[0] < tf[-1] - 1e-9:
+            raise InvalidParameterError(
+                f"the input file {rec.input_file} lasts {t_in[-1] - t_in[0]:g} s, shorter than "
+                f"the record's {tf[-1]:g} s (--duration)"
+            )
+        u_true = np.interp(tf, t_in - t_in[0], u_in)
+        amp = float(np.max(np.abs(u_true)))
+    else:
+        amp = rec.amplitude if rec.amplitude is not None else default_amplitude(truth, sh)
+        u_true = trajectory(rec.trajectory, tf, amp, rate_limit, rec.seed)
     d, off = R.input_transform(truth)
     # the model is driven by the true input, delayed by d (the recorded input is not)
     u_model = R.shifted(u_true, d / hf) if d != 0.0 else u_true
@@ -282,6 +293,46 @@ def synthesize(
     return cols, synthetic_record(truth, rec, sh, amp, sigma, list(cols)).to_json()
 
 
+INPUT_COLUMNS = {"series_bench": "theta_m", "parallel_bench": "phi_b"}
+
+
+def read_input_file(path: str | Path, setup: str) -> tuple[FloatArray, FloatArray]:
+    """(t, input angle) of a bench trajectory file: CSV with a header ``t,theta_m`` (series
+    bench) or ``t,phi_b`` (parallel bench), t in s rising evenly, the angle in rad - what
+    ``fsarm design-experiment`` writes and a bench plays."""
+    p = Path(path)
+    col = INPUT_COLUMNS.get(setup)
+    if col is None:
+        raise InvalidParameterError(f"an input file drives a bench, not the setup {setup!r}")
+    try:
+        head = p.read_text("utf-8").splitlines()[0].strip().split(",")
+        data = np.loadtxt(p, delimiter=",", skiprows=1, ndmin=2)
+    except (OSError, ValueError, IndexError) as exc:
+        raise InvalidParameterError(f"cannot read the input file {p}: {exc}") from exc
+    if "t" not in head or col not in head:
+        raise InvalidParameterError(
+            f"the input file {p} needs the columns t and {col} (for {setup}), has {head}"
+        )
+    t = np.asarray(data[:, head.index("t")], dtype=np.float64)
+    u = np.asarray(data[:, head.index(col)], dtype=np.float64)
+    if t.size < 10 or not (np.all(np.isfinite(t)) and np.all(np.isfinite(u))):
+        raise InvalidParameterError(f"the input file {p} needs >= 10 finite rows")
+    if not np.all(np.diff(t) > 0):
+        raise InvalidParameterError(f"the input file {p}: t must rise strictly")
+    return t, u
+
+
+def write_input_file(path: str | Path, t: FloatArray, u: FloatArray, setup: str) -> Path:
+    """Write a bench trajectory file (:func:`read_input_file`)."""
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    col = INPUT_COLUMNS[setup]
+    np.savetxt(
+        p, np.column_stack([t, u]), delimiter=",", header=f"t,{col}", comments="", fmt="%.9g"
+    )
+    return p
+
+
 def synthetic_record(
     truth: BenchModel,
     rec: Recording,
@@ -292,6 +343,7 @@ def synthetic_record(
 ) -> records.Sidecar:
     """The typed sidecar of a synthetic bench dataset (:mod:`fsarm_sim.records.sidecar`)."""
     hidden = [e.label for e in truth.effects]
+    traj = rec.trajectory if rec.input_file is None else f"file {Path(rec.input_file).name}"
     load = None
     if truth.setup == "series_bench":
         load = (
@@ -307,14 +359,14 @@ def synthetic_record(
         load=load,
         columns={c: records.UNITS[c] for c in columns},
         notes=(
-            f"SYNTHETIC data from fsarm synth (not a measurement): trajectory {rec.trajectory}, "
+            f"SYNTHETIC data from fsarm synth (not a measurement): trajectory {traj}, "
             f"{rec.duration_s:g} s at {rec.rate_hz:g} Hz, torque noise {100 * rec.noise:g} % of "
             f"range, hidden effects: {', '.join(hidden) if hidden else 'none'}"
         ),
         synthetic=records.jsonable(
             {
                 "truth": truth.as_dict(),
-                "trajectory": rec.trajectory,
+                "trajectory": traj,
                 "amplitude": amp,
                 "noise_fraction": rec.noise,
                 "noise_std": sigma,

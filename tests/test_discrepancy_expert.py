@@ -1,0 +1,130 @@
+"""Issue 16: what remains unexplained is characterised (spectral line, drift, dependence on a
+signal), every fitted parameter gets a confidence interval, a near-tie gets a designed input
+(trajectory file) that synth plays."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from fsarm_sim.discrepancy import battery as B
+from fsarm_sim.discrepancy import battery_expert as E
+from fsarm_sim.discrepancy import report, synth
+from fsarm_sim.discrepancy.bench_setup import diagnose
+from fsarm_sim.discrepancy.unexplained import Signals, characterise
+from fsarm_sim.errors import InvalidParameterError
+
+
+def _signals(extra: np.ndarray, t: np.ndarray, twist: np.ndarray, y: np.ndarray) -> Signals:
+    rng = np.random.default_rng(0)
+    r = extra + 0.01 * rng.standard_normal(t.size)
+    return Signals(
+        channel="tau_s",
+        unit="N·m",
+        t=t,
+        residual=r,
+        output=y,
+        sigma=0.01,
+        inputs=[twist],
+        signals={"twist": twist, "twist rate": np.gradient(twist, t), "model output": y},
+    )
+
+
+@pytest.fixture(scope="module")
+def record() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    t = np.arange(20000) * 1e-3
+    twist = 0.3 * np.sin(2 * np.pi * 0.4 * t) + 0.1 * np.sin(2 * np.pi * 1.3 * t + 1.0)
+    return t, twist, 15.0 * twist
+
+
+def test_a_mains_line_is_named_with_its_frequency_and_amplitude(record: tuple) -> None:
+    t, twist, y = record
+    sig = characterise(_signals(0.03 * np.sin(2 * np.pi * 50.0 * t + 0.3), t, twist, y))
+    assert sig["kind"] == "spectral_line"
+    line = sig["spectral_lines"][0]
+    assert line["frequency_hz"] == pytest.approx(50.0, abs=0.05)
+    assert line["amplitude"] == pytest.approx(0.03, rel=0.05) and not line["in_input"]
+    assert "50 Hz line" in sig["summary"] and "tau_s" in sig["summary"]
+
+
+def test_a_stiffness_drift_is_named_with_its_rate(record: tuple) -> None:
+    t, twist, y = record
+    tau = (t - t.mean()) / (t[-1] - t[0])
+    sig = characterise(_signals(0.12 * tau * (y - y.mean()), t, twist, y))
+    assert sig["kind"] == "drift"
+    g = sig["trend"]["gain"]
+    assert g["relative_change_over_record"] == pytest.approx(0.12, rel=0.05)
+    assert "rises by ~12" in sig["summary"]
+
+
+def test_a_dependence_on_the_twist_is_named_and_noise_is_not(record: tuple) -> None:
+    t, twist, y = record
+    sig = characterise(_signals(0.03 * np.sin(2 * np.pi * twist / 0.08), t, twist, y))
+    assert sig["kind"] == "signal" and sig["dependence"][0]["signal"] == "twist"
+    noise = characterise(_signals(np.zeros_like(t), t, twist, y))
+    assert noise["kind"] == "none" and noise["spectral_lines"] == []
+    assert max(d["share_of_residual"] for d in noise["dependence"]) < 0.05
+
+
+def test_an_out_of_library_line_is_unexplained_and_intervals_cover_the_truth(
+    tmp_path: Path,
+) -> None:
+    """A bench record with Coulomb friction and a 50 Hz line on the torque: the friction named
+    with a 95 % interval holding its true value, the residual unexplained and named."""
+    case = E._case(
+        "line",
+        "series_bench",
+        [("coulomb_friction", "shaft")],
+        0.03,
+        seed=7,
+        duration_s=10.0,
+        extra=("line", 0.01),
+    )
+    case = B.replace(case, rate_hz=500.0, trajectory="random")
+    truth, _ = B.build_truth(case)
+    diag = diagnose(B.dataset(truth, case, case.noise))
+    res = report.result_dict(diag)
+    assert res["named_effects"] == ["coulomb_friction"]
+    assert res["unexplained"] is True and res["nothing_missing"] is False
+    line = res["residual_signature"]["spectral_lines"][0]
+    assert line["frequency_hz"] == pytest.approx(50.0, abs=0.1) and line["channel"] == "tau_s"
+    assert "50 Hz line" in res["verdict"]
+    ci = {p["name"]: p for p in res["confidence_intervals"]["parameters"]}
+    f_c = truth.effects[0].params["f_c_nm"]
+    p = ci["coulomb_friction[shaft].f_c_nm"]
+    assert p["lower"] <= f_c <= p["upper"] and p["upper"] - p["lower"] < 0.2 * f_c
+    assert "Fisher" in res["confidence_intervals"]["method"]
+    files = report.write_report(diag, tmp_path / "rep")
+    assert files["residual_signature"].is_file()
+
+
+def test_an_input_file_drives_synth_and_bad_files_are_refused(tmp_path: Path) -> None:
+    t = np.arange(0, 5.0, 1e-3)
+    u = 0.2 * np.sin(2 * np.pi * 0.5 * t)
+    f = synth.write_input_file(tmp_path / "u.csv", t, u, "series_bench")
+    rec = synth.Recording(duration_s=4.0, noise=0.0, input_file=str(f), encoder_counts=0)
+    cols, side = synth.synthesize(synth.truth_model("series_bench"), rec)
+    assert np.allclose(cols["theta_m"], np.interp(cols["t"], t, u), atol=1e-9)
+    assert "file u.csv" in side["notes"]
+    with pytest.raises(InvalidParameterError, match="needs the columns t and phi_b"):
+        synth.read_input_file(f, "parallel_bench")
+    long = synth.Recording(duration_s=9.0, noise=0.0, input_file=str(f))
+    with pytest.raises(InvalidParameterError, match="shorter than"):
+        synth.synthesize(synth.truth_model("series_bench"), long)
+
+
+def test_designed_inputs_rest_at_the_ends_and_keep_the_rate_limit() -> None:
+    from fsarm_sim.discrepancy import design as D
+
+    t = np.arange(0, 30.0, 1e-3)
+    ds = D.designs(0.4)
+    assert {d.bias for d in ds} >= {0.0} and min(d.bias for d in ds) < 0 < max(d.bias for d in ds)
+    for k, d in enumerate(ds):
+        u = D.input_of(d, t, "series_bench", seed=k)
+        assert abs(u[0]) < 1e-9 and abs(u[-1]) < 1e-6
+        assert np.max(np.abs(np.gradient(u, t))) <= synth.SERIES_RATE_LIMIT
+        assert np.max(np.abs(u)) <= abs(d.bias) + d.amplitude + 1e-9
+    # a wrong model leaving the noise variance on 10 000 held-out samples: 10 000 ln 2 - ln n
+    assert D.expected_margin(1.0, 1.0, 1e4, 1) == pytest.approx(1e4 * np.log(2) - np.log(1e4))
