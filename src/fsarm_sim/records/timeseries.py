@@ -94,7 +94,9 @@ def write_timeseries(result: RunResult, out_dir: Path, fmt: str = "csv") -> Path
     if fmt == "csv":
         import pyarrow.csv as pa_csv
 
-        pa_csv.write_csv(table, path, pa_csv.WriteOptions(quoting_style="none", quoting_header="none"))
+        pa_csv.write_csv(
+            table, path, pa_csv.WriteOptions(quoting_style="none", quoting_header="none")
+        )
     else:
         import pyarrow.parquet as pq
 
