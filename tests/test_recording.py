@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from PIL import Image as PILImage
 
-from fsarm_sim.engine.model import model_path
+from fsarm_sim.engine.model import SimConfig, model_path
 from fsarm_sim.errors import FsarmError, InvalidParameterError
 from fsarm_sim.review import recording
 from fsarm_sim.sim.simulation import RunResult, run_scenario
@@ -319,3 +319,20 @@ def test_cli_rejects_bad_rate_before_running(
     assert "--rrd-rate" in capsys.readouterr().err
     assert not any(tmp_path.iterdir())  # failed before the run wrote anything
     assert issubclass(InvalidParameterError, FsarmError)
+
+
+def test_the_transmissions_own_states_get_their_panel(
+    chunks: dict[str, list[dict[str, Any]]], run: RunResult
+) -> None:
+    """The shaft's slip elements (its STATES) and the conduit branches, at the recorded rows."""
+    assert set(run.states) == {"slip1", "slip2", "slip3", "conduit_branch1", "conduit_branch2"}
+    assert all(len(v) == len(run.columns["t"]) for v in run.states.values())
+    assert any(np.ptp(run.states[f"slip{i}"]) > 0.0 for i in (1, 2, 3))  # they slip and stick
+    panels = {p.name: p for p in recording.state_panels(run)}
+    assert set(panels) == {"transmission_states", "conduit_states"}
+    t, values = _temporal(chunks, "/signals/transmission_states/state_slip1", "Scalars:scalars")
+    i = np.searchsorted(run.columns["t"], t[-1])
+    assert float(np.ravel(values[-1])[0]) == pytest.approx(run.states["slip1"][i])
+    qa = run_scenario("step-q3", SimConfig(transmission="qa-joint"), duration_s=0.2)
+    assert set(qa.states) == {"sigma_rad", "z_friction", "conduit_branch1", "conduit_branch2"}
+    assert next(p.name for p in recording.state_panels(qa)) == "transmission_states"

@@ -208,6 +208,34 @@ ARM_PANELS: tuple[Panel, ...] = (
 )
 
 
+def state_panels(result: RunResult) -> tuple[Panel, ...]:
+    """Panels of a run's internal states (``RunResult.states``, logged as ``state_<name>``):
+    the transmission's own (the shaft's slip elements, QA-Joint's sigma and friction, the
+    tendon-sheath's capstan friction...) and the conduit branches (shown when the bend moves)."""
+    colors = (BLUE, ORANGE, GREEN, GREY)
+    own = [n for n in result.states if not n.startswith("conduit_branch")]
+    branches = [n for n in result.states if n.startswith("conduit_branch")]
+    out = []
+    if own:
+        out.append(
+            Panel(
+                "transmission_states",
+                f"{result.config.transmission} states (data.act)",
+                tuple(Series(f"state_{n}", n, 1.0, colors[i % 4]) for i, n in enumerate(own)),
+            )
+        )
+    if branches:
+        out.append(
+            Panel(
+                "conduit_states",
+                "conduit branch states (bending hysteresis, data.act)",
+                tuple(Series(f"state_{n}", n, 1.0, colors[i % 4]) for i, n in enumerate(branches)),
+                informative=bending_shown,
+            )
+        )
+    return tuple(out)
+
+
 def with_derived(cols: Columns, tau_motor_limit_nm: float | None = None) -> dict[str, Array]:
     """The columns plus derived ones where their inputs exist: tracking errors ``e1..e3``
     (rad), bending moment ``moment_bend = -tau_bend`` (the moment that resists the bend, Fig. 9's
@@ -585,9 +613,23 @@ def log_arm_run(
         ),
         static=True,
     )
-    log_scalar_panels(rec, cols, ARM_PANELS, rows)
+    panels = ARM_PANELS + state_panels(result)
+    cols.update(state_columns(result))
+    log_scalar_panels(rec, cols, panels, rows)
     views = log_arm_loops(rec, result, cols, rows)
-    return blueprint(informative_panels(cols, ARM_PANELS), views)
+    return blueprint(informative_panels(cols, panels), views)
+
+
+def state_columns(result: RunResult) -> dict[str, Array]:
+    """``state_<name>`` columns of the run's internal states (those recorded at its rows)."""
+    n = len(result.columns["t"])
+    return {f"state_{k}": v for k, v in result.states.items() if len(v) == n}
+
+
+def run_panels(result: RunResult) -> list[Panel]:
+    """The time-series panels a run's recording shows (informative ones, states included)."""
+    cols = {**with_derived(result.columns), **state_columns(result)}
+    return informative_panels(cols, ARM_PANELS + state_panels(result))
 
 
 def log_arm_world(

@@ -49,6 +49,9 @@ class RunResult:
     columns: dict[str, Array]
     metrics: dict[str, float | dict[str, float]] = field(default_factory=dict)
     interrupted: bool = False  # Ctrl-C ended the run early; columns hold what was finished
+    # internal states at the recorded rows (data.act): the transmission's own (its STATES, e.g.
+    # the shaft's slip elements) and the conduit branches; for review, not written to the table
+    states: dict[str, Array] = field(default_factory=dict)
 
 
 def check_duration(duration_s: float) -> float:
@@ -225,6 +228,7 @@ class Simulation:
         # per-control-tick Python hooks (scripted disturbances, outer loops); none: the loop is
         # exactly the hook-free one
         self.hooks: list[scenarios.TickHook] = []
+        self.states: dict[str, Array] = {}  # internal states at the rows of the last run()
         initial_state(self.model, self.data, self.structure)
 
     @property
@@ -377,6 +381,7 @@ class Simulation:
             )
         r = self._rows
         nq, nv, na = m.nq, m.nv, m.na
+        self.states = self._states(rec[:r, 1 + nq + nv : 1 + nq + nv + na])
         cols = self._columns(
             rec[:r, 0],
             rec[:r, 1 : 1 + nq],
@@ -429,6 +434,17 @@ class Simulation:
                 self._drain(rec, buf)
         finally:
             self._drain(rec, buf)
+
+    def _states(self, act: Array) -> dict[str, Array]:
+        """The transmission's states (named by its module's STATES) and the conduit branches."""
+        st = self.structure
+        out = {
+            name: act[:, st.act_slip + i].copy()
+            for i, name in enumerate(self.config.transmission_model().states)
+        }
+        for i, adr in enumerate(st.act_branch):
+            out[f"conduit_branch{i + 1}"] = act[:, adr].copy()
+        return out
 
     def _drain(self, rec: Array, buf: Array) -> None:
         """Move the recorder's rows into ``rec`` (after ``self._rows``)."""
@@ -662,4 +678,5 @@ def run_scenario(
         columns=cols,
         metrics=metrics,
         interrupted=sim.interrupted,
+        states=sim.states,
     )
