@@ -68,6 +68,15 @@ def test_every_transmission_id_reaches_its_own_module(name: str) -> None:
         assert physics.tr_potential(tr.kind, block, x, 0.4, act, 0) == tr.module.potential_j(
             block, x, 0.4, act, 0
         )
+        # the motor end: the module's own motor_torque_nm where it has one, else torque_nm
+        own = getattr(tr.module, "motor_torque_nm", tr.module.torque_nm)
+        assert physics.tr_motor_torque(tr.kind, block, x, 0.3, 0.4, act, 0) == own(
+            block, x, 0.3, 0.4, act, 0
+        )
+        for i in range(len(tr.module.STATES)):  # the motor-side speed reaches state_rate
+            assert physics.tr_state_rate(
+                tr.kind, block, x, 0.3, 0.4, act, 0, i, -0.7
+            ) == tr.module.state_rate(block, x, 0.3, 0.4, act, 0, i, -0.7)
         assert physics.tr_bend_torque(tr.kind, block, x, 0.4, act, 0) == tr.module.bend_torque_nm(
             block, x, 0.4, act, 0
         )

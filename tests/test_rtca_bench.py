@@ -123,3 +123,27 @@ def test_ziegler_nichols_table() -> None:
     assert zn.pid.kp == pytest.approx(0.6 * zn.ultimate_gain)
     assert zn.pid.ki == pytest.approx(zn.pid.kp / (zn.ultimate_period_s / 2.0))
     assert zn.pid.kd == pytest.approx(zn.pid.kp * zn.ultimate_period_s / 8.0)
+
+
+def test_bench_friction_is_the_transmissions_bend_friction_element() -> None:
+    from fsarm_sim.plant.effects import bend_friction
+    from fsarm_sim.plant.transmissions import rtca
+
+    assert ACT.residual_nm(math.inf) == pytest.approx(rtca.SLIP_F_NM)
+    phi = 0.255 / 0.300  # R = 300 mm on the 255 mm bend
+    g = bend_friction.factor(phi, rtca.BEND_FRICTION_PER_RAD)
+    assert ACT.residual_nm(0.300) == pytest.approx(rtca.SLIP_F_NM * g)
+    off = rb.with_(ACT, residual_friction=False)
+    assert off.residual_nm(0.300) == 0.0
+    assert off.shaft_block()[rtca.I_SLIP_F] == 0.0
+
+
+def test_estimate_based_impedance_does_not_see_the_shaft_friction_the_load_feels() -> None:
+    """Seed 001's Z = T̂/θ̇_s reads the twist, which the velocity-sourced motor sets: the shaft's
+    bend friction changes it by < 1 %, while the torque the load feels (the sensor) rises."""
+    pid = rb.Pid(8.5, 0.0, 0.0)
+    kw = {"radius_m": 0.2, "f_lo": 0.5, "f_hi": 5.0, "duration_s": 12.0}
+    on = rb.output_impedance(ACT, pid, **kw)
+    off = rb.output_impedance(rb.with_(ACT, residual_friction=False), pid, **kw)
+    assert on.level == pytest.approx(off.level, rel=0.01)
+    assert on.interaction_rms_nm > 1.1 * off.interaction_rms_nm

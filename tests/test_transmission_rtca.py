@@ -242,10 +242,13 @@ def test_transmission_interface_block_twist_for_torque_and_max_stiffness() -> No
     np.testing.assert_array_equal(t.block(), TR)
     assert t.block({"scale": 2.0})[rtca.I_SCALE] == 2.0
     assert t.routed_over_joint2
-    assert t.states == ()
-    assert t.state_limits(TR) == [None] * N_STATES
+    assert t.states == ("slip",)
+    lim = t.state_limits(TR)
+    assert lim[1:] == [None] * (N_STATES - 1)
+    assert lim[0] is not None and lim[0][0] == pytest.approx(-lim[0][1])
     assert t.initial_states(TR, 0.3, 0.5) == [0.0] * N_STATES
-    for rate_slot in range(N_STATES):
+    assert rtca.state_rate(TR, 0.3, 1.0, 0.5, ACT, 0, 0) == 1.0  # stuck: follows the twist
+    for rate_slot in range(1, N_STATES):
         assert rtca.state_rate(TR, 0.3, 1.0, 0.5, ACT, 0, rate_slot) == 0.0
     # the arm's fig14-sine torques (0.46 N*m at 0 kg, 7.1 N*m at 15 kg), both signs and bends
     for tau in (0.46, -0.46, 6.0, -6.0, 7.1):
@@ -253,7 +256,8 @@ def test_transmission_interface_block_twist_for_torque_and_max_stiffness() -> No
             x = t.twist_for_torque(TR, tau, bend)
             assert t.sensor_torque(TR, x, bend) == pytest.approx(tau, rel=1e-9)
     assert t.twist_for_torque(TR, 0.46, 0.0) == pytest.approx(0.2287, abs=1e-4)
-    assert t.max_stiffness(TR) == pytest.approx(8.0016, abs=1e-3)
+    # the law's largest slope plus the stuck friction element (0.032 N*m over 5 deg)
+    assert t.max_stiffness(TR) == pytest.approx(8.0016 + 0.032 / math.radians(5.0), abs=1e-3)
     # beyond the law's range on the soft side at a strong bend: cannot be held
     with pytest.raises(TransmissionError, match="cannot hold"):
         t.twist_for_torque(TR, -7.1, 2.1)
@@ -280,3 +284,68 @@ def test_bad_parameters_raise_named_errors() -> None:
         rtca.bend_radius_m(math.nan)
     assert len(rtca.PARAMS) <= N_TR
     assert rtca._dead_end_rad(1.0) == 0.0  # the x >= 0 branch needs no dead zone
+
+
+# ------------------------------------------------------------------ bend-dependent friction
+
+
+def _loop(tr: np.ndarray, bend: float, amp: float = 1.5, n: int = 4000) -> tuple[float, float]:
+    """Quasi-static twist cycle 0 -> +amp -> -amp -> +amp with the friction state integrated
+    (explicit Euler on state_rate); returns (torque at 0 going up - going down) / 2 and the
+    energy dissipated per cycle, from the element alone (law and c term excluded: xdot = 0 in c)."""
+    act = np.zeros(N_STATES)
+    xs = np.concatenate(
+        [np.linspace(0, amp, n), np.linspace(amp, -amp, 2 * n), np.linspace(-amp, amp, 2 * n)]
+    )
+    up = down = 0.0
+    work = 0.0
+    for k in range(1, xs.size):
+        dx = xs[k] - xs[k - 1]
+        dt = 1e-4  # below maxwell_slip.SLIP_RELAX_S: explicit Euler stays stable
+        act[0] += dt * rtca.state_rate(tr, xs[k - 1], dx / dt, bend, act, 0, 0)
+        tau_f = rtca.torque_nm(tr, xs[k], 0.0, bend, act, 0) - rtca.sensor_torque_nm(
+            tr, xs[k], bend
+        )
+        if k >= 3 * n:
+            work += tau_f * dx
+        if abs(xs[k]) < 0.6 * amp / n:  # at zero twist, amp past either reversal
+            if dx > 0:
+                up = tau_f
+            else:
+                down = tau_f
+    return 0.5 * (up - down), work
+
+
+def test_friction_element_grows_with_bend_as_bend_friction_factor() -> None:
+    from fsarm_sim.plant.effects import bend_friction
+
+    f0, _ = _loop(TR, 0.0)
+    assert f0 == pytest.approx(0.032, rel=1e-3)  # Sec. 3.3: 0.32 % of the 10 N*m span
+    for bend in (0.6, -1.0, 1.5):
+        fb, _ = _loop(TR, bend)
+        g = bend_friction.factor(bend, rtca.BEND_FRICTION_PER_RAD)
+        assert fb == pytest.approx(0.032 * g, rel=1e-3)
+    # 2.3 % of the span at R = 150 mm (phi = 0.255 / 0.15 = 1.7 rad): the sizing, reproduced
+    assert math.isclose(rtca.BEND_FRICTION_PER_RAD, 1.160, abs_tol=1e-3)
+    assert 0.032 * bend_friction.factor(1.7, rtca.BEND_FRICTION_PER_RAD) == pytest.approx(0.23)
+    # held beyond the tightest measured bend (R = 150 mm: phi = 1.7 rad)
+    assert _loop(TR, 2.5)[0] == pytest.approx(_loop(TR, 1.7)[0], rel=1e-6)
+
+
+def test_friction_element_dissipates_more_when_bent_and_switches_off() -> None:
+    _, w0 = _loop(TR, 0.0)
+    _, w1 = _loop(TR, 1.0)
+    assert w0 > 0.0 and w1 > 2.0 * w0  # slip dissipates, more with the bend
+    off = rtca.default_block({"slip_f": 0.0})
+    assert _loop(off, 1.0) == (0.0, 0.0)
+    assert rtca.default_block(rtca.HYSTERESIS_OFF)[rtca.I_SLIP_F] == 0.0
+    assert rtca.CONSERVATIVE["slip_f"] == 0.0
+    act = np.array([0.01, 0.0, 0.0])
+    # the element's energy does not read the bend: bend_torque is the law's alone
+    assert rtca.potential_j(TR, 0.3, 0.4, act, 0) - rtca.potential_j(
+        TR, 0.3, 0.4, ACT, 0
+    ) == pytest.approx(
+        rtca.potential_j(TR, 0.3, 1.2, act, 0) - rtca.potential_j(TR, 0.3, 1.2, ACT, 0)
+    )
+    with pytest.raises(rtca.RtcaParamError, match="slip_f"):
+        rtca.default_block({"slip_f": -0.1})

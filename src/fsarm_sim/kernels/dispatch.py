@@ -43,8 +43,11 @@ def _compile(name: str, src: str, env: dict[str, Any]) -> Callable[..., Any]:
     return fn
 
 
-def _transmission_dispatch(name: str, args: str, method: str, call_args: str) -> Callable[..., Any]:
-    """``name(kind, <args>)``: the transmission module with id ``int(kind)``'s ``method``.
+def _transmission_dispatch(
+    name: str, args: str, method: str, call_args: str, fallback: str | None = None
+) -> Callable[..., Any]:
+    """``name(kind, <args>)``: the transmission module with id ``int(kind)``'s ``method``
+    (its ``fallback`` method when it has no ``method`` and a fallback is given).
 
     The last registered module is the fallback branch (one return type for Numba); tests check
     that every id reaches its own module.
@@ -53,7 +56,8 @@ def _transmission_dispatch(name: str, args: str, method: str, call_args: str) ->
     env = {}
     for i, mod in enumerate(_TR_MODULES):
         env[f"_tr{i}"] = mod
-        call = f"return _tr{i}.{method}({call_args})"
+        own = method if fallback is None or hasattr(mod, method) else fallback
+        call = f"return _tr{i}.{own}({call_args})"
         if i < len(_TR_MODULES) - 1:
             lines += [f"    if k == {i}:", f"        {call}"]
         else:
@@ -109,9 +113,12 @@ tr_sensor_torque: Callable[[float, FloatArray, float, float], float] = _transmis
 tr_stiffness: Callable[[float, FloatArray, float, float], float] = _transmission_dispatch(
     "tr_stiffness", "tr, x, bend", "stiffness_nm_per_rad", "tr, x, bend"
 )
-tr_state_rate: Callable[[float, FloatArray, float, float, float, FloatArray, int, int], float] = (
-    _transmission_dispatch("tr_state_rate", _TR7 + ", i", "state_rate", _TR7 + ", i")
+tr_motor_torque: Callable[[float, FloatArray, float, float, float, FloatArray, int], float] = (
+    _transmission_dispatch("tr_motor_torque", _TR7, "motor_torque_nm", _TR7, "torque_nm")
 )
+tr_state_rate: Callable[
+    [float, FloatArray, float, float, float, FloatArray, int, int, float], float
+] = _transmission_dispatch("tr_state_rate", _TR7 + ", i, vm", "state_rate", _TR7 + ", i, vm")
 tr_potential: Callable[[float, FloatArray, float, float, FloatArray, int], float] = (
     _transmission_dispatch(
         "tr_potential", "tr, x, bend, act, a0", "potential_j", "tr, x, bend, act, a0"

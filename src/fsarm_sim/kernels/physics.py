@@ -6,7 +6,8 @@ as they are; the native path compiles the very same functions with Numba.
 
 Where the shaft's reaction torques land: the twist is the fixed tendon
 ``theta_m - theta_s = rotor / i_G1 - i_G2 q3``; its torque enters as generalized forces on the
-rotor joint (``-tau / i_G1``) and on q3 (``+i_G2 tau``) and nowhere else. Joint-space forces are
+rotor joint (``-tau / i_G1``; a capstan law's own motor-end torque there, ``motor_end_torque``) and
+on q3 (``+i_G2 tau``) and nowhere else. Joint-space forces are
 internal between a joint's parent and child bodies, so the reaction of the motor/gearbox acts on
 link 1 (the rotor's parent) and the reaction of the hypoid acts on link 2 (q3's parent): the
 world sees no torque from the shaft, which ``tests/test_physics.py`` checks through conservation
@@ -30,6 +31,7 @@ from fsarm_sim.controllers.tendon_sheath_compliance import (
 from fsarm_sim.kernels.dispatch import (
     arm_law_torques,
     tr_bend_torque,
+    tr_motor_torque,
     tr_output_torque,
     tr_potential,
     tr_sensor_torque,
@@ -224,6 +226,19 @@ def shaft_torque(prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: Float
     )
 
 
+def motor_end_torque(prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray) -> float:
+    """Torque the transmission puts on the motor end (N*m): ``shaft_torque`` except for a law
+    whose ends differ (a capstan's sheath friction takes the difference: ``motor_torque_nm``)."""
+    if prm[P_EN_SERIES] < 0.5:
+        return 0.0
+    twist, rate = twist_and_rate(prm, qpos, qvel)
+    twist, rate = transmitted_twist(prm, twist, rate)
+    bend = bend_angle(prm, qpos)
+    return tr_motor_torque(
+        prm[P_TRANS], prm[P_TR : P_TR + N_TR], twist, rate, bend, act, int(prm[P_ACT_SLIP1])
+    )
+
+
 def bend_coupling_torque(prm: FloatArray, qpos: FloatArray, act: FloatArray) -> float:
     """-dV/dphi_B on joint 2, V the transmission's stored energy (its ``potential_j``).
 
@@ -277,7 +292,7 @@ def passive_forces(
 ) -> None:
     """mjcb_passive body: *add* the shaft's generalized forces to ``qfrc`` (qfrc_passive)."""
     tau = shaft_torque(prm, qpos, qvel, act)
-    add_force(qfrc, prm[P_DOF_ROT], -prm[P_COEF_M] * tau)
+    add_force(qfrc, prm[P_DOF_ROT], -prm[P_COEF_M] * motor_end_torque(prm, qpos, qvel, act))
     add_force(qfrc, prm[P_DOF_Q3], prm[P_COEF_S] * tau)
     cs = prm[P_COEF_S]
     q3 = coord(qpos, prm[P_QADR_Q3])
@@ -335,8 +350,9 @@ def state_rate(
     twist, rate = twist_and_rate(prm, qpos, qvel)
     twist, rate = transmitted_twist(prm, twist, rate)
     a0 = int(prm[P_ACT_SLIP1])
+    vm = prm[P_COEF_M] * coord(qvel, prm[P_DOF_ROT])  # motor-side speed: a tendon's sliding
     return tr_state_rate(
-        prm[P_TRANS], prm[P_TR : P_TR + N_TR], twist, rate, bend, act, a0, act_adr - a0
+        prm[P_TRANS], prm[P_TR : P_TR + N_TR], twist, rate, bend, act, a0, act_adr - a0, vm
     )
 
 

@@ -51,10 +51,11 @@ What it does not give, and the estimates used here (each a field of :class:`Rtca
   :func:`output_impedance`; the load motor is an ideal position source;
 * the shaft's unmodelled residual: the paper's model misses the measured torque by NRMSE 0.32 %
   straight and 2.3 % at R = 150 mm (Sec. 3.3; over the +-5 N*m characterisation span). The true
-  shaft here carries that residual as an elasto-plastic friction torque in parallel with the
-  law (half-width ``NRMSE * 10 N*m``, linear in curvature between the two published points,
-  held beyond), which the estimate does not see - the paper's "friction increase within the
-  internal layers" (Sec. 3.1, 6.1). Its pre-sliding twist is an **estimate** (1°).
+  shaft carries it as the RTCA transmission's own bend-dependent friction element (a Maxwell-slip
+  state in parallel with the law, slip torque ``0.032 N*m * exp(1.16 |phi_B|)``: see
+  :mod:`fsarm_sim.plant.transmissions.rtca`), integrated here with the rotor; the estimate does
+  not see it - the paper's "friction increase within the internal layers" (Sec. 3.1, 6.1).
+  ``residual_friction=False`` switches it off (``slip_f = 0``).
 """
 
 from __future__ import annotations
@@ -68,6 +69,7 @@ import numpy.typing as npt
 
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.plant.transmissions import rtca
+from fsarm_sim.plant.transmissions.base import N_STATES
 
 Array = npt.NDArray[np.float64]
 CArray = npt.NDArray[np.complex128]
@@ -109,7 +111,6 @@ class Rtca001:
     ctrl_dt_s: float = 1e-3  # Sec. 4.1.1: both loops at 1 kHz
     bus_delay_cycles: int = 1  # estimate: one EtherCAT cycle master -> drive
     substeps: int = 5  # physics steps per control cycle
-    presliding_rad: float = math.radians(1.0)  # estimate: twist over which the friction sticks
     residual_friction: bool = True  # the shaft's unmodelled residual (module docstring)
     sensor_lsb_nm: float = 40.0 / 2**16  # EL3102 (16 bit, +-10 V) on the DRBK20's +-20 N*m
     block: tuple[float, ...] = field(default_factory=lambda: tuple(rtca.default_block()))
@@ -127,7 +128,6 @@ class Rtca001:
             ("ctrl_dt_s", 0.0 < self.ctrl_dt_s <= 0.01),
             ("bus_delay_cycles", 0 <= self.bus_delay_cycles <= 10),
             ("substeps", 1 <= self.substeps <= 100),
-            ("presliding_rad", self.presliding_rad > 0.0),
             ("sensor_lsb_nm", self.sensor_lsb_nm >= 0.0),
         )
         for name, ok in checks:
@@ -144,13 +144,22 @@ class Rtca001:
         """Rotor + gearhead inertia seen at the gearbox output."""
         return self.rotor_inertia_kgm2 * self.gear_ratio**2
 
-    def residual_nm(self, radius_m: float) -> float:
-        """Half-width of the shaft's residual friction at bend radius R (module docstring)."""
+    def shaft_block(self) -> Array:
+        """The RTCA block the bench's shaft runs: ``block`` with the friction element switched
+        off when ``residual_friction`` is False."""
+        tr = np.array(self.block, dtype=float)
         if not self.residual_friction:
-            return 0.0
-        frac = 0.0 if math.isinf(radius_m) else min(1.0, R_TIGHT_M / radius_m)
-        nrmse = NRMSE_STRAIGHT + (NRMSE_R150 - NRMSE_STRAIGHT) * frac
-        return nrmse * CHARACTERISATION_SPAN_NM
+            tr[rtca.I_SLIP_F] = 0.0
+        rtca.validate(tr)
+        return tr
+
+    def residual_nm(self, radius_m: float) -> float:
+        """Half-width of the shaft's friction loop at bend radius R: the transmission's element
+        (module docstring), ``scale f_0 exp(mu_b phi)`` held beyond R = 150 mm."""
+        tr = self.shaft_block()
+        return float(
+            tr[rtca.I_SCALE] * rtca.slip_band_rad(tr, bend_of(radius_m, tr))[1] * rtca.slip_k(tr)
+        )
 
 
 def bend_of(radius_m: float, block: npt.ArrayLike) -> float:
@@ -204,8 +213,7 @@ def run(
     for name, v in (("kp", pid.kp), ("ki", pid.ki), ("kd", pid.kd)):
         if not math.isfinite(v) or v < 0.0:
             raise BenchError(f"PID {name} must be finite and >= 0, got {v!r}")
-    tr = np.asarray(act.block, dtype=float)
-    rtca.validate(tr)
+    tr = act.shaft_block()
     bend = bend_of(radius_m, tr)
     dt = act.ctrl_dt_s
     h = dt / act.substeps
@@ -214,14 +222,12 @@ def run(
     kpv, kiv = j * wv, j * wv * wv / 4.0  # PI: crossover ~ wv, zero at wv/4 (estimate)
     q_m = 2.0 * math.pi / (act.motor_cpt * act.quadrature)  # rotor increment
     q_s = 2.0 * math.pi / (act.shaft_cpt * act.quadrature)  # shaft-end increment
-    a_fric = act.residual_nm(radius_m)
-    k_fric = a_fric / act.presliding_rad
     a_d = math.exp(-2.0 * math.pi * pid.d_filter_hz * dt)
     w_lim, t_lim = act.speed_limit_rad_s, act.torque_limit_nm
     lsb = act.sensor_lsb_nm
-    no_states = np.zeros(0)  # the rtca law has no internal states
+    st = np.zeros(N_STATES)  # the rtca transmission's states: st[0] its friction element
 
-    th, om, fr = 0.0, 0.0, 0.0  # gearbox output angle, speed; residual friction torque
+    th, om = 0.0, 0.0  # gearbox output angle, speed
     rotor_prev = 0.0
     integ_v = integ_t = 0.0
     e_prev, d_f = 0.0, 0.0
@@ -235,7 +241,7 @@ def run(
         # ---- sensing (start of the cycle): encoders and torque sensor at the same instant
         dth_meas = _quantise(th, q_s) - _quantise(ths, q_s)
         est = rtca.sensor_torque_nm(tr, dth_meas, bend)
-        true = rtca.torque_nm(tr, th - ths, om - v_s, bend, no_states, 0) + fr
+        true = rtca.torque_nm(tr, th - ths, om - v_s, bend, st, 0)
         res["thm"][k] = th
         rotor = _quantise(th * act.gear_ratio, q_m)
         om_meas = (rotor - rotor_prev) / dt / act.gear_ratio
@@ -264,14 +270,12 @@ def run(
         for i in range(act.substeps):
             ths_i = ths + v_s * h * i
             x = th - ths_i
-            law = rtca.torque_nm(tr, x, om - v_s, bend, no_states, 0)  # eq. 1 with its c x'
-            om += h * (tm - law - fr) / j
+            xd = om - v_s
+            law = rtca.torque_nm(tr, x, xd, bend, st, 0)  # eq. 1 with c x', + friction element
+            rate = rtca.state_rate(tr, x, xd, bend, st, 0, 0)
+            om += h * (tm - law) / j
             th += om * h
-            fr += k_fric * (om - v_s) * h
-            if fr > a_fric:
-                fr = a_fric
-            elif fr < -a_fric:
-                fr = -a_fric
+            st[0] += rate * h
         res["est"][k] = est
         res["true"][k] = true
         res["sens"][k] = round(true / lsb) * lsb if lsb > 0.0 else true

@@ -10,10 +10,12 @@ wrap, so a friction torque ``f_0`` measured straight becomes
 
 This is seed 000's "hysteresis increases with the increase in bending angle ... torsion, bending,
 and helical buckling" (Sec. III-B1) and seed 001's loss of torque bandwidth and transparency with
-bend (Sec. 6.1-6.2), in one factor. ``mu_b`` is an estimate per shaft (coefficient file:
-``series.maxwell_slip.bend_friction_per_rad``); 0 switches the growth off. The transmissions that
-are routed over joint 2 (flexible shaft, RTCA) scale their Maxwell-slip elements' slip torques by
-it (:mod:`fsarm_sim.plant.effects.maxwell_slip`).
+bend (Sec. 6.1-6.2), in one factor. ``mu_b`` is an estimate per shaft: the flexible shaft's from
+its coefficient file (``series.maxwell_slip.bend_friction_per_rad``; 0 switches the growth off),
+the RTCA's 1.16 /rad from seed 001 Sec. 3.3's model error, 0.32 % straight and 2.3 % at
+R = 150 mm (``rtca.BEND_FRICTION_PER_RAD``; ``slip_f = 0`` switches its element off). Both
+transmissions routed over joint 2 scale their Maxwell-slip elements' slip torques by it
+(:mod:`fsarm_sim.plant.effects.maxwell_slip`).
 """
 
 from __future__ import annotations

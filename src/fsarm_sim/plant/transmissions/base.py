@@ -20,8 +20,14 @@ A transmission module (``fsarm_sim.plant.transmissions.<name>``) holds
     controller computes from the two encoders with the transmission's elastic law;
   - ``stiffness_nm_per_rad(tr, x, bend) -> float``          d(sensor_torque)/dx (may be <= 0
     where the law has negative stiffness; the gain scheduler floors it);
-  - ``state_rate(tr, x, xdot, bend, act, a0, i) -> float``  d(act[a0 + i])/dt, i < N_STATES
-    (0.0 for slots the transmission does not use);
+  - ``state_rate(tr, x, xdot, bend, act, a0, i, vm) -> float``  d(act[a0 + i])/dt,
+    i < N_STATES (0.0 for slots the transmission does not use); ``vm`` is the motor-side
+    (transmission input) speed ``d theta_m/dt``, for laws whose friction follows the sliding
+    direction of a tendon in its sheath rather than the twist rate (seed 004); laws that do not
+    read it give it the default 0.0;
+  - optionally ``motor_torque_nm(tr, x, xdot, bend, act, a0) -> float``: the torque at the motor
+    end when it differs from the joint end (a capstan: friction along the sheath takes the
+    difference, the motor pays it); without it the motor end carries ``torque_nm``.
   - ``potential_j(tr, x, bend, act, a0) -> float``          stored elastic energy;
   - ``bend_torque_nm(tr, x, bend, act, a0) -> float``       -d(potential_j)/d(bend): the torque
     on joint 2 that keeps a routed, bend-dependent law energy-consistent (0.0 when the law does
@@ -233,6 +239,7 @@ class TransmissionModule(Protocol):
         act: FloatArray,
         a0: int,
         i: int,
+        vm: float,
     ) -> float: ...
 
     def potential_j(

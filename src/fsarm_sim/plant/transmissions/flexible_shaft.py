@@ -261,7 +261,9 @@ def torque_nm(tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int) ->
     return tau
 
 
-def state_rate(tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int, i: int) -> float:
+def state_rate(
+    tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int, i: int, vm: float = 0.0
+) -> float:
     """dz_i/dt: stick inside the element's band at this bend, slide at its edge (maxwell_slip)."""
     k = tr[I_SLIP_K + i]
     if k <= 0.0:

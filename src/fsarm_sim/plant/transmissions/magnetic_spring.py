@@ -159,7 +159,14 @@ def stiffness_nm_per_rad(tr: FloatArray, x: float, bend: float) -> float:
 
 
 def state_rate(
-    tr: FloatArray, x: float, xdot: float, bend: float, act: FloatArray, a0: int, i: int
+    tr: FloatArray,
+    x: float,
+    xdot: float,
+    bend: float,
+    act: FloatArray,
+    a0: int,
+    i: int,
+    vm: float = 0.0,
 ) -> float:
     """No internal states."""
     return 0.0

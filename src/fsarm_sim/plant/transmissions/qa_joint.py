@@ -312,7 +312,9 @@ def dahl_rate(xdot: float, z: float, delta: float) -> float:
     return (xdot - abs(xdot) * z) / delta
 
 
-def state_rate(tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int, i: int) -> float:
+def state_rate(
+    tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int, i: int, vm: float = 0.0
+) -> float:
     if i == 0:
         return sigma_rate(tr, act[a0])
     if i == 1:
