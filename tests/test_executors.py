@@ -1,4 +1,4 @@
-"""Executors: inline, a local process pool and a Dask cluster give the same results."""
+"""Executors: inline, a local process pool, threads and a Dask cluster give the same results."""
 
 from __future__ import annotations
 
@@ -49,6 +49,22 @@ def test_local_pool_matches_inline(inline: dict[tuple[float, float], dict[str, A
     assert _by_point(outs) == inline  # bit-identical: each point is deterministic
     # physics sanity: the payload loads the motor
     assert inline[(13.0, 5.0)]["peak_motor_torque_nm"] > inline[(13.0, 0.0)]["peak_motor_torque_nm"]
+
+
+def test_threads_match_inline(inline: dict[tuple[float, float], dict[str, Any]]) -> None:
+    """Tasks in parallel threads of one process (no lock): the same, bit for bit."""
+    seen: list[int] = []
+    outs = run_tasks(
+        sw.evaluate_point,
+        _tiny_tasks() * 2,  # 8 tasks on 3 threads: several runs step at the same time
+        executor="threads",
+        workers=3,
+        on_done=lambda o: seen.append(o.index),
+    )
+    assert sorted(seen) == list(range(8))
+    for o in outs:
+        assert o.error is None, o.error
+        assert o.result == inline[(o.task["point"]["diameter_mm"], o.task["point"]["payload_kg"])]
 
 
 def test_dask_local_cluster_matches_inline(

@@ -11,26 +11,37 @@ results store).
   process that may hold MuJoCo state, open files or a progress-bar thread). At most
   ``2 * workers`` tasks are in flight, so Ctrl-C stops quickly and huge sweeps do not queue
   everything at once.
+* ``threads``: ``workers`` threads of this process, tasks in parallel. No interpreter is started
+  and nothing is imported twice, so a small sweep of short runs is not eaten by worker start-up;
+  the native callbacks step with the GIL released (``mujoco.mj_step``), so the runs' stepping goes
+  in parallel while their Python parts (building a model, metrics) take turns.
 * ``dask``: Dask distributed. ``scheduler=None`` starts a ``LocalCluster`` of ``workers``
   single-threaded worker processes on this machine; ``scheduler="tcp://host:8786"`` uses a running
   cluster (its workers must have fsarm-sim installed, the same version for the store to mean
   anything). ``processes=False`` runs the workers as threads of this process (tests).
 
-MuJoCo's callbacks are process-global and fsarm installs them only while stepping
-(:func:`fsarm_sim.engine.callbacks.active`), which is not safe for two threads of one process at the same
-time. Every task therefore runs under :data:`PROCESS_LOCK`: processes run in parallel, threads of
-one process take turns.
+MuJoCo's callbacks are process-global; :func:`fsarm_sim.engine.callbacks.active` installs them
+for every thread that steps, counted under a lock (since 0.3.0), so runs in threads of one process
+are safe together. Tasks of the ``local`` pool and of Dask's thread workers still run under
+:data:`PROCESS_LOCK` (one at a time per process), as before; the ``threads`` executor does not.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import socket
 import threading
 import time
 import traceback
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures import (
+    FIRST_COMPLETED,
+    Future,
+    ProcessPoolExecutor,
+    ThreadPoolExecutor,
+    wait,
+)
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from multiprocessing import get_context
@@ -38,8 +49,8 @@ from typing import Any, Literal
 
 from fsarm_sim.errors import FsarmError
 
-ExecutorName = Literal["local", "dask"]
-EXECUTORS: tuple[str, ...] = ("local", "dask")
+ExecutorName = Literal["local", "threads", "dask"]
+EXECUTORS: tuple[str, ...] = ("local", "threads", "dask")
 PROCESS_LOCK = threading.Lock()
 TaskFn = Callable[[Any], dict[str, Any]]
 
@@ -68,10 +79,11 @@ def available_cores() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def call_task(fn: TaskFn, index: int, task: Any) -> Outcome:
-    """Run one task, serialised per process, catching its exception into the outcome."""
+def call_task(fn: TaskFn, index: int, task: Any, serial: bool = True) -> Outcome:
+    """Run one task (``serial``: one at a time per process), catching its exception into the
+    outcome."""
     start = time.perf_counter()
-    with PROCESS_LOCK:
+    with PROCESS_LOCK if serial else contextlib.nullcontext():
         try:
             result = fn(task)
             error = None
@@ -123,6 +135,9 @@ def run_tasks(
         return out
     if executor == "dask":
         for o in _run_dask(fn, tasks, n_workers, scheduler, processes):
+            deliver(o)
+    elif executor == "threads":
+        for o in _run_threads(fn, tasks, n_workers):
             deliver(o)
     elif n_workers == 1:
         for i, task in enumerate(tasks):
@@ -176,6 +191,24 @@ def _run_pool(fn: TaskFn, tasks: Sequence[Any], n_workers: int) -> Iterator[Outc
                     ) from exc
     finally:
         pool.shutdown(wait=not pending, cancel_futures=True)
+
+
+def _run_threads(fn: TaskFn, tasks: Sequence[Any], n_workers: int) -> Iterator[Outcome]:
+    """``n_workers`` threads, at most ``2 * n_workers`` tasks in flight (Ctrl-C stops quickly:
+    queued tasks are cancelled, running ones finish)."""
+    pool = ThreadPoolExecutor(max_workers=n_workers, thread_name_prefix="fsarm-task")
+    pending: set[Future[Outcome]] = set()
+    next_i = 0
+    try:
+        while next_i < len(tasks) or pending:
+            while next_i < len(tasks) and len(pending) < 2 * n_workers:
+                pending.add(pool.submit(call_task, fn, next_i, tasks[next_i], False))
+                next_i += 1
+            done, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for fut in done:
+                yield fut.result()
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _run_dask(

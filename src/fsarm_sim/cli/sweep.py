@@ -219,7 +219,12 @@ def register(app: typer.Typer) -> None:
             str | None, typer.Option(help="comma-separated: bench,tracking,bandwidth,relief")
         ] = None,
         name: Annotated[str | None, typer.Option(help="sweep name stored with each point")] = None,
-        executor: Annotated[str, typer.Option(help="local (process pool) or dask")] = "local",
+        executor: Annotated[
+            str,
+            typer.Option(
+                help="local (process pool), threads (this process; best for many short runs) or dask"
+            ),
+        ] = "local",
         workers: Annotated[
             int | None, typer.Option(help="worker processes (default: all cores)")
         ] = None,
@@ -486,7 +491,12 @@ def register(app: typer.Typer) -> None:
         series_hysteresis: Annotated[
             bool | None, typer.Option(help="Maxwell-slip hysteresis on/off (default: catalogue's)")
         ] = None,
-        executor: Annotated[str, typer.Option(help="local (process pool) or dask")] = "local",
+        executor: Annotated[
+            str,
+            typer.Option(
+                help="local (process pool), threads (this process; best for many short runs) or dask"
+            ),
+        ] = "local",
         workers: Annotated[
             int | None, typer.Option(help="worker processes (default: all cores)")
         ] = None,

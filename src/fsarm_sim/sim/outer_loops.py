@@ -10,8 +10,12 @@ The built-in loops are seed 004's (tendon-sheath actuator) collision detection a
 with no force sensor: a position-transmission model identified without disturbance (its eq. 19,
 Tables 1-2) predicts the motor angle from the joint angle; the difference to the measured motor
 angle is the monitor value delta (Algorithm 1), and hand guiding drives the motor to the
-predicted value (Algorithm 2). Here the same idea runs on *any* joint-3 transmission through its
-interface (:mod:`fsarm_sim.plant.transmissions.base`), on the arm's two joint-3 encoders:
+predicted value (Algorithm 2). Those algorithms *as written* (eq. 19 fitted per direction, the
+nearer branch) are in :mod:`fsarm_sim.controllers.tendon_sheath_compliance` and run beside these
+loops in ``fsarm collision`` (:mod:`fsarm_sim.studies.collision`). The loops here carry the same
+idea to *any* joint-3 transmission through its interface
+(:mod:`fsarm_sim.plant.transmissions.base`), on the arm's two joint-3 encoders, with a momentum
+observer in place of the position model:
 
 * Measured transmission torque (the virtual torque sensor of the transmission, the controller's
   copy of its law): ``tau_tr = sensor_torque(tr, theta_m - theta_s, q2)`` with
