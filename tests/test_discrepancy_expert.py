@@ -59,6 +59,21 @@ def test_a_stiffness_drift_is_named_with_its_rate(record: tuple) -> None:
     assert "rises by ~12" in sig["summary"]
 
 
+def test_an_offset_ramp_is_a_drift_with_its_change_not_a_localized_residual(record: tuple) -> None:
+    """A ramp of 3x the noise's RMS: its t value uses what the regression leaves (the ramp is
+    not correlated noise against itself), and its ends are not a burst."""
+    t, twist, y = record
+    tau = (t - t.mean()) / (t[-1] - t[0])
+    sig = characterise(_signals(0.1 * tau, t, twist, y))
+    assert sig["kind"] == "drift"
+    o = sig["trend"]["offset"]
+    assert o["change_over_record"] == pytest.approx(0.1, rel=0.05)
+    # white noise 0.01 on 20 000 samples, var(tau) = 1/12: se = 0.01 / sqrt(20000 / 12)
+    assert o["t_value"] == pytest.approx(0.1 / (0.01 / np.sqrt(20000 / 12)), rel=0.2)
+    assert "drifts by +0.1" in sig["summary"]
+    assert all(d["kind"] != "localized" for d in sig["descriptions"])
+
+
 def test_a_dependence_on_the_twist_is_named_and_noise_is_not(record: tuple) -> None:
     t, twist, y = record
     sig = characterise(_signals(0.03 * np.sin(2 * np.pi * twist / 0.08), t, twist, y))

@@ -13,6 +13,7 @@ from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_modelfile as MF
 from fsarm_sim.discrepancy import arm_synth, synth
 from fsarm_sim.engine.model import SimConfig
+from fsarm_sim.plant import transmissions
 from fsarm_sim.records import sidecar as rec
 from fsarm_sim.records import timeseries
 from fsarm_sim.records.measured import SidecarError, load_dataset
@@ -143,7 +144,7 @@ def test_bad_sidecar_is_a_named_error(
 # ------------------------------------------------------------------ run -> diagnose
 
 
-@pytest.mark.parametrize("transmission", ["flexible-shaft", "rtca"])
+@pytest.mark.parametrize("transmission", transmissions.names())
 def test_run_record_is_diagnosed_as_it_is(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path, transmission: str
 ) -> None:

@@ -10,6 +10,7 @@ goes into the sidecar under ``"synthetic"`` (never read by ``fsarm diagnose``).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -22,6 +23,7 @@ from fsarm_sim.discrepancy import arm_modelfile as MF
 from fsarm_sim.discrepancy.effect_text import parse_effect
 from fsarm_sim.engine.model import Gains
 from fsarm_sim.errors import InvalidParameterError
+from fsarm_sim.plant import transmissions
 from fsarm_sim.plant.effects.registry import ARM
 from fsarm_sim.plant.shaft import ShaftParams
 from fsarm_sim.records import sidecar as records
@@ -45,12 +47,18 @@ class ArmRecording:
     encoder_counts: int = ARM_ENCODER_COUNTS
     seed: int = 0
     derivatives: bool = True  # write qd*_ref / qdd*_ref
+    transmission: str = transmissions.DEFAULT  # joint 3's (its default parameters)
 
     def validate(self) -> None:
         if not math.isfinite(self.noise_rad) or self.noise_rad < 0.0:
             raise InvalidParameterError(f"noise_rad must be >= 0, got {self.noise_rad!r}")
         if self.encoder_counts < 0:
             raise InvalidParameterError("encoder_counts must be >= 0")
+        if self.transmission not in transmissions.names():
+            raise InvalidParameterError(
+                f"unknown transmission {self.transmission!r} "
+                f"(known: {', '.join(transmissions.names())})"
+            )
 
 
 def parse_arm_effect(text: str) -> tuple[str, str, dict[str, Any]]:
@@ -90,12 +98,23 @@ def _quantise(x: FloatArray, counts: int) -> FloatArray:
     return np.asarray(np.round(x / q) * q + 0.0, dtype=np.float64)  # + 0.0: no "-0" cells
 
 
+Disturbance = Callable[[FloatArray, dict[str, FloatArray]], dict[str, FloatArray]]
+
+
 def synthesize_arm(
-    truth: A.ArmModel, rec: ArmRecording, shaft: ShaftParams | None = None
+    truth: A.ArmModel,
+    rec: ArmRecording,
+    shaft: ShaftParams | None = None,
+    disturbance: Disturbance | None = None,
 ) -> tuple[dict[str, FloatArray], dict[str, Any]]:
     """(columns, sidecar) of a SYNTHETIC arm record: the scenario run by the simulator with
     ``truth`` acting on the plant (the controller keeps the stated model), recorded with the
-    truth's delays and offsets, Gaussian angle noise and encoder quantisation."""
+    truth's delays and offsets, Gaussian angle noise and encoder quantisation.
+
+    ``disturbance(t, channels)``: what outside the library adds to recorded channels (e.g. a
+    pickup line, a drifting offset, an encoder's cyclic error), given the time and the channels
+    as measured before noise; added before the noise and the quantisation. Not recorded in the
+    sidecar's truth (the caller knows it)."""
     rec.validate()
     sc = scenarios.get(rec.scenario)
     sh = shaft or stated_shaft()
@@ -105,13 +124,17 @@ def synthesize_arm(
     n = round(duration / gains.ctrl_dt_s) + 1
     t: FloatArray = np.arange(n, dtype=np.float64) * gains.ctrl_dt_s
     table = sc.reference(np.arange(n + 1, dtype=np.float64) * gains.ctrl_dt_s)
-    run = A.ArmRun(sh, payload, 0.0, gains, None, table, t, gains.ctrl_dt_s, "")
+    run = A.ArmRun(
+        sh, payload, 0.0, gains, None, table, t, gains.ctrl_dt_s, "", transmission=rec.transmission
+    )
     raw, _ = A.simulate_config(run, A.to_config(run, truth))
     meas = A.apply_measurement(raw, truth, gains.ctrl_dt_s)
     rng = np.random.default_rng(rec.seed + 104729)
     cols: dict[str, FloatArray] = {"t": t}
+    clean = {ch: meas[ch] if ch in meas else raw[ch] for ch in ("q1", "q2", "q3", "theta_m")}
+    extra = disturbance(t, clean) if disturbance is not None else {}
     for ch in ("q1", "q2", "q3", "theta_m"):
-        y = meas[ch] if ch in meas else raw[ch]
+        y = clean[ch] + extra[ch] if ch in extra else clean[ch]
         cols[ch] = _quantise(y + rec.noise_rad * rng.standard_normal(n), rec.encoder_counts)
     for j in range(3):
         cols[f"q{j + 1}_ref"] = table[:n, j]
@@ -130,9 +153,14 @@ def synthesize_arm(
         ctrl_dt_s=gains.ctrl_dt_s,
         scenario=rec.scenario,
         gains=records.gains_entry(gains),
+        transmission=(
+            None
+            if rec.transmission == transmissions.DEFAULT
+            else records.TransmissionRef(rec.transmission)
+        ),
         notes=(
             f"SYNTHETIC data from fsarm synth --setup arm (not a measurement): scenario "
-            f"{rec.scenario}, {duration:g} s at {1 / gains.ctrl_dt_s:g} Hz, angle noise "
+            f"{rec.scenario}, joint 3 by {rec.transmission}, {duration:g} s at {1 / gains.ctrl_dt_s:g} Hz, angle noise "
             f"{rec.noise_rad:g} rad, {rec.encoder_counts} counts/rev, hidden effects: "
             f"{', '.join(hidden) if hidden else 'none'}"
         ),
@@ -150,7 +178,11 @@ def synthesize_arm(
 
 
 def write_arm_synthetic(
-    path: str | Path, truth: A.ArmModel, rec: ArmRecording, shaft: ShaftParams | None = None
+    path: str | Path,
+    truth: A.ArmModel,
+    rec: ArmRecording,
+    shaft: ShaftParams | None = None,
+    disturbance: Disturbance | None = None,
 ) -> tuple[Path, Path]:
-    cols, side = synthesize_arm(truth, rec, shaft)
+    cols, side = synthesize_arm(truth, rec, shaft, disturbance)
     return write_dataset(path, cols, side)

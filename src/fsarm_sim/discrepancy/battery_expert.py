@@ -292,14 +292,24 @@ def format_results(results: list[Result]) -> str:
             f"joint={r.joint_steps} ci {cov:<6} {r.runtime_s:5.1f}s  "
             f"{'' if sr is None else ('sig-ok ' if sr else 'sig-BAD ')}{sig[:90]}{r.error}"
         )
-    lines.append("")
-    lines.append("rates (issue 16 targets: multi >= 90 %, no extra >= 90 %, unexplained >= 90 %,")
-    lines.append("signature >= 80 %, CI coverage >= 85 %):")
-    for k, (a, b) in rates(results).items():
+    lines += rate_lines(rates(results), [r.runtime_s for r in results], "")
+    return "\n".join(lines)
+
+
+def rate_lines(rates: dict[str, tuple[int, int]], runtimes: list[float], records: str) -> list[str]:
+    """The rates block of a battery printout (issue 16's targets) and the runtime per record
+    (``records``: what a record is, e.g. " (8 s records)")."""
+    lines = [
+        "",
+        "rates (issue 16 targets: multi >= 90 %, no extra >= 90 %, unexplained >= 90 %,",
+        "signature >= 80 %, CI coverage >= 85 %):",
+    ]
+    for k, (a, b) in rates.items():
         lines.append(f"  {k:<24} {a}/{b} ({100 * a / max(b, 1):.0f} %)")
-    rt = [r.runtime_s for r in results if math.isfinite(r.runtime_s)]
+    rt = [t for t in runtimes if math.isfinite(t)]
     if rt:
         lines.append(
-            f"  runtime per record: median {float(np.median(rt)):.1f} s, max {max(rt):.1f} s"
+            f"  runtime per record{records}: median {float(np.median(rt)):.1f} s, "
+            f"max {max(rt):.1f} s"
         )
-    return "\n".join(lines)
+    return lines

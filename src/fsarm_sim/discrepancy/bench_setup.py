@@ -39,7 +39,7 @@ from fsarm_sim.discrepancy.residuals import (
     signature,
 )
 from fsarm_sim.discrepancy.selection import Score
-from fsarm_sim.discrepancy.uncertainty import intervals
+from fsarm_sim.discrepancy.uncertainty import interval_lines, intervals
 from fsarm_sim.discrepancy.unexplained import Signals, characterise
 from fsarm_sim.discrepancy.unexplained import plot as plot_signature
 from fsarm_sim.plant.effects import registry
@@ -286,18 +286,6 @@ class BenchSetup:
             *ds.column_notes(),
             f"runtime {diag.runtime_s:.1f} s",
         ]
-
-
-def interval_lines(ci: dict[str, Any] | None) -> list[str]:
-    """The print-out of the fitted parameters' confidence intervals."""
-    if not ci or not ci.get("parameters"):
-        return []
-    out = [
-        f"fitted parameters, {100 * ci['level']:.0f} % intervals ({ci['method'].split(':')[0]}):"
-    ]
-    for p in ci["parameters"]:
-        out.append(f"  {p['name']:<44} {p['value']:.5g}  [{p['lower']:.5g}, {p['upper']:.5g}]")
-    return out
 
 
 def _floors(diag: core.Diagnosis[C.Fit]) -> BenchDiagnosis:

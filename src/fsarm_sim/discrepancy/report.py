@@ -7,8 +7,9 @@ JSON keys (``specs/measured-data.md`` names first), common to all setups: ``name
 the held-out residual clearly above the noise floor: what lies above the noise at least as large
 as the noise), ``nothing_missing`` (no effect named *and* not ``unexplained``),
 ``residual_signature`` (what the final model leaves: spectral lines, drift, dependence on a
-signal, where it concentrates - :mod:`.unexplained`; benches), ``confidence_intervals`` (every
-fitted parameter's 95 % interval and the method - :mod:`.uncertainty`; benches), ``verdict``,
+signal, where it concentrates - :mod:`.unexplained`; the arm's per channel under ``channels``,
+:mod:`.arm_expert`), ``confidence_intervals`` (every fitted parameter's 95 % interval and the
+method - :mod:`.uncertainty`, the arm's :mod:`.arm_expert`), ``verdict``,
 ``confidence`` (per added effect: runner-up, BIC margin, probability, look-alike flag), ``steps``
 (every candidate's scores per step; ``mse_teach`` / ``mse_held`` in the setup's cost units; a
 joint step has ``joint`` true and its ``added_effects``),

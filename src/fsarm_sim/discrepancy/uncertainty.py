@@ -169,3 +169,15 @@ def covers(ci: dict[str, Any], name: str, value: float) -> bool | None:
         if p["name"] == name:
             return bool(p["lower"] <= value <= p["upper"])
     return None
+
+
+def interval_lines(ci: dict[str, Any] | None) -> list[str]:
+    """The print-out of the fitted parameters' confidence intervals."""
+    if not ci or not ci.get("parameters"):
+        return []
+    out = [
+        f"fitted parameters, {100 * ci['level']:.0f} % intervals ({ci['method'].split(':')[0]}):"
+    ]
+    for p in ci["parameters"]:
+        out.append(f"  {p['name']:<44} {p['value']:.5g}  [{p['lower']:.5g}, {p['upper']:.5g}]")
+    return out

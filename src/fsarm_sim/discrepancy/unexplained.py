@@ -18,13 +18,14 @@ final model's residual of one channel four ways:
   fitted rate, output units per second) and on ``tau * yhat`` (the output's gain, i.e. the
   stiffness, drifting: relative change over the record), ``tau`` the time centred on the
   record's middle. Each with the share of the residual variance it explains and a t value whose
-  standard error uses the effective sample count (:func:`.residuals.effective_n`).
+  standard error is inflated by the autocorrelation time of what the regression leaves.
 * **Dependence on a signal**: the share of the residual variance explained by its mean in 20
   quantile bins of each recorded or derived signal (twist, twist rate, direction, input angle,
   bend, input acceleration, the model's output) - the signal that explains most is named, with
   its binned means (for the plot).
 * **Where it concentrates**: the share of the residual energy in the worst 10 % of 0.25 s
-  windows (0.1 when spread evenly) and the worst windows themselves.
+  windows (0.1 when spread evenly) and the worst windows themselves; as a description
+  (``localized``) only what time explains beyond a significant linear drift.
 
 ``kind`` names the description that explains the largest share: ``spectral_line`` (lines not
 at the input's frequencies), ``drift``, ``signal`` or ``localized``; ``summary`` says it in one
@@ -141,15 +142,16 @@ def spectral_lines(s: Signals) -> list[dict[str, Any]]:
     return out[:MAX_LINES]
 
 
-def _regress(a: FloatArray, r: FloatArray, n_eff: float) -> tuple[FloatArray, FloatArray, float]:
+def _regress(a: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray, float]:
     """(coefficients, standard errors, share of var(r) explained) of least squares of ``r`` on
-    the columns of ``a``; the standard errors are the ordinary ones inflated by n / n_eff (the
-    residual's autocorrelation time)."""
+    the columns of ``a``; the standard errors are the ordinary ones inflated by the integrated
+    autocorrelation time of the regression's own residual (what the columns leave: a drift the
+    columns describe must not count as correlated noise against itself)."""
     c, *_ = np.linalg.lstsq(a, r, rcond=None)
     fit = a @ c
     res = r - fit
     s2 = float(np.sum(res * res)) / max(r.size - a.shape[1], 1)
-    cov = np.linalg.pinv(a.T @ a) * s2 * (r.size / max(n_eff, 1.0))
+    cov = np.linalg.pinv(a.T @ a) * s2 * tau_int(res)
     var = float(np.var(r)) or 1.0
     se = np.asarray(np.sqrt(np.maximum(np.diag(cov), 0.0)), dtype=np.float64)
     return np.asarray(c, dtype=np.float64), se, float(np.var(fit - fit.mean()) / var)
@@ -161,13 +163,12 @@ def trends(s: Signals) -> dict[str, Any]:
     t = s.t
     dur = float(t[-1] - t[0]) or 1.0
     tau = (t - 0.5 * (t[0] + t[-1])) / dur  # -0.5 .. 0.5
-    n_eff = r.size / tau_int(r)
     one = np.ones_like(r)
-    c, se, share = _regress(np.column_stack([one, tau]), r, n_eff)
+    c, se, share = _regress(np.column_stack([one, tau]), r)
     yc = s.output - s.output.mean()
-    cg, seg, share_g = _regress(np.column_stack([one, tau, yc, tau * yc]), r, n_eff)
+    cg, seg, share_g = _regress(np.column_stack([one, tau, yc, tau * yc]), r)
     # the gain drift's own share: beyond what the offset drift and a constant gain explain
-    _, _, share_base = _regress(np.column_stack([one, tau, yc]), r, n_eff)
+    _, _, share_base = _regress(np.column_stack([one, tau, yc]), r)
     return {
         "offset": {
             "rate_per_s": float(c[1] / dur),
@@ -302,12 +303,17 @@ def characterise(s: Signals) -> dict[str, Any]:
                 f"({100 * d['share_of_residual']:.0f} % of its variance)",
             )
         )
-    if where["share_explained_by_time"] > 0 and where["energy_share_worst_10pct_time"] > 0.3:
+    # localized: structure in time beyond a linear drift (a ramp's ends are not a burst)
+    share_local = where["share_explained_by_time"] - max(
+        o["share_of_residual"] if abs(o["t_value"]) > 3 else 0.0,
+        g["share_of_residual"] if abs(g["t_value"]) > 3 else 0.0,
+    )
+    if share_local > 0 and where["energy_share_worst_10pct_time"] > 0.3:
         w0 = where["worst_windows"][0] if where["worst_windows"] else None
         at = f" (worst at {w0['t_start_s']:.3g}-{w0['t_end_s']:.3g} s)" if w0 else ""
         cands.append(
             (
-                where["share_explained_by_time"],
+                share_local,
                 "localized",
                 f"the residual of {s.channel} concentrates in "
                 f"{100 * where['energy_share_worst_10pct_time']:.0f} % of its energy in 10 % "
@@ -342,9 +348,9 @@ def characterise(s: Signals) -> dict[str, Any]:
         "where": where,
         "method": "spectral lines: Hann periodogram vs its 101-bin running median (> "
         f"{LINE_POWER:g} x), amplitude by least squares at the refined frequency; trends: least "
-        "squares on time (offset) and time x model output (gain), standard errors with the "
-        f"effective sample count; dependence: {N_BINS} quantile bins per signal; shares are of "
-        "the residual variance",
+        "squares on time (offset) and time x model output (gain), standard errors inflated by the "
+        "autocorrelation time of what each regression leaves; dependence: "
+        f"{N_BINS} quantile bins per signal; shares are of the residual variance",
     }
 
 

@@ -1,0 +1,65 @@
+"""Issue 16 on the arm: ``unexplained`` / ``residual_signature`` / confidence intervals of arm
+records, synthetic arm records of every transmission."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from fsarm_sim.discrepancy import arm as A
+from fsarm_sim.discrepancy import arm_synth as S
+from fsarm_sim.discrepancy import battery_arm_expert as E
+from fsarm_sim.discrepancy import report
+from fsarm_sim.errors import InvalidParameterError
+from fsarm_sim.records.measured import load_dataset
+
+DURATION_S = 3.0
+
+
+def test_a_pickup_line_on_the_motor_encoder_is_unexplained_and_named(tmp_path: Path) -> None:
+    case = E.ArmCase("line", "ool", (), "line", seed=3, duration_s=DURATION_S)
+    truth = E.truth_of(case)
+    rec = S.ArmRecording(duration_s=DURATION_S, noise_rad=E.NOISE_RAD, seed=3)
+    path = tmp_path / "arm.csv"
+    S.write_arm_synthetic(path, truth, rec, disturbance=E.disturbance("line"))
+    diag = A.diagnose_arm(load_dataset(path))
+    res = report.json_clean(report.result_dict(diag))
+    assert res["named_effects"] == []
+    assert res["unexplained"] is True and res["nothing_missing"] is False
+    sig = res["residual_signature"]
+    assert sig["kind"] == "spectral_line" and sig["channel"] == "twist"
+    line = sig["spectral_lines"][0]
+    assert line["frequency_hz"] == pytest.approx(E.LINE_HZ, abs=0.2)
+    # the line's amplitude on theta_m is the twist's (twist = theta_m - i_G2 q3)
+    assert line["amplitude"] == pytest.approx(E.LINE_AMPLITUDE_RAD, rel=0.15)
+    assert "outside the library" in res["verdict"] and "50 Hz line" in res["verdict"]
+    json.dumps(res)  # the signature's arrays are JSON-safe
+    files = A.write_plots(diag, tmp_path / "plots")
+    assert (tmp_path / "plots" / "residual_signature.png") in files
+
+
+def test_intervals_of_an_arm_fit_cover_the_truth() -> None:
+    r = E.run(E.ArmCase("coulomb", "single", ("coulomb_friction",), seed=5, duration_s=DURATION_S))
+    assert r.error == "" and r.named == ["coulomb_friction"] and r.unexplained is False
+    names = {n for n, _ in r.covered}
+    assert "coulomb_friction.f_c_nm" in names and names & {"c_scale", "c_scale_pos"}
+    assert all(ok for _, ok in r.covered), r.covered
+
+
+@pytest.mark.parametrize("transmission", ["qa-joint", "tendon-sheath"])
+def test_synthetic_arm_record_of_another_transmission_is_diagnosed(transmission: str) -> None:
+    case = E.ArmCase(
+        "t", "transmission", ("sensor_offset",), transmission=transmission, seed=9, duration_s=3.0
+    )
+    r = E.run(case)
+    assert r.error == "" and r.named == ["sensor_offset"] and r.unexplained is False
+
+
+def test_synthetic_arm_record_states_its_transmission(tmp_path: Path) -> None:
+    rec = S.ArmRecording(duration_s=1.0, transmission="rtca")
+    S.write_arm_synthetic(tmp_path / "a.csv", S.truth_model([]), rec)
+    assert A.arm_run(load_dataset(tmp_path / "a.csv")).transmission == "rtca"
+    with pytest.raises(InvalidParameterError, match="unknown transmission"):
+        S.ArmRecording(transmission="harmonic-drive").validate()
