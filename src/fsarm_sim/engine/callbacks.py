@@ -19,6 +19,7 @@ import sys
 import threading
 import weakref
 from collections.abc import Iterator
+from types import ModuleType
 from typing import Any, Literal
 
 import mujoco
@@ -246,7 +247,7 @@ def native_source() -> str:
     src = load_native()
     if src is None:
         return "unavailable"
-    return "numba" if isinstance(src, type(sys)) else "prebuilt library"
+    return "numba" if isinstance(src, ModuleType) else "prebuilt library"
 
 
 @contextlib.contextmanager

@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
+import functools
+import hashlib
 import json
 import os
 import subprocess
@@ -76,10 +78,10 @@ def _cpu() -> str:
     return "unknown-cpu"
 
 
+@functools.lru_cache(maxsize=1)
 def library_dir() -> Path:
-    """Where this build of the kernels lives (see the module docstring)."""
-    import hashlib
-
+    """Where this build of the kernels lives (see the module docstring; computed once: it hashes
+    every kernel source and checks the struct offsets)."""
     key = source_key(struct_offsets())
     cpu = hashlib.sha256(_cpu().encode()).hexdigest()[:8]
     return cache_dir() / f"lib-{key}-{cpu}"

@@ -81,6 +81,15 @@ def _output_dispatch() -> Callable[..., Any]:
     return _compile("tr_output_torque", "\n".join(lines) + "\n", env)
 
 
+def _has_dispatch(name: str, method: str) -> Callable[..., Any]:
+    """``name(kind)``: True when the transmission with id ``int(kind)`` has ``method``."""
+    ids = [i for i, mod in enumerate(_TR_MODULES) if hasattr(mod, method)]
+    lines = [f"def {name}(kind):", "    k = int(kind)"]
+    lines += [f"    if k == {i}:\n        return True" for i in ids]
+    lines.append("    return False")
+    return _compile(name, "\n".join(lines) + "\n", {})
+
+
 def law_dispatch(
     blocks: tuple[tuple[str, int, int, int], ...], laws: dict[str, Any]
 ) -> Callable[..., Any]:
@@ -115,6 +124,11 @@ tr_stiffness: Callable[[float, FloatArray, float, float], float] = _transmission
 )
 tr_motor_torque: Callable[[float, FloatArray, float, float, float, FloatArray, int], float] = (
     _transmission_dispatch("tr_motor_torque", _TR7, "motor_torque_nm", _TR7, "torque_nm")
+)
+# whether a transmission's motor end carries its own torque (else it is tr_torque's, and the
+# kernels do not evaluate the law a second time)
+tr_has_motor_torque: Callable[[float], bool] = _has_dispatch(
+    "tr_has_motor_torque", "motor_torque_nm"
 )
 tr_state_rate: Callable[
     [float, FloatArray, float, float, float, FloatArray, int, int, float], float

@@ -6,7 +6,7 @@ as they are; the native path compiles the very same functions with Numba.
 
 Where the shaft's reaction torques land: the twist is the fixed tendon
 ``theta_m - theta_s = rotor / i_G1 - i_G2 q3``; its torque enters as generalized forces on the
-rotor joint (``-tau / i_G1``; a capstan law's own motor-end torque there, ``motor_end_torque``) and
+rotor joint (``-tau / i_G1``; a capstan law's own motor-end torque there, ``tr_motor_torque``) and
 on q3 (``+i_G2 tau``) and nowhere else. Joint-space forces are
 internal between a joint's parent and child bodies, so the reaction of the motor/gearbox acts on
 link 1 (the rotor's parent) and the reaction of the hypoid acts on link 2 (q3's parent): the
@@ -31,6 +31,7 @@ from fsarm_sim.controllers.tendon_sheath_compliance import (
 from fsarm_sim.kernels.dispatch import (
     arm_law_torques,
     tr_bend_torque,
+    tr_has_motor_torque,
     tr_motor_torque,
     tr_output_torque,
     tr_potential,
@@ -210,8 +211,17 @@ def transmitted_twist(prm: FloatArray, x: float, rate: float) -> tuple[float, fl
     return x, rate
 
 
+def transmission_input(
+    prm: FloatArray, twist: float, rate: float
+) -> tuple[float, float, FloatArray, int]:
+    """(twist, rate) reaching the transmission's law (through a backlash, if on), its block and
+    its first state slot."""
+    x, xd = transmitted_twist(prm, twist, rate)
+    return x, xd, prm[P_TR : P_TR + N_TR], int(prm[P_ACT_SLIP1])
+
+
 def shaft_torque(prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray) -> float:
-    """True torque carried by joint 3's transmission (N*m).
+    """True torque carried by joint 3's transmission (N*m), at the joint end.
 
     Flexible shaft (default): eq. 8 + eq. 1 damping + Maxwell-slip elements. Any other
     transmission: its own law (:mod:`fsarm_sim.plant.transmissions`).
@@ -219,24 +229,8 @@ def shaft_torque(prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: Float
     if prm[P_EN_SERIES] < 0.5:
         return 0.0
     twist, rate = twist_and_rate(prm, qpos, qvel)
-    twist, rate = transmitted_twist(prm, twist, rate)
-    bend = bend_angle(prm, qpos)
-    return tr_torque(
-        prm[P_TRANS], prm[P_TR : P_TR + N_TR], twist, rate, bend, act, int(prm[P_ACT_SLIP1])
-    )
-
-
-def motor_end_torque(prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray) -> float:
-    """Torque the transmission puts on the motor end (N*m): ``shaft_torque`` except for a law
-    whose ends differ (a capstan's sheath friction takes the difference: ``motor_torque_nm``)."""
-    if prm[P_EN_SERIES] < 0.5:
-        return 0.0
-    twist, rate = twist_and_rate(prm, qpos, qvel)
-    twist, rate = transmitted_twist(prm, twist, rate)
-    bend = bend_angle(prm, qpos)
-    return tr_motor_torque(
-        prm[P_TRANS], prm[P_TR : P_TR + N_TR], twist, rate, bend, act, int(prm[P_ACT_SLIP1])
-    )
+    x, xd, tr, a0 = transmission_input(prm, twist, rate)
+    return tr_torque(prm[P_TRANS], tr, x, xd, bend_angle(prm, qpos), act, a0)
 
 
 def bend_coupling_torque(prm: FloatArray, qpos: FloatArray, act: FloatArray) -> float:
@@ -291,8 +285,19 @@ def passive_forces(
     log: FloatArray,
 ) -> None:
     """mjcb_passive body: *add* the shaft's generalized forces to ``qfrc`` (qfrc_passive)."""
-    tau = shaft_torque(prm, qpos, qvel, act)
-    add_force(qfrc, prm[P_DOF_ROT], -prm[P_COEF_M] * motor_end_torque(prm, qpos, qvel, act))
+    # twist, rate and bend once per call: the transmission and the arm laws read them
+    twist, rate = twist_and_rate(prm, qpos, qvel)
+    bend = bend_angle(prm, qpos)
+    tau = 0.0  # joint end
+    tau_m = 0.0  # motor end: the same unless the law gives its ends their own torques
+    if prm[P_EN_SERIES] > 0.5:
+        kind = prm[P_TRANS]
+        x, xd, tr, a0 = transmission_input(prm, twist, rate)
+        tau = tr_torque(kind, tr, x, xd, bend, act, a0)
+        tau_m = (
+            tr_motor_torque(kind, tr, x, xd, bend, act, a0) if tr_has_motor_torque(kind) else tau
+        )
+    add_force(qfrc, prm[P_DOF_ROT], -prm[P_COEF_M] * tau_m)
     add_force(qfrc, prm[P_DOF_Q3], prm[P_COEF_S] * tau)
     cs = prm[P_COEF_S]
     q3 = coord(qpos, prm[P_QADR_Q3])
@@ -318,7 +323,6 @@ def passive_forces(
         add_force(qfrc, prm[P_DOF_Q2], tau2)
         add_force(qfrc, prm[P_DOF_Q3], tau3)
     # the registry's arm effect laws that are switched on (kernels.dispatch, generated)
-    twist, rate = twist_and_rate(prm, qpos, qvel)
     t2, t3, tm = arm_law_torques(
         prm,
         coord(qpos, prm[P_QADR_Q2]),
@@ -328,7 +332,7 @@ def passive_forces(
         prm[P_COEF_M] * coord(qvel, prm[P_DOF_ROT]),
         twist,
         rate,
-        bend_angle(prm, qpos),
+        bend,
     )
     add_force(qfrc, prm[P_DOF_Q2], t2)
     add_force(qfrc, prm[P_DOF_Q3], t3)
