@@ -251,21 +251,9 @@ def _frac(hits: list[bool]) -> tuple[int, int]:
 def rates(results: list[ArmResult]) -> dict[str, tuple[int, int]]:
     """The issue's rates as (hits, cases) (module docstring)."""
     ok = [r for r in results if not r.error]
-    multi = [r for r in ok if len(r.truth_names) > 1]
-    sig = [s for s in (signature_right(r) for r in ok) if s is not None]
     tr = [r for r in ok if r.group == "transmission"]
     return {
-        "multi_all_named": _frac([set(r.named) >= set(r.truth_names) for r in multi]),
-        "pairs_all_named": _frac(
-            [set(r.named) >= set(r.truth_names) for r in multi if r.group == "pair"]
-        ),
-        "triples_all_named": _frac(
-            [set(r.named) >= set(r.truth_names) for r in multi if r.group == "triple"]
-        ),
-        "no_extra_effect": _frac([set(r.named) <= set(r.truth_names) for r in ok]),
-        "unexplained_right": _frac([r.unexplained == bool(r.case.extra) for r in ok]),
-        "signature_right": _frac(sig),
-        "ci_covers_truth": _frac([c for r in ok for _, c in r.covered]),
+        **BE.common_rates(ok, signature_right),
         "transmissions_exact": _frac([sorted(r.named) == sorted(r.truth_names) for r in tr]),
         "errors": (len(results) - len(ok), len(results)),
     }

@@ -28,6 +28,7 @@ from __future__ import annotations
 import itertools
 import math
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -253,12 +254,13 @@ def _frac(hits: list[bool]) -> tuple[int, int]:
     return sum(hits), len(hits)
 
 
-def rates(results: list[Result]) -> dict[str, tuple[int, int]]:
-    """The issue's rates (module docstring) as (hits, cases)."""
-    ok = [r for r in results if not r.error]
+def common_rates(
+    ok: Sequence[Any], signature_ok: Callable[[Any], bool | None]
+) -> dict[str, tuple[int, int]]:
+    """The rates both expert batteries report, over the results that ran (``ok``; each with
+    ``named``, ``truth_names``, ``group``, ``unexplained``, ``case.extra`` and ``covered``)."""
     multi = [r for r in ok if len(r.truth_names) > 1]
-    sig = [s for s in (signature_right(r) for r in ok) if s is not None]
-    cov = [c for r in ok for _, c in r.covered]
+    sig = [s for s in (signature_ok(r) for r in ok) if s is not None]
     return {
         "multi_all_named": _frac([set(r.named) >= set(r.truth_names) for r in multi]),
         "pairs_all_named": _frac(
@@ -270,7 +272,15 @@ def rates(results: list[Result]) -> dict[str, tuple[int, int]]:
         "no_extra_effect": _frac([set(r.named) <= set(r.truth_names) for r in ok]),
         "unexplained_right": _frac([r.unexplained == bool(r.case.extra) for r in ok]),
         "signature_right": _frac(sig),
-        "ci_covers_truth": _frac(cov),
+        "ci_covers_truth": _frac([c for r in ok for _, c in r.covered]),
+    }
+
+
+def rates(results: list[Result]) -> dict[str, tuple[int, int]]:
+    """The issue's rates (module docstring) as (hits, cases)."""
+    ok = [r for r in results if not r.error]
+    return {
+        **common_rates(ok, signature_right),
         "near_threshold_named": _frac(
             [set(r.named) >= set(r.truth_names) for r in ok if r.group == "near"]
         ),
