@@ -21,7 +21,8 @@ def test_the_joint_swings_about_zero_from_equal_start_angles(run_pi: dict) -> No
     t1, t2 = run_pi["theta1"], run_pi["theta2"]
     assert t1.min() == pytest.approx(-m.AMPLITUDE_RAD, abs=2 * m.STEP_RAD)
     assert t1.max() == pytest.approx(m.AMPLITUDE_RAD, abs=2 * m.STEP_RAD)
-    assert t2.min() < -0.2 and t2.max() > 0.2
+    # (both sides by a good part of the swing: the joint's range is the motor's less the gap)
+    assert t2.min() < -0.15 and t2.max() > 0.15
 
 
 def test_friction_follows_the_motor_and_the_joint_stops_at_reversals(run_pi: dict) -> None:

@@ -109,8 +109,13 @@ def test_bandwidth_falls_with_bend_at_fixed_gain() -> None:
 
 def test_impedance_of_a_p_loop_is_its_inverse_gain_and_a_pi_loop_peaks_lower_when_bent() -> None:
     z = rb.output_impedance(ACT, rb.Pid(KP, 0.0, 0.0), duration_s=30.0)
+    # the bands begin where the analysed sweep begins (after the fade-in of 1/f_lo = 10 s the
+    # log sweep 0.1 -> 10 Hz over 30 s is at 0.1 * 100^(10/30) = 0.46 Hz): no band of leakage
+    assert z.freq_hz[0] >= 0.1 * 100.0 ** (10.0 / 30.0)
     mid = (z.freq_hz > 0.5) & (z.freq_hz < 1.5)
     np.testing.assert_allclose(z.magnitude[mid], 1.0 / KP, rtol=0.2)  # T = -θ̇_s / Kp
+    # ... and 1/Kp down to the lowest band (the estimate's quantisation aside)
+    assert z.magnitude[0] == pytest.approx(1.0 / KP, rel=0.2)
     pi = rb.Pid(7.4, 3.0 * 7.4, 0.0)
     straight = rb.output_impedance(ACT, pi, duration_s=30.0)
     bent = rb.output_impedance(ACT, pi, radius_m=0.200, duration_s=30.0)

@@ -225,16 +225,22 @@ def test_dahl_loop_matches_the_stick_slip_capstan_loop(bend: float, x1: float, x
     assert work == pytest.approx(ideal, rel=0.1)
 
 
-def test_friction_state_follows_the_motor_end() -> None:
+def test_friction_state_follows_the_tendons_sliding() -> None:
     # delta0 = 0.1 mrad: the floor's share of the stick rate's denominator stays below 2 %
     tr = TR.block({"friction_speed_rad_s": 0.0, "presliding_rad": 1e-4})
-    # the state moves with the motor's travel (the tendon slides with the motor end), whatever
-    # the twist rate does; it stops at +-1 and holds at rest
+    # the state moves with the sum of the ends' speeds u = vm + vj (vj = vm - x'): with the joint
+    # held that is the motor's travel (eq. 5, phases C/F); it stops at +-1 and holds at rest
     stick = ts.stick_rate(tr, 0.05, 0.0, 0.2)
-    assert ts.state_rate(tr, 0.05, -3.0, 0.0, act_at(0.2), 0, 0, 0.5) == pytest.approx(0.5 * stick)
-    assert ts.state_rate(tr, 0.05, 3.0, 0.0, act_at(1.0), 0, 0, 0.5) == 0.0
+    assert ts.state_rate(tr, 0.05, 0.5, 0.0, act_at(0.2), 0, 0, 0.5) == pytest.approx(0.5 * stick)
+    # both ends moving forward: u = 0.5 + 3.5
+    assert ts.state_rate(tr, 0.05, -3.0, 0.0, act_at(0.2), 0, 0, 0.5) == pytest.approx(4.0 * stick)
+    # the motor held, the joint pushed back: the tendon slides back, z falls
+    assert ts.state_rate(tr, 0.05, 0.5, 0.0, act_at(0.2), 0, 0, 0.0) == pytest.approx(-0.5 * stick)
+    # the ends moving apart at equal speeds: no net sliding
+    assert ts.state_rate(tr, 0.05, 1.0, 0.0, act_at(0.2), 0, 0, 0.5) == 0.0
+    assert ts.state_rate(tr, 0.05, -3.0, 0.0, act_at(1.0), 0, 0, 0.5) == 0.0
     assert ts.state_rate(tr, 0.05, 3.0, 0.0, act_at(-1.0), 0, 0, -0.5) == 0.0
-    assert ts.state_rate(tr, 0.05, 3.0, 0.0, act_at(0.3), 0, 0, 0.0) == 0.0
+    assert ts.state_rate(tr, 0.05, 0.0, 0.0, act_at(0.3), 0, 0, 0.0) == 0.0
     # the stick rate holds the joint's torque while the motor reverses (seed 004 phases C, F)
     kp, kr = ts.branch_stiffness_pull(tr, 0.0), ts.branch_stiffness_release(tr, 0.0)
     for x, z, dth in ((0.05, 1.0, -1e-6), (0.05, -0.4, 1e-6), (-0.05, -1.0, 1e-6)):
@@ -255,6 +261,65 @@ def test_friction_state_follows_the_motor_end() -> None:
     assert TR.state_limits(tr) == [(-1.0, 1.0), None, None]
     assert TR.initial_states(tr, 0.02, 1.0) == [0.0, 0.0, 0.0]
     assert len(ts.STATES) <= N_STATES
+
+
+def _power_lost(tr: np.ndarray, x: float, vm: float, vj: float, bend: float, z: float) -> float:
+    """Power into the transmission minus the rate of its stored energy, at twist x."""
+    act, h = act_at(z), 1e-7
+    tau_m = ts.motor_torque_nm(tr, x, vm - vj, bend, act, 0)
+    tau_j = ts.torque_nm(tr, x, vm - vj, bend, act, 0)
+    dv = (ts.potential_j(tr, x + h, bend, act, 0) - ts.potential_j(tr, x - h, bend, act, 0)) / 2 / h
+    return tau_m * vm - tau_j * vj - dv * (vm - vj)
+
+
+def test_sliding_friction_never_returns_energy() -> None:
+    # while sliding (z at its target sgn(vm + vj)) the power lost is K_d |x| |vm + vj| >= 0 for
+    # every pair of end speeds: also with the joint pushed back faster than the motor pulls
+    # (vj < -vm), where z following the motor end alone (0.4.0) returned energy
+    tr = TR.block({"friction_speed_rad_s": 0.0})
+    rng = np.random.default_rng(4)
+    kd = 0.5 * (ts.branch_stiffness_pull(tr, 1.0) - ts.branch_stiffness_release(tr, 1.0))
+    for _ in range(200):
+        x = float(rng.choice([-1.0, 1.0]) * rng.uniform(0.005, 0.1))
+        vm, vj = (float(v) for v in rng.uniform(-2.0, 2.0, 2))
+        z = math.copysign(1.0, vm + vj)
+        lost = _power_lost(tr, x, vm, vj, 1.0, z)
+        assert lost >= -1e-9
+        assert lost == pytest.approx(kd * abs(x) * abs(vm + vj), rel=1e-5)
+    # the 0.4.0 reading (z = sgn(vm)) returns energy in that case
+    assert _power_lost(tr, 0.05, 0.1, -0.5, 1.0, 1.0) < 0.0
+
+
+def _push_cycle(tr: np.ndarray, bend: float, x1: float, x2: float) -> float:
+    """The motor held after a pull (z = +1); the joint pushed back from twist x1 to x2 and
+    returned, twice (explicit Euler on z). Returns the hand's work on the transmission over
+    the last cycle."""
+    act = act_at(1.0)
+    n = round(1.0 / DT)
+    amp = 0.5 * (x2 - x1)
+    work = 0.0
+    for k in range(2 * n):
+        t = k * DT
+        x = x1 + amp * (1.0 - math.cos(2 * math.pi * t))  # joint pushed back: x grows
+        vj = -amp * 2 * math.pi * math.sin(2 * math.pi * t)
+        if k >= n:
+            work -= ts.torque_nm(tr, x, -vj, bend, act, 0) * vj * DT
+        act[0] = min(1.0, max(-1.0, act[0] + DT * ts.state_rate(tr, x, -vj, bend, act, 0, 0, 0.0)))
+    return work
+
+
+@pytest.mark.parametrize("bend", [0.0, 1.0, 2.0])
+def test_pushing_the_joint_against_a_held_motor_shows_the_capstan_loop(bend: float) -> None:
+    # hand guiding / a collision with the motor held: the tendon slides at the joint end, so the
+    # friction reverses and the hand meets the capstan loop (loading along K_pull, unloading
+    # along K_rel, the reversals at constant motor-end tension: the same polygon as the motor
+    # driven loop). 0.4.0's z followed the motor alone, stayed at +1, and the joint saw a
+    # lossless spring.
+    tr = TR.block({"friction_speed_rad_s": 0.0})
+    work = _push_cycle(tr, bend, 0.06, 0.14)
+    assert work == pytest.approx(_stick_slip_loop_area(tr, bend, 0.06, 0.14), rel=0.1)
+    frictionless = _push_cycle(TR.block({"friction_speed_rad_s": 0.0, "mu": 0.0}), bend, 0.06, 0.14)
+    assert abs(frictionless) < 1e-3 * work
 
 
 # ------------------------------------------------------------------ interface

@@ -620,8 +620,12 @@ def output_impedance(
     ths = amplitude_rad * fade * np.sin(phase)
     r = run(act, pid, np.zeros_like(t), radius_m=radius_m, theta_s=ths)
     vel = np.gradient(ths, dt)
-    sel = t >= 1.0 / f_lo
-    f, h = _band_response(vel[sel], r.tau_est[sel], dt, 1.5 * f_lo, f_hi / 1.2)
+    t_fade = 1.0 / f_lo
+    sel = t >= t_fade
+    # the bands start where the analysed part of the sweep starts (the fade-in is cut away, and
+    # the sweep has passed f_lo by then): a band below it holds only leakage
+    f_start = f_lo * math.exp(rate * t_fade)
+    f, h = _band_response(vel[sel], r.tau_est[sel], dt, 1.2 * f_start, f_hi / 1.2)
     mag = np.abs(h)
     return OutputImpedance(
         freq_hz=f,

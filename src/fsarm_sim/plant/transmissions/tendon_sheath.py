@@ -33,13 +33,16 @@ the motor pulls a taut positive twist)::
     tau_motor = tau_joint e^(mu Theta z s)                (s = sgn x_eff; +1: K_pull x, -1: K_rel x)
 
 ``torque_nm`` is the joint end, ``motor_torque_nm`` the motor end (the interface applies each at
-its own end). ``z`` follows the direction the tendon slides in the sheath, which is the motor
-end's (eq. 5: sgn(x'); ``state_rate`` gets the motor-side speed ``vm``), at the *stick rate*
+its own end). ``z`` follows the direction the tendon slides in the sheath: that of the sum of
+its ends' speeds ``u = vm + vj`` (``state_rate`` gets the motor-side speed ``vm``; the joint
+end's is ``vm - x'``). Where the joint end stays (seed 004 phases C and F: the motor turns, the
+joint stays) ``u = vm``, eq. 5's sgn(x'); there z moves at the *stick rate*
 ``dz/dtheta_m = (K_m - s K_d z) / (K_d |x_eff| + K_m delta0)`` that keeps the joint end's
-tension constant while the friction reverses (seed 004 phases C and F: the motor turns, the
-joint stays; the full switch takes the ideal travel ``x (1 - K_rel/K_pull)``). It moves towards
-``sgn(vm) |vm| / (|vm| + v0)`` (``friction_speed_rad_s`` = v0: a velocity-strengthening
-friction, Table 1's rate effect; ~1 at the arm's speeds) and holds at rest.
+tension constant while the friction reverses (the full switch takes the ideal travel
+``x (1 - K_rel/K_pull)``); in general at that rate per unit of ``u``. It moves towards
+``sgn(u) |v| / (|v| + v0)``, ``v`` the faster end's speed (``friction_speed_rad_s`` = v0: a
+velocity-strengthening friction, Table 1's rate effect; ~1 at the arm's speeds) and holds at
+rest.
 
 Energy: the elastic part ``K_m x_eff`` has the potential ``K_m x_eff^2 / 2``; the ``z`` part and
 the difference between the ends are the sheath's friction (see below). The virtual torque sensor (what seed 004 estimates from the two encoders
@@ -59,12 +62,17 @@ the total bend. Both default to "absent" (rigid sheath, designed bend only): the
 neither.
 
 Seed 004's bench (``SEED004_BENCH``: single tendon, sheath stiffness, routing curvature and mu
-fitted to Table 2) gives branch gaps within 10 % of Tables 1-2 (``fsarm reproduce --paper 004``);
-the arm's defaults keep a rigid sheath and mu = 0.15 (estimates), whose gap is ~100x smaller.
-Energy: the motor pays ``(tau_motor - tau_joint) vm`` to the sheath's friction; the
-``-K_d |x| z x'`` part can return energy where the twist grows faster than twice the motor moves
-in the pulling direction (the joint pushed back against a slowly pulling motor), which the
-sliding-with-the-motor-end reading does not resolve.
+fitted to Table 2 with 0.4.0's friction state) gives branch gaps within 8 % of Table 2 and
+within 17 % of Table 1 (its slowest row; the others 9 %) (``fsarm reproduce --paper 004``); the
+arm's defaults keep a rigid sheath and mu = 0.15 (estimates), whose gap is ~100x smaller.
+
+Energy (sliding, ``|z| = 1``, taut ``x > 0``): with ``tau_j = K_m x - K_d x z`` and ``tau_m`` the
+other branch, the power lost is ``tau_m vm - tau_j vj - K_m x x' = K_d x z (vm + vj)``: it is
+``K_d |x| |vm + vj| >= 0`` exactly because z follows ``sgn(vm + vj)``. (0.4.0 let z follow
+``vm`` alone, which returned energy wherever the joint end was pushed back faster than the motor
+pulled, ``vj < -vm``: a held motor with the joint pushed by hand or by a collision.) Only while
+z reverses (the stick phase, ``|z| < 1``) can the power be briefly negative: the Dahl state's
+own presliding spring.
 """
 
 from __future__ import annotations
@@ -514,21 +522,26 @@ Z_SMOOTH = 0.02
 def state_rate(
     tr: Any, x: float, xdot: float, bend: float, act: Any, a0: int, i: int, vm: float
 ) -> float:
-    """dz/dt: z follows the direction the tendon slides in the sheath, the motor end's (``vm``;
-    eq. 5: sgn(x')), at the stick rate (:func:`stick_rate`: the joint end holds while the
-    friction reverses) towards ``sgn(vm) friction_fraction(vm)``; at rest it holds."""
+    """dz/dt: z follows the direction the tendon slides in the sheath, that of the sum of its two
+    ends' speeds ``u = vm + vj`` (``vj = vm - xdot``, the joint end; see the module docstring,
+    *Energy*: this is what keeps the sliding friction dissipative), at the stick rate per unit
+    of ``u`` (:func:`stick_rate`: the joint end holds while the friction reverses, phases C and
+    F, where ``u = vm`` as in eq. 5's sgn(x')) towards ``sgn(u) friction_fraction(v)``, ``v`` the
+    faster end's speed; at rest it holds."""
     if i != 0:
         return 0.0
     z = _z(act, a0)
-    target = friction_fraction(tr, vm)
-    if vm < 0.0:
+    vj = vm - xdot
+    u = vm + vj
+    target = friction_fraction(tr, max(abs(vm), abs(vj)))
+    if u < 0.0:
         target = -target
     gap = (target - z) / Z_SMOOTH
     if gap > 1.0:
         gap = 1.0
     elif gap < -1.0:
         gap = -1.0
-    return abs(vm) * stick_rate(tr, x, bend, z) * gap
+    return abs(u) * stick_rate(tr, x, bend, z) * gap
 
 
 def potential_j(tr: Any, x: float, bend: float, act: Any, a0: int) -> float:
@@ -557,16 +570,25 @@ def initial_states(tr: Any, x: float, bend: float) -> list[float]:
 
 
 def friction_step(
-    tr: Any, x: float, dtheta_m: float, bend: float, z: float, dt: float = 0.0
+    tr: Any,
+    x: float,
+    dtheta_m: float,
+    bend: float,
+    z: float,
+    dt: float = 0.0,
+    dtheta_j: float = 0.0,
 ) -> float:
-    """z after a motor-end step ``dtheta_m`` taken over ``dt`` (> 0; 0: infinitely fast) at
-    constant twist: the stick rate of :func:`state_rate` solved exactly
-    (``z -> A + (z - A) exp(-s K_d dtheta / D)``, ``A = s K_m / K_d``), stopping at its target
+    """z after a step of the motor end ``dtheta_m`` and of the joint end ``dtheta_j`` taken over
+    ``dt`` (> 0; 0: infinitely fast) at constant twist: the stick rate of :func:`state_rate`
+    solved exactly over the sliding travel ``u = dtheta_m + dtheta_j``
+    (``z -> A + (z - A) exp(-s K_d u / D)``, ``A = s K_m / K_d``), stopping at its target
     (for quasi-static solutions)."""
-    if dtheta_m == 0.0:
+    travel = dtheta_m + dtheta_j
+    if travel == 0.0:
         return z
-    target = friction_fraction(tr, dtheta_m / dt) if dt > 0.0 else 1.0
-    if dtheta_m < 0.0:
+    speed = max(abs(dtheta_m), abs(dtheta_j))
+    target = friction_fraction(tr, speed / dt) if dt > 0.0 else 1.0
+    if travel < 0.0:
         target = -target
     kp = branch_stiffness_pull(tr, bend)
     kr = branch_stiffness_release(tr, bend)
@@ -577,7 +599,7 @@ def friction_step(
     if kd <= 0.0:  # no friction: the state jumps to its target (it carries no torque)
         return target
     a = s * km / kd
-    moved = a + (z - a) * math.exp(-s * kd * dtheta_m / d)
+    moved = a + (z - a) * math.exp(-s * kd * travel / d)
     if (target - z) * (target - moved) <= 0.0:  # reached (or passed) the target
         return target
     if (target - z) * (moved - z) < 0.0:  # never moves away from its target

@@ -591,9 +591,9 @@ def bench_impedance(ctx: Context) -> Measured:
         "and above it falls with μ (linear theory: |Z| = 1/|jω/(μK) + C(jω)e^(-jωτ)|, a peak "
         "of 1/Kp whatever μ). The paper's causes (friction, fixed PID gains) can raise T̂/θ̇_s "
         "by ≥ 10 % only through a motor that follows worse when bent, i.e. a friction far above "
-        "what Sec. 3.3's NRMSE allows or drive gains the paper does not print. The peak |Z| "
-        "(details: peak) rises, but only in the lowest band (0.17 Hz), where a 60 s sweep with "
-        "its 10 s fade-in has little energy: not evidence",
+        "what Sec. 3.3's NRMSE allows or drive gains the paper does not print. The bands start "
+        "where the analysed sweep starts (0.29 Hz; 0.4.0 also averaged 0.15-0.24 Hz, which the "
+        "sweep had passed during its cut fade-in: leakage, and a spurious rise of the peak)",
     )
 
 

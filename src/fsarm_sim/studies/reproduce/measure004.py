@@ -6,8 +6,8 @@
   angle theta_1 runs a triangle between -pi/4 and +pi/4, counted from theta_1 = theta_2 at the
   start (Sec. III); the pitch joint carries the 1 kg load (eq. 16: tau_2 = M g l cos theta_2,
   lever l = 0.1 m: estimate) and follows quasi-statically ("the effects of acceleration are
-  negligible"), the law's friction state advanced with the motor's steps (the tendon slides with
-  the motor end). One full cycle after a warm-up stroke is recorded, eq. 19 is fitted per
+  negligible"), the law's friction state advanced with the tendon's sliding (the sum of the
+  motor's and the joint's steps, solved together). One full cycle after a warm-up stroke is recorded, eq. 19 is fitted per
   direction over the moving phases (phases C/F, the joint static, belong to neither), and the
   gap between the two curves at theta_2 = 0 (M(R.C.) - M(R.A.)) and the fits' maximal errors
   are compared; Table 1 at bend pi (the text), Table 2 at 0.06 rad/s (``DEFAULT_SPEED``).
@@ -24,9 +24,11 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from scipy.optimize import brentq
 
 from fsarm_sim.studies.reproduce.claims import Context, Measured, MeasureFn
 
@@ -45,6 +47,10 @@ SPEEDS_RAD_S = (0.02, 0.04, 0.06)  # Table 1
 # pi/2 instead would contradict the text.)
 DEFAULT_SPEED = 0.06
 TENDON_RADII_M = (0.0010, 0.0012, 0.0015)  # Fig. 10(b)
+# the joint's step and the friction state's are solved together (``_bracketed_root``): the
+# bracket grows by at most this many motor steps; the root is found to the tolerance
+FIXED_POINT_ITERATIONS = 20
+FIXED_POINT_TOL_RAD = 1e-9
 
 
 def _ts() -> tuple[Any, Any]:
@@ -52,6 +58,39 @@ def _ts() -> tuple[Any, Any]:
     from fsarm_sim.plant.transmissions import tendon_sheath
 
     return transmissions.get("tendon-sheath"), tendon_sheath
+
+
+def _bracketed_root(gap: Callable[[float], float], scale: float) -> float:
+    """The root of ``gap`` nearest 0 (the joint held), bracketed by steps of ``scale`` and
+    found by Brent's method (the map can jump where the friction state reaches its target, so a
+    plain fixed point alternates there)."""
+    g0 = gap(0.0)
+    if abs(g0) <= FIXED_POINT_TOL_RAD:
+        return 0.0
+    direction = math.copysign(scale, g0)
+    a, b = 0.0, direction
+    for _ in range(FIXED_POINT_ITERATIONS):
+        if gap(b) * g0 <= 0.0:
+            lo, hi = (a, b) if a < b else (b, a)
+            return float(brentq(gap, lo, hi, xtol=FIXED_POINT_TOL_RAD))
+        a, b = b, b + direction
+    raise RuntimeError("tendon-sheath bench: no joint step balances the load near this step")
+
+
+def _solve_twist(residual: Callable[[float], float], x: float) -> float:
+    """The twist where ``residual`` (joint-end torque minus the load's) crosses zero, near x."""
+    lo, hi = x - 2.0 * STEP_RAD, x + 2.0 * STEP_RAD
+    while residual(lo) > 0.0:
+        lo -= 4.0 * STEP_RAD
+    while residual(hi) < 0.0:
+        hi += 4.0 * STEP_RAD
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        if residual(mid) < 0.0:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
 
 
 def position_transmission(
@@ -65,8 +104,8 @@ def position_transmission(
 
     The motor runs a triangle at ``speed`` (rad/s) between -pi/4 and +pi/4 (counted from the
     start, where theta_1 = theta_2); each motor increment advances the law's friction state z by
-    :func:`tendon_sheath.friction_step` over the motor's step (the tendon slides with the motor
-    end) and its duration, then solves the joint-end torque ``tau(x, z) = M g l cos(theta_2)``,
+    :func:`tendon_sheath.friction_step` over the tendon's sliding (the motor's step plus the
+    joint's, solved together) and its duration, then solves the joint-end torque ``tau(x, z) = M g l cos(theta_2)``,
     ``theta_2 = theta_1 - x``, for the twist x."""
     tr, ts = _ts()
     over: dict[str, float] = {**ts.SEED004_BENCH, "wrap_rad": wrap}
@@ -107,22 +146,22 @@ def position_transmission(
         step = (end - start) / n
         for _ in range(n):
             th1 += step
-            # the tendon slides with the motor end (eq. 5: sgn(x')): z follows the motor's step
-            z = float(ts.friction_step(block, x, step, 0.0, z, dt))
+            # the tendon slides with the sum of its ends' travels (tendon_sheath.state_rate):
+            # the motor's step and the joint's, solved together, the root nearest the joint
+            # held (phases C/F; a root far from it is another equilibrium of the load)
+            z_start = z
+
+            def joint_gap(
+                j: float, z_start: float = z_start, step: float = step, x: float = x
+            ) -> float:
+                """The joint step that z(j) implies, minus j (0 at the solution)."""
+                act[0] = float(ts.friction_step(block, x, step, 0.0, z_start, dt, j))
+                return step - (_solve_twist(residual, x) - x) - j
+
+            joint_step = _bracketed_root(joint_gap, abs(step))
+            z = float(ts.friction_step(block, x, step, 0.0, z_start, dt, joint_step))
             act[0] = z
-            lo, hi = x - 2.0 * STEP_RAD, x + 2.0 * STEP_RAD
-            while residual(lo) > 0.0:
-                lo -= 4.0 * STEP_RAD
-            while residual(hi) < 0.0:
-                hi += 4.0 * STEP_RAD
-            for _ in range(50):
-                mid = 0.5 * (lo + hi)
-                if residual(mid) < 0.0:
-                    lo = mid
-                else:
-                    hi = mid
-            x_new = 0.5 * (lo + hi)
-            joint_step = step - (x_new - x)  # d theta_2
+            x_new = _solve_twist(residual, x)
             x = x_new
             if keep:
                 recm.append(joint_step * math.copysign(1.0, step) >= MOVING_FRACTION * STEP_RAD)
