@@ -118,6 +118,13 @@ def test_version_0_2_0_run_sidecar_still_loads(tmp_path: Path) -> None:
         ({"interrupted": 0}, rec.SidecarTypeError, "'interrupted'"),
         ({"gains": {"speed_ff": 1}}, rec.SidecarTypeError, "'gains.speed_ff'"),
         ({"gains": {"zeta": "1"}}, rec.SidecarTypeError, "'gains.zeta'"),
+        # an object where a number belongs (only effects.laws is a nested entry)
+        ({"gains": {"zeta": {"a": 1}}}, rec.SidecarTypeError, "'gains.zeta'"),
+        (
+            {"effects": {"backlash_width_rad": {"w": 1}}},
+            rec.SidecarTypeError,
+            "'effects.backlash_width_rad'",
+        ),
         ({"shaft_params": {"k_pos": None}}, rec.SidecarTypeError, "'shaft_params.k_pos'"),
         ({"transmission": {"name": 3}}, rec.SidecarTypeError, "'transmission.name'"),
         ({"extra_columns": "tau"}, rec.SidecarTypeError, "'extra_columns'"),

@@ -492,9 +492,9 @@ def _typed_keys(entry: Mapping[str, Any] | None, owner: type, what: str, where: 
             f"allowed in '{what}' ({owner.__name__} fields): {', '.join(fields)}"
         )
     for k, v in entry.items():
-        if isinstance(v, Mapping):
-            continue  # a nested entry (Effects.laws): typed by the schema's own annotation
         f = fields[k]
+        if isinstance(v, Mapping) and str(f.type).startswith("tuple[tuple[str"):
+            continue  # a nested entry (Effects.laws, name -> values): checked where it is built
         default = (
             f.default
             if f.default is not dataclasses.MISSING
