@@ -287,3 +287,25 @@ def test_cli_synth_and_diagnose_arm(monkeypatch: pytest.MonkeyPatch, tmp_path: P
     assert res["confidence"][0]["runner_up"] and res["bic"]["final"] < res["bic"]["nominal"]
     cfg = MF.load_arm_config(tmp_path / "m.json")
     assert cfg.effects.q3_damping_nms == pytest.approx(0.2, rel=0.05)
+
+
+def test_runs_side_by_side_give_the_runs_one_after_the_other(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # ArmContext.prefetch steps a step's simulations in threads: the same runs, bit for bit
+    from fsarm_sim.discrepancy import arm_fit as F
+
+    monkeypatch.setattr(F, "SIM_THREADS", 2)
+    ds = load_dataset(_record(tmp_path, "par", ["coulomb_friction:q3=0.1"], duration=2.0))
+    ctx = F.make_context(ds, F.arm_run(ds))
+    base = F.ArmModel()
+    models = [F.with_values(base, ["payload_kg_refit"], np.array([v])) for v in (0.0, 0.5, 1.0)]
+    sequential = [ctx._run(m) for m in models]
+    ctx.prefetch(models)
+    assert ctx.n_sims == 3
+    for m, seq in zip(models, sequential, strict=True):
+        par = ctx.simulate(m)
+        assert par is not None and seq is not None
+        for ch in seq:
+            np.testing.assert_array_equal(par[ch], seq[ch])
+    assert ctx.n_sims == 3  # found in the cache

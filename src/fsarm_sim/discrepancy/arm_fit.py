@@ -51,7 +51,7 @@ The last two are measurement effects: applied to the simulated channel
 linearises the weighted teaching residual once: secant columns (one simulation per plant
 parameter; offsets and delays analytic: a constant and ``-dy/dt``) for every parameter already
 in the model and every candidate parameter. Every candidate is solved jointly with the present
-parameters by bounded linear least squares (scipy ``lsq_linear``) and *re-simulated* there; when
+parameters by bounded linear least squares (:mod:`.lsq`) and *re-simulated* there; when
 the nominal refit moved away from the catalogue, also from the catalogue's values (a refit can
 mimic an effect - a softer shaft looks like a heavier payload - and the two valleys are not
 joined by a straight line), keeping the better. The two most promising effects are then refined
@@ -66,15 +66,17 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 from collections.abc import Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
-from scipy.optimize import lsq_linear
 
+from fsarm_sim.discrepancy import lsq
 from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.discrepancy.benchmodel import EffectInstance
@@ -108,6 +110,23 @@ SCALE_BOUNDS = (0.25, 4.0)  # stiffness scales: within 4x of the catalogue (as c
 REF_STEP_RATE = 10.0  # rad/s: a reference moving faster between two samples is a step (above
 # any joint's speed: joint 3's motor limit 523.6 rad/s / 16 / 10 = 3.3 rad/s, models/fsarm)
 N_SLIP_GRID = 3  # hysteresis: slip deflections tried (ShaftParams has three element slots)
+
+
+# simulations run side by side where a step needs several (ArmContext.prefetch): the cores this
+# process may use, at most 4; FSARM_DIAGNOSE_THREADS overrides (1: one after the other)
+def _sim_threads() -> int:
+    given = os.environ.get("FSARM_DIAGNOSE_THREADS", "").strip()
+    if given:
+        if not given.isdigit() or int(given) < 1:
+            raise InvalidParameterError(
+                f"FSARM_DIAGNOSE_THREADS must be a whole number >= 1, got {given!r}"
+            )
+        return int(given)
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    return min(4, cores or 1)
+
+
+SIM_THREADS = _sim_threads()
 REFINE_ITER = 3  # Gauss-Newton iterations of a refinement (each: free parameters + 1 runs)
 NOMINAL_ITER = 5
 REFINE_SECANT = 0.1  # secant step of the refinement, in units of each parameter's magnitude
@@ -578,17 +597,36 @@ class ArmContext:
     cache: dict[tuple[Any, ...], dict[str, FloatArray] | None] = field(default_factory=dict)
     n_sims: int = 0
 
+    def _run(self, m: ArmModel) -> dict[str, FloatArray] | None:
+        try:
+            raw, _ = simulate_config(self.run, to_config(self.run, m))
+        except (InvalidParameterError, SimulationWarningError):
+            return None
+        return raw if all(np.all(np.isfinite(v)) for v in raw.values()) else None
+
     def simulate(self, m: ArmModel) -> dict[str, FloatArray] | None:
         key = m.physical_key()
         if key not in self.cache:
             self.n_sims += 1
-            try:
-                raw, _ = simulate_config(self.run, to_config(self.run, m))
-                ok = all(np.all(np.isfinite(v)) for v in raw.values())
-                self.cache[key] = raw if ok else None
-            except (InvalidParameterError, SimulationWarningError):
-                self.cache[key] = None
+            self.cache[key] = self._run(m)
         return self.cache[key]
+
+    def prefetch(self, models: Sequence[ArmModel | None]) -> None:
+        """Run the models not simulated yet side by side (:data:`SIM_THREADS` threads: the
+        compiled callbacks step in parallel, MuJoCo releases the GIL while stepping); later
+        :meth:`simulate` calls find them in the cache. The same runs as one after the other."""
+        todo: dict[tuple[Any, ...], ArmModel] = {}
+        for m in models:
+            if m is not None and m.physical_key() not in self.cache:
+                todo.setdefault(m.physical_key(), m)
+        threads = min(SIM_THREADS, len(todo))
+        if threads < 2:
+            return  # one run (or one core): simulate() runs it when it is asked for
+        with ThreadPoolExecutor(threads) as ex:
+            results = list(ex.map(self._run, todo.values()))
+        for key, raw in zip(todo, results, strict=True):
+            self.n_sims += 1
+            self.cache[key] = raw
 
     def predict(self, m: ArmModel) -> tuple[dict[str, FloatArray], dict[str, FloatArray]] | None:
         """(basis, raw) recorded channels the model predicts; None if its run fails."""
@@ -747,7 +785,7 @@ def jacobian_column(
 ) -> FloatArray | None:
     """d(weighted teaching residual) / d(parameter in units of its typical magnitude), by a
     secant over ``frac`` units (plant parameters: one simulation) or analytically (measurement)."""
-    _, hi, unit = bounds_of(ctx, key)
+    unit = bounds_of(ctx, key)[2]
     h = ctx.run.h
     if key.startswith(("sensor_offset.", "delay.")):
         ch = key.split(".", 1)[1]
@@ -762,15 +800,29 @@ def jacobian_column(
         else:
             d["q2"] += dy
     else:
-        x0 = m.v(key)
-        # slip deflections: a relative secant (they range over decades); others: one unit
-        step = (0.3 * x0 if key.startswith("hysteresis.d") and x0 > 0.0 else unit) * frac
-        step = step if x0 + step <= hi else -step
-        p = ctx.predict(with_values(m, [key], np.array([x0 + step])))
+        step = _secant_step(ctx, m, key, frac)
+        p = ctx.predict(with_values(m, [key], np.array([m.v(key) + step])))
         if p is None:
             return None
         d = {c: (p[0][c] - base[c]) * (unit / step) for c in BASIS}
     return -np.concatenate([(d[c] / ctx.sigma[c])[ctx.teach] for c in BASIS])
+
+
+def _secant_step(ctx: ArmContext, m: ArmModel, key: str, frac: float) -> float:
+    """The secant's step of a plant parameter: slip deflections relative (they range over
+    decades), others one unit; backwards where forwards leaves the bounds."""
+    _, hi, unit = bounds_of(ctx, key)
+    x0 = m.v(key)
+    step = (0.3 * x0 if key.startswith("hysteresis.d") and x0 > 0.0 else unit) * frac
+    return step if x0 + step <= hi else -step
+
+
+def secant_model(ctx: ArmContext, m: ArmModel, key: str, frac: float = 1.0) -> ArmModel | None:
+    """The run :func:`jacobian_column` simulates for ``key`` (None: a measurement parameter,
+    whose column is analytic)."""
+    if key.startswith(("sensor_offset.", "delay.")):
+        return None
+    return with_values(m, [key], np.array([m.v(key) + _secant_step(ctx, m, key, frac)]))
 
 
 def linear_solve(
@@ -784,15 +836,15 @@ def linear_solve(
         lo[i], hi[i] = (a - m.v(k)) / unit, (b - m.v(k)) / unit
     lo = np.minimum(lo, 0.0)
     hi = np.maximum(hi, 0.0)
-    res = lsq_linear(jac, -r0, bounds=(lo, hi), method="bvls")
-    x = np.array([m.v(k) + res.x[i] * bounds_of(ctx, k)[2] for i, k in enumerate(keys)])
+    dx = lsq.bounded(jac, -r0, lo, hi)
+    x = np.array([m.v(k) + dx[i] * bounds_of(ctx, k)[2] for i, k in enumerate(keys)])
     return with_values(m, keys, x)
 
 
 def refine(ctx: ArmContext, fit: ArmFit, max_iter: int = REFINE_ITER) -> ArmFit:
     """Nonlinear refinement of a fit's free parameters on the simulation itself: Gauss-Newton
     with fresh secant Jacobians (steps of REFINE_SECANT units), each step a bounded linear
-    least-squares problem (scipy ``lsq_linear``); a step that does not lower the teaching cost is
+    least-squares problem (:mod:`.lsq`); a step that does not lower the teaching cost is
     halved once, then the search stops. Costs (free plant parameters + 1) runs per iteration."""
     keys = fit.free
     cur = fit
@@ -881,6 +933,11 @@ def step_jacobian(ctx: ArmContext, cur: ArmFit, pairs: list[tuple[str, str]]) ->
     """Secant columns at the current model for its free parameters and every candidate's
     (candidates enter at zero, so the current prediction is their base point)."""
     cols: dict[str, FloatArray] = {}
+    runs = [secant_model(ctx, cur.model, k) for k in cur.free]
+    for e, v in pairs:
+        trial = add_candidate(ctx, cur.model, e, v)
+        runs += [secant_model(ctx, trial, k) for k in candidate_keys(ctx, e, v)]
+    ctx.prefetch(runs)
     for k in cur.free:
         col = jacobian_column(ctx, cur.model, cur.pred, cur.raw, k)
         if col is not None:
@@ -895,10 +952,11 @@ def step_jacobian(ctx: ArmContext, cur: ArmFit, pairs: list[tuple[str, str]]) ->
     return StepJacobian(cols, ctx.wresid(cur.pred, ctx.teach))
 
 
-def screen(
+def screen_solve(
     ctx: ArmContext, sj: StepJacobian, cur: ArmFit, effect: str, variant: str
-) -> ArmFit | None:
-    """Linearised joint solve of the present parameters plus one candidate, re-simulated."""
+) -> tuple[ArmModel, list[str], FloatArray] | None:
+    """The linearised joint solve of the present parameters plus one candidate: (model, free
+    parameters, linearised residual), not yet re-simulated."""
     new = candidate_keys(ctx, effect, variant)
     keys = list(cur.free) + new
     if any(k not in sj.cols for k in keys):
@@ -915,6 +973,17 @@ def screen(
         if not keep:
             return None
         free = list(cur.free) + [f"hysteresis.k{j}" for j in range(len(keep))]
+    return m, free, r_lin
+
+
+def screen(
+    ctx: ArmContext, sj: StepJacobian, cur: ArmFit, effect: str, variant: str
+) -> ArmFit | None:
+    """Linearised joint solve of the present parameters plus one candidate, re-simulated."""
+    solved = screen_solve(ctx, sj, cur, effect, variant)
+    if solved is None:
+        return None
+    m, free, r_lin = solved
     f = evaluate(ctx, m, free, f"{effect}[{variant}]")
     if f is None:
         return None
@@ -984,6 +1053,10 @@ def screen_all(ctx: ArmContext, cur: ArmFit, pairs: list[tuple[str, str]]) -> li
     for i, start in enumerate(starts):
         sub = pairs if i == 0 else [(e, v) for e, v in pairs if e in plant]
         sj = step_jacobian(ctx, start, sub)
+        # the candidates' re-simulations side by side (screen() then finds them run)
+        ctx.prefetch(
+            [s[0] for s in (screen_solve(ctx, sj, start, e, v) for e, v in sub) if s is not None]
+        )
         for e, v in sub:
             s = screen(ctx, sj, start, e, v)
             if s is not None and ((e, v) not in best or s.cost < best[(e, v)].cost):
