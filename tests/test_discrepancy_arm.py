@@ -15,6 +15,7 @@ from fsarm_sim.discrepancy import arm_modelfile as MF
 from fsarm_sim.discrepancy import arm_synth as S
 from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.engine.model import SimConfig
+from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.plant.effects import delay
 from fsarm_sim.records.measured import (
     MissingColumnError,
@@ -289,6 +290,22 @@ def test_cli_synth_and_diagnose_arm(monkeypatch: pytest.MonkeyPatch, tmp_path: P
     assert cfg.effects.q3_damping_nms == pytest.approx(0.2, rel=0.05)
 
 
+@pytest.mark.parametrize(
+    "bench_option", [["--noise", "0.01"], ["--trajectory", "triangle"], ["--load", "inertia"]]
+)
+def test_cli_synth_arm_refuses_what_only_benches_read(
+    monkeypatch: pytest.MonkeyPatch,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    bench_option: list[str],
+) -> None:
+    # 0.4.0 ignored them silently (and --rate): an arm record that is not what was asked for
+    code = run_fsarm(monkeypatch, "synth", str(tmp_path / "a"), "--setup", "arm", *bench_option)
+    assert code != 0
+    assert bench_option[0] in capsys.readouterr().err
+    assert not (tmp_path / "a.csv").exists()
+
+
 def test_runs_side_by_side_give_the_runs_one_after_the_other(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -309,3 +326,41 @@ def test_runs_side_by_side_give_the_runs_one_after_the_other(
         for ch in seq:
             np.testing.assert_array_equal(par[ch], seq[ch])
     assert ctx.n_sims == 3  # found in the cache
+
+
+@pytest.mark.parametrize(
+    ("rate", "ctrl_dt", "timestep"), [(500.0, 1e-3, None), (2000.0, 5e-4, 5e-4)]
+)
+def test_arm_records_at_other_rates_replay(
+    tmp_path: Path, rate: float, ctrl_dt: float, timestep: float | None
+) -> None:
+    # slower than the 1 kHz controller: every k-th tick, references interpolated back onto the
+    # ticks by the replay; faster: the controller (and the physics) at the record's rate
+    truth = S.truth_model([])
+    rec = S.ArmRecording(duration_s=2.0, noise_rad=0.0, encoder_counts=0, rate_hz=rate)
+    table, side = S.write_arm_synthetic(tmp_path / "r.csv", truth, rec)
+    ds = load_dataset(table)
+    assert ds.dt == pytest.approx(1.0 / rate)
+    meta = json.loads(side.read_text())
+    assert meta["ctrl_dt_s"] == pytest.approx(ctrl_dt)
+    assert meta.get("timestep_s") == timestep
+    run = A.arm_run(ds)
+    sim, _ = A.simulate_config(run, A.to_config(run, A.ArmModel()))
+    # exact at the control rate; at 500 Hz the references between samples are interpolated
+    tol = 1e-8 if rate >= 1000.0 else 1e-5
+    for ch in ("q2", "q3", "theta_m"):
+        assert np.max(np.abs(sim[ch] - ds.columns[ch])) < tol, ch
+
+
+def test_arm_record_rates_that_cannot_be_made_are_named_errors() -> None:
+    for rate in (300.0, 1e6, float("nan"), 50.0):
+        with pytest.raises(InvalidParameterError, match="rate"):
+            S.ArmRecording(rate_hz=rate).validate()
+
+
+def test_model_timestep_constant_is_the_models() -> None:
+    import mujoco
+
+    from fsarm_sim.engine.model import model_path
+
+    assert mujoco.MjModel.from_xml_path(str(model_path())).opt.timestep == S.MODEL_TIMESTEP_S

@@ -154,8 +154,12 @@ def register(app: typer.Typer) -> None:
         model: Annotated[
             Path | None, typer.Option("--model", help="truth model file (instead of --effect)")
         ] = None,
-        load: Annotated[str, typer.Option(help="series bench: blocked or inertia")] = "blocked",
-        inertia: Annotated[float, typer.Option(help="stated load inertia, kg*m^2")] = 0.01,
+        load: Annotated[
+            str | None, typer.Option(help="series bench: blocked or inertia [default: blocked]")
+        ] = None,
+        inertia: Annotated[
+            float | None, typer.Option(help="stated load inertia, kg*m^2 [default: 0.01]")
+        ] = None,
         true_inertia: Annotated[
             float | None, typer.Option(help="acting load inertia (default: the stated one)")
         ] = None,
@@ -164,16 +168,33 @@ def register(app: typer.Typer) -> None:
         ] = 1.0,
         diameter_mm: Annotated[float, typer.Option("--diameter", help="shaft D, mm")] = 9.0,
         length_mm: Annotated[float, typer.Option("--length", help="shaft L, mm")] = 450.0,
-        noise: Annotated[float, typer.Option(help="torque noise std / torque range")] = 0.003,
+        noise: Annotated[
+            float | None,
+            typer.Option(help="benches: torque noise std / torque range [default: 0.003]"),
+        ] = None,
         duration: Annotated[
             float | None, typer.Option(help="s (default: 30; arm: the scenario's)")
         ] = None,
-        rate: Annotated[float, typer.Option(help="sample rate, Hz")] = 1000.0,
+        rate: Annotated[
+            float | None,
+            typer.Option(
+                help="sample rate, Hz [default: 1000]; arm: 1000 / k (every k-th control "
+                "tick) or faster (the controller runs at it)"
+            ),
+        ] = None,
         trajectory: Annotated[
-            str, typer.Option(help="chirp, multisine, triangle, random, steps, biased_sine")
-        ] = "chirp",
-        amplitude: Annotated[float | None, typer.Option(help="input amplitude, rad")] = None,
-        bend_deg: Annotated[float, typer.Option(help="series bench: held bend angle, deg")] = 0.0,
+            str | None,
+            typer.Option(
+                help="benches: chirp, multisine, triangle, random, steps, biased_sine "
+                "[default: chirp]"
+            ),
+        ] = None,
+        amplitude: Annotated[
+            float | None, typer.Option(help="benches: input amplitude, rad")
+        ] = None,
+        bend_deg: Annotated[
+            float | None, typer.Option(help="series bench: held bend angle, deg [default: 0]")
+        ] = None,
         seed: Annotated[int, typer.Option(help="random seed")] = 0,
         input_file: Annotated[
             Path | None,
@@ -200,21 +221,48 @@ def register(app: typer.Typer) -> None:
             if v is not None and not (math.isfinite(v) and v > 0):
                 raise InvalidParameterError(f"{opt} must be a finite number > 0, got {v!r}")
         for opt, v in (("--noise", noise), ("--noise-rad", noise_rad)):
-            if not (math.isfinite(v) and v >= 0):
+            if v is not None and not (math.isfinite(v) and v >= 0):
                 raise InvalidParameterError(f"{opt} must be a finite number >= 0, got {v!r}")
+        if rate is not None and not (math.isfinite(rate) and rate > 0):
+            raise InvalidParameterError(f"--rate must be a finite number > 0 Hz, got {rate!r}")
+        if setup == "arm":  # what only a bench reads: refused rather than silently ignored
+            given = [
+                opt
+                for opt, v in (
+                    ("--load", load),
+                    ("--inertia", inertia),
+                    ("--true-inertia", true_inertia),
+                    ("--noise", noise),
+                    ("--trajectory", trajectory),
+                    ("--amplitude", amplitude),
+                    ("--bend-deg", bend_deg),
+                    ("--input-file", input_file),
+                )
+                if v is not None
+            ]
+            if given:
+                raise InvalidParameterError(
+                    f"{', '.join(given)} set the benches' recordings; an arm record runs a "
+                    "scenario (--scenario, --duration, --rate, --noise-rad, --seed)"
+                )
         table_out, side_out = output_files(out)
         OutputPlan().file("OUT", table_out).file("the sidecar of OUT", side_out).input(
             "the truth model of --model", model
         ).check()
         err = make_console(stderr=True)
         writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
+        load = load or "blocked"
         if setup != "arm" and load not in ("blocked", "inertia"):
             raise InvalidParameterError(f"--load must be blocked or inertia, got {load!r}")
         shaft = stated_shaft(diameter_mm, length_mm)
         rec: synth.Recording | ArmRecording
         if setup == "arm":
             rec = ArmRecording(
-                scenario=scenario, duration_s=duration, noise_rad=noise_rad, seed=seed
+                scenario=scenario,
+                duration_s=duration,
+                noise_rad=noise_rad,
+                seed=seed,
+                rate_hz=rate,
             )
         else:
             if input_file is not None and duration is None:
@@ -222,11 +270,11 @@ def register(app: typer.Typer) -> None:
                 duration = float(t_in[-1] - t_in[0])
             rec = synth.Recording(
                 duration_s=30.0 if duration is None else duration,
-                rate_hz=rate,
-                noise=noise,
-                trajectory=trajectory,
+                rate_hz=1000.0 if rate is None else rate,
+                noise=0.003 if noise is None else noise,
+                trajectory=trajectory or "chirp",
                 amplitude=amplitude,
-                bend_rad=math.radians(bend_deg),
+                bend_rad=math.radians(bend_deg or 0.0),
                 seed=seed,
                 input_file=None if input_file is None else str(input_file),
             )
@@ -236,7 +284,11 @@ def register(app: typer.Typer) -> None:
             model_file=model,
             shaft=shaft,
             stiffness_scale=stiffness_scale,
-            load_inertia_kgm2=inertia if (setup == "series_bench" and load == "inertia") else None,
+            load_inertia_kgm2=(
+                (0.01 if inertia is None else inertia)
+                if (setup == "series_bench" and load == "inertia")
+                else None
+            ),
             true_inertia_kgm2=true_inertia,
             recording=rec,
         )

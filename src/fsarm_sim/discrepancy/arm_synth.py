@@ -48,10 +48,16 @@ class ArmRecording:
     seed: int = 0
     derivatives: bool = True  # write qd*_ref / qdd*_ref
     transmission: str = transmissions.DEFAULT  # joint 3's (its default parameters)
+    # samples per second of the record; None: the control rate (1 kHz). Slower: every k-th
+    # control tick (the control rate / k, k whole); faster: the controller runs at this rate
+    # (its period is the sample period, as a record's ctrl_dt_s states it)
+    rate_hz: float | None = None
 
     def validate(self) -> None:
         if not math.isfinite(self.noise_rad) or self.noise_rad < 0.0:
             raise InvalidParameterError(f"noise_rad must be >= 0, got {self.noise_rad!r}")
+        if self.rate_hz is not None:
+            self.sampling(Gains().ctrl_dt_s)
         if self.encoder_counts < 0:
             raise InvalidParameterError("encoder_counts must be >= 0")
         if self.transmission not in transmissions.names():
@@ -59,6 +65,30 @@ class ArmRecording:
                 f"unknown transmission {self.transmission!r} "
                 f"(known: {', '.join(transmissions.names())})"
             )
+
+    def sampling(self, ctrl_dt_s: float) -> tuple[float, int]:
+        """(the controller's period, control ticks per sample) of this record's rate."""
+        if self.rate_hz is None:
+            return ctrl_dt_s, 1
+        rate = self.rate_hz
+        if not (math.isfinite(rate) and MIN_RATE_HZ <= rate <= MAX_RATE_HZ):
+            raise InvalidParameterError(
+                f"arm record rate must be {MIN_RATE_HZ:g}-{MAX_RATE_HZ:g} Hz, got {rate!r}"
+            )
+        if rate >= 1.0 / ctrl_dt_s:
+            return 1.0 / rate, 1  # the controller at the record's rate
+        k = round(1.0 / (rate * ctrl_dt_s))
+        if abs(k * ctrl_dt_s * rate - 1.0) > 1e-9:
+            raise InvalidParameterError(
+                f"an arm record slower than the {1 / ctrl_dt_s:g} Hz controller samples every "
+                f"k-th tick: its rate must be {1 / ctrl_dt_s:g} Hz / k (k whole), got {rate:g} Hz"
+            )
+        return ctrl_dt_s, k
+
+
+MODEL_TIMESTEP_S = 1e-3  # models/fsarm: <option timestep> (tests/test_discrepancy_arm.py checks)
+MIN_RATE_HZ = 100.0  # an arm record slower than this cannot follow the 0.1-1 Hz scenarios' loops
+MAX_RATE_HZ = 5000.0  # estimate: the scenarios' loops gain nothing from a faster controller
 
 
 def parse_arm_effect(text: str) -> tuple[str, str, dict[str, Any]]:
@@ -118,17 +148,36 @@ def synthesize_arm(
     rec.validate()
     sc = scenarios.get(rec.scenario)
     sh = shaft or stated_shaft()
-    gains = Gains()
+    ctrl_dt, every = rec.sampling(Gains().ctrl_dt_s)
+    gains = Gains(ctrl_dt_s=ctrl_dt)
+    # a controller faster than the model's physics step steps the physics at its own period
+    timestep = ctrl_dt if ctrl_dt < MODEL_TIMESTEP_S * (1.0 - 1e-9) else None
     duration = float(sc.duration_s if rec.duration_s is None else rec.duration_s)
     payload = float(sc.payload_kg if rec.payload_kg is None else rec.payload_kg)
-    n = round(duration / gains.ctrl_dt_s) + 1
-    t: FloatArray = np.arange(n, dtype=np.float64) * gains.ctrl_dt_s
-    table = sc.reference(np.arange(n + 1, dtype=np.float64) * gains.ctrl_dt_s)
+    n_ticks = round(duration / ctrl_dt) + 1
+    t_ticks: FloatArray = np.arange(n_ticks, dtype=np.float64) * ctrl_dt
+    table = sc.reference(np.arange(n_ticks + 1, dtype=np.float64) * ctrl_dt)
     run = A.ArmRun(
-        sh, payload, 0.0, gains, None, table, t, gains.ctrl_dt_s, "", transmission=rec.transmission
+        sh,
+        payload,
+        0.0,
+        gains,
+        timestep,
+        table,
+        t_ticks,
+        ctrl_dt,
+        "",
+        transmission=rec.transmission,
     )
     raw, _ = A.simulate_config(run, A.to_config(run, truth))
-    meas = A.apply_measurement(raw, truth, gains.ctrl_dt_s)
+    meas = A.apply_measurement(raw, truth, ctrl_dt)
+    # the record: every ``every``-th control tick (the truth's delays act at the control rate)
+    pick = np.arange(0, n_ticks, every)
+    n = pick.size
+    t: FloatArray = t_ticks[pick]
+    raw = {ch: v[pick] for ch, v in raw.items()}
+    meas = {ch: v[pick] for ch, v in meas.items()}
+    table = table[pick]
     rng = np.random.default_rng(rec.seed + 104729)
     cols: dict[str, FloatArray] = {"t": t}
     clean = {ch: meas[ch] if ch in meas else raw[ch] for ch in ("q1", "q2", "q3", "theta_m")}
@@ -151,6 +200,7 @@ def synthesize_arm(
         shaft=records.ShaftRef(diameter_mm=sh.diameter_mm, length_mm=sh.length_mm),
         payload_kg=payload,
         ctrl_dt_s=gains.ctrl_dt_s,
+        timestep_s=timestep,
         scenario=rec.scenario,
         gains=records.gains_entry(gains),
         transmission=(
@@ -160,7 +210,8 @@ def synthesize_arm(
         ),
         notes=(
             f"SYNTHETIC data from fsarm synth --setup arm (not a measurement): scenario "
-            f"{rec.scenario}, joint 3 by {rec.transmission}, {duration:g} s at {1 / gains.ctrl_dt_s:g} Hz, angle noise "
+            f"{rec.scenario}, joint 3 by {rec.transmission}, {duration:g} s at "
+            f"{1 / (every * ctrl_dt):g} Hz (control at {1 / ctrl_dt:g} Hz), angle noise "
             f"{rec.noise_rad:g} rad, {rec.encoder_counts} counts/rev, hidden effects: "
             f"{', '.join(hidden) if hidden else 'none'}"
         ),

@@ -18,6 +18,8 @@ from scipy.optimize import lsq_linear
 FloatArray = npt.NDArray[np.float64]
 
 CHOLESKY_COND = 1e4  # cond(R) above which the triangle comes from a QR of A
+# False: BVLS on the full problem, as 0.4.0 did (scripts/bench_diagnose.py times both)
+REDUCE = True
 
 
 def triangle(a: FloatArray, y: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -34,7 +36,7 @@ def triangle(a: FloatArray, y: FloatArray) -> tuple[FloatArray, FloatArray]:
 
 def bounded(a: FloatArray, y: FloatArray, lower: FloatArray, upper: FloatArray) -> FloatArray:
     """``argmin |a x - y|`` with ``lower <= x <= upper`` (BVLS on the reduced problem)."""
-    if a.shape[0] <= a.shape[1]:  # not tall: nothing to reduce
+    if not REDUCE or a.shape[0] <= a.shape[1]:  # not tall: nothing to reduce
         r, qty = a, y
     else:
         r, qty = triangle(a, y)

@@ -1,0 +1,124 @@
+#!/usr/bin/env python
+"""Diagnosis speed (issue 15): ``fsarm diagnose`` per record with 0.4.0's solver path (BVLS on
+the full tall problem, the arm's simulations one after the other) and with today's (the problem
+reduced to its k x k triangle first, the arm's simulations side by side), on the same records,
+alternating, in one run. Prints per-record times, medians and maxima and the ratios, and checks
+that both paths name the same effects.
+
+Records: the reduced single-effect bench battery (30 s records, every library effect and a null
+record on the blocked series and the parallel bench: ``battery.reduced``) and arm records (8 s
+fig14-sine, one hidden effect each).
+
+    .venv/bin/python scripts/bench_diagnose.py [--arm-only | --bench-only] [--reps 1]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import tempfile
+import time
+from collections.abc import Callable
+from functools import partial
+from pathlib import Path
+from typing import Any
+
+from fsarm_sim.discrepancy import arm_fit, diagnose_record, lsq
+from fsarm_sim.discrepancy import arm_synth as S
+from fsarm_sim.discrepancy import battery as B
+from fsarm_sim.records.measured import load_dataset
+
+ARM_EFFECTS: tuple[list[str], ...] = (
+    ["delay:q3=0.005"],
+    ["coulomb_friction:q3=0.1"],
+    ["payload_error=0.5"],
+    [],
+)
+
+
+def _paths(old: bool) -> None:
+    lsq.REDUCE = not old
+    arm_fit.SIM_THREADS = 1 if old else arm_fit._sim_threads()
+
+
+def _time(job: Callable[[], Any]) -> tuple[float, Any]:
+    t0 = time.perf_counter()
+    out = job()
+    return time.perf_counter() - t0, out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--arm-only", action="store_true")
+    ap.add_argument("--bench-only", action="store_true")
+    ap.add_argument("--reps", type=int, default=1, help="repetitions per record and path")
+    args = ap.parse_args()
+    rows: list[tuple[str, str, float, float, bool]] = []
+    if not args.arm_only:
+        for case in B.reduced(B.cases()):
+            times: dict[bool, list[float]] = {True: [], False: []}
+            named: dict[bool, list[str]] = {}
+            for rep in range(args.reps):
+                for old in (rep % 2 == 0, rep % 2 != 0):  # alternate which path goes first
+                    _paths(old)
+                    o = B.run_case(case)
+                    times[old].append(o.runtime_s)
+                    named[old] = o.named
+            rows.append(
+                (
+                    "bench",
+                    case.name,
+                    statistics.median(times[True]),
+                    statistics.median(times[False]),
+                    named[True] == named[False],
+                )
+            )
+            print(f"bench {case.name}: {rows[-1][2]:.2f} s -> {rows[-1][3]:.2f} s", flush=True)
+    if not args.bench_only:
+        with tempfile.TemporaryDirectory() as tmp:
+            for i, effects in enumerate(ARM_EFFECTS):
+                truth = S.truth_model(effects)
+                rec = S.ArmRecording(duration_s=8.0, noise_rad=2e-5, seed=i)
+                table, _ = S.write_arm_synthetic(Path(tmp) / f"arm{i}.csv", truth, rec)
+                ds = load_dataset(table)
+                times = {True: [], False: []}
+                named = {}
+                for rep in range(args.reps):
+                    for old in (rep % 2 == 0, rep % 2 != 0):
+                        _paths(old)
+                        dt, diag = _time(partial(diagnose_record, ds))
+                        times[old].append(dt)
+                        named[old] = list(diag.named)
+                label = ",".join(effects) or "null"
+                rows.append(
+                    (
+                        "arm",
+                        label,
+                        statistics.median(times[True]),
+                        statistics.median(times[False]),
+                        named[True] == named[False],
+                    )
+                )
+                print(f"arm {label}: {rows[-1][2]:.2f} s -> {rows[-1][3]:.2f} s", flush=True)
+    _paths(False)
+    print(f"\nsimulation threads (arm): {arm_fit._sim_threads()}")
+    print(
+        f"{'setup':6} {'records':>7} {'0.4.0 path median/max':>24} {'today median/max':>20} "
+        f"{'median ratio':>13} {'same effects':>13}"
+    )
+    for setup in ("bench", "arm"):
+        sel = [r for r in rows if r[0] == setup]
+        if not sel:
+            continue
+        t_old = [r[2] for r in sel]
+        t_new = [r[3] for r in sel]
+        ratio = statistics.median(o / n for o, n in zip(t_old, t_new, strict=True))
+        print(
+            f"{setup:6} {len(sel):7d} {statistics.median(t_old):10.2f} s / {max(t_old):6.2f} s "
+            f"{statistics.median(t_new):8.2f} s / {max(t_new):6.2f} s {ratio:12.2f}x "
+            f"{sum(r[4] for r in sel):>6d}/{len(sel)}   (goal: >= 2x)"
+        )
+
+
+if __name__ == "__main__":
+    main()
