@@ -48,6 +48,15 @@ def test_intervals_of_an_arm_fit_cover_the_truth() -> None:
     assert all(ok for _, ok in r.covered), r.covered
 
 
+@pytest.mark.parametrize("rate", [500.0, 2000.0])
+def test_arm_records_at_500_hz_and_2_khz_are_diagnosed(rate: float) -> None:
+    r = E.run(
+        E.ArmCase("r", "single", ("coulomb_friction",), seed=6, duration_s=DURATION_S, rate_hz=rate)
+    )
+    assert r.error == "" and r.named == ["coulomb_friction"] and r.unexplained is False
+    assert {c.rate_hz for c in E.cases() if c.group == "pair"} == {None, 500.0, 2000.0}
+
+
 @pytest.mark.parametrize("transmission", ["qa-joint", "tendon-sheath"])
 def test_synthetic_arm_record_of_another_transmission_is_diagnosed(transmission: str) -> None:
     case = E.ArmCase(

@@ -6,7 +6,8 @@ Cases (SYNTHETIC ``fig14-sine`` runs of :func:`.arm_synth.synthesize_arm`, 17-bi
 angle noise :data:`NOISE_RAD`, 1 kHz; the true flexible shaft 5 % stiffer than the catalogue):
 
 * ``pair``: every pair of the arm's effects (:data:`EFFECTS`, each at a magnitude the one-effect
-  arm battery names reliably on its own);
+  arm battery names reliably on its own), recorded in turn at 1 kHz, 500 Hz (every second
+  control tick) and 2 kHz (a 2 kHz controller) (:data:`PAIR_RATES`);
 * ``triple``: :data:`TRIPLES`;
 * ``ool``: out-of-library disturbances of the recording (:func:`disturbance`): a 50 Hz pickup
   line on the motor encoder's channel, the motor encoder's offset drifting linearly over the
@@ -81,6 +82,12 @@ class ArmCase:
     transmission: str = transmissions.DEFAULT
     seed: int = 0
     duration_s: float = 8.0
+    rate_hz: float | None = None  # the record's rate (None: the 1 kHz control rate)
+
+
+# record rates of the pair cases, in turn (issue 16: 500 Hz to 2 kHz): the control rate, every
+# second tick, and a 2 kHz controller
+PAIR_RATES: tuple[float | None, ...] = (None, 500.0, 2000.0)
 
 
 @dataclass
@@ -109,9 +116,15 @@ def cases(duration_s: float = 8.0) -> list[ArmCase]:
     """The whole battery (module docstring)."""
     out: list[ArmCase] = []
     seed = 1700
-    for a, b in itertools.combinations(EFFECTS, 2):
+    for i, (a, b) in enumerate(itertools.combinations(EFFECTS, 2)):
         seed += 1
-        out.append(ArmCase(f"pair:{a}+{b}", "pair", (a, b), seed=seed, duration_s=duration_s))
+        rate = PAIR_RATES[i % len(PAIR_RATES)]
+        at = "" if rate is None else f"@{rate:g}Hz"
+        out.append(
+            ArmCase(
+                f"pair:{a}+{b}{at}", "pair", (a, b), seed=seed, duration_s=duration_s, rate_hz=rate
+            )
+        )
     for tr3 in TRIPLES:
         seed += 1
         out.append(
@@ -181,6 +194,7 @@ def run(case: ArmCase, joint: bool | None = None) -> ArmResult:
         noise_rad=NOISE_RAD,
         seed=case.seed,
         transmission=case.transmission,
+        rate_hz=case.rate_hz,
     )
     dist = disturbance(case.extra) if case.extra else None
     try:
