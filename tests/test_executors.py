@@ -6,13 +6,14 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 from typing import Any
 
 import pytest
 
-from fsarm_sim.executors import ExecutorError, Outcome, run_tasks
+from fsarm_sim.executors import START_METHOD_ENV, ExecutorError, Outcome, run_tasks, start_method
 from fsarm_sim.records.store import ResultStore
 from fsarm_sim.studies import sweep as sw
 
@@ -49,6 +50,51 @@ def test_local_pool_matches_inline(inline: dict[tuple[float, float], dict[str, A
     assert _by_point(outs) == inline  # bit-identical: each point is deterministic
     # physics sanity: the payload loads the motor
     assert inline[(13.0, 5.0)]["peak_motor_torque_nm"] > inline[(13.0, 0.0)]["peak_motor_torque_nm"]
+
+
+@pytest.mark.parametrize("start", ["fork", "spawn"])
+def test_pool_start_methods_match_inline(
+    inline: dict[tuple[float, float], dict[str, Any]],
+    start: str,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Forked and spawned workers give the same results; ``prepare`` runs here only before a
+    fork, ``on_start`` once, before the first result."""
+    monkeypatch.setenv(START_METHOD_ENV, "" if start == "fork" else "spawn")
+    forks = start_method() == "fork"
+    if start == "fork" and not forks:
+        pytest.skip("this process runs other threads (or no fork here): the pool spawns")
+    events: list[str] = []
+    outs = run_tasks(
+        sw.evaluate_point,
+        _tiny_tasks(),
+        workers=2,
+        prepare=lambda: events.append("prepare"),
+        on_start=lambda: events.append("start"),
+        on_done=lambda o: events.append("done"),
+    )
+    assert _by_point(outs) == inline
+    assert events[: 2 if forks else 1] == (["prepare", "start"] if forks else ["start"])
+    assert events.count("start") == 1 and events.count("done") == 4
+
+
+def test_start_method_spawns_beside_other_threads(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A fork copies only the calling thread: with another thread running (a progress bar
+    holding a lock, say), the pool spawns; ``FSARM_START_METHOD=spawn`` always spawns."""
+    monkeypatch.delenv(START_METHOD_ENV, raising=False)
+    release = threading.Event()
+    other = threading.Thread(target=release.wait)
+    other.start()
+    try:
+        assert start_method() == "spawn"
+    finally:
+        release.set()
+        other.join()
+    monkeypatch.setenv(START_METHOD_ENV, "spawn")
+    assert start_method() == "spawn"
+    monkeypatch.delenv(START_METHOD_ENV)
+    if threading.active_count() == 1 and sys.platform == "linux":
+        assert start_method() == "fork"
 
 
 def test_threads_match_inline(inline: dict[tuple[float, float], dict[str, Any]]) -> None:
@@ -123,8 +169,10 @@ def _alive(pid: int) -> bool:
 
 
 @pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads the process table from /proc")
-def test_pool_workers_end_when_the_sweep_is_killed(tmp_path: Path) -> None:
-    """kill -9 of a sweep must not leave its workers computing on as orphans."""
+@pytest.mark.parametrize("start", ["fork", "spawn"])
+def test_pool_workers_end_when_the_sweep_is_killed(tmp_path: Path, start: str) -> None:
+    """kill -9 of a sweep must not leave its workers computing on as orphans (forked workers,
+    the default where safe, and spawned ones)."""
     cmd = [
         sys.executable,
         "-c",
@@ -142,15 +190,20 @@ def test_pool_workers_end_when_the_sweep_is_killed(tmp_path: Path) -> None:
         "2",
         "--no-progress",
     ]
-    proc = subprocess.Popen(
-        cmd, env={**os.environ, "MUJOCO_GL": "disable"}, stdout=subprocess.DEVNULL
-    )
+    env = {**os.environ, "MUJOCO_GL": "disable", START_METHOD_ENV: start}
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL)
     deadline = time.monotonic() + 60.0
     workers: list[int] = []
     while len(workers) < 2 and time.monotonic() < deadline:
         time.sleep(0.2)
-        # the pool's workers (and its resource tracker) are the sweep's children
-        workers = [c for c in _children(proc.pid) if "spawn_main" in _cmdline(c)]
+        # the pool's workers are the sweep's children (besides a resource tracker, and a build
+        # of the native library the sweep may have started); spawned ones say so
+        workers = [
+            c
+            for c in _children(proc.pid)
+            if not any(s in _cmdline(c) for s in ("resource_tracker", "native_lib"))
+            and (start == "fork" or "spawn_main" in _cmdline(c))
+        ]
     assert len(workers) == 2, "the pool did not start"
     os.kill(proc.pid, signal.SIGKILL)
     proc.wait()

@@ -9,7 +9,8 @@ top-level ``controllers/`` folder, installed as ``fsarm_sim.controllers``.
 
 Read top-down, the layers are the package's folders (since 0.3.0):
 
-* base - named errors, declared parameter blocks, output paths, task executors;
+* base - named errors, declared parameter blocks, output paths, task executors, the lazily
+  completed command app;
 * laws (``plant/``, ``controllers/``) - physical laws and pure controllers: no MuJoCo,
   compilable (effects, transmissions, the shaft catalogue);
 * layout (``kernels/layout``) - where parameters and states live inside a model and its data;
@@ -28,7 +29,19 @@ Read top-down, the layers are the package's folders (since 0.3.0):
 from __future__ import annotations
 
 LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
-    ("base", ("__init__", "_layers", "data", "errors", "executors", "outputs", "paramblocks")),
+    (
+        "base",
+        (
+            "__init__",
+            "_layers",
+            "data",
+            "errors",
+            "executors",
+            "lazy_commands",
+            "outputs",
+            "paramblocks",
+        ),
+    ),
     ("laws", ("controllers", "plant")),
     ("layout", ("kernels", "kernels.layout")),
     ("kernels", ("kernels.physics",)),

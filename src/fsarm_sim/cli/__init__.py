@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
 import importlib
 import math
+import sys
 from pathlib import Path
 from typing import Annotated
 
@@ -13,8 +15,17 @@ from rich.table import Table
 
 from fsarm_sim.cli.console import make_console
 from fsarm_sim.errors import FsarmError
+from fsarm_sim.lazy_commands import (
+    LazyTyper,
+    command_name,
+    freeze_at_exit,
+    freeze_imports_if_entry,
+    preload,
+)
 
-app = typer.Typer(
+# the extension modules' commands are registered when first needed (fsarm_sim.lazy_commands)
+app = LazyTyper(
+    register_extensions=lambda: _register_extensions(),
     help="Flexible-shaft arm simulator (MuJoCo). Run scenarios headless and report tracking metrics.",
     no_args_is_help=True,
     add_completion=False,
@@ -177,6 +188,13 @@ def run_cmd(
         transmission=transmission,
         transmission_params=parse_params(tr_param or []),
     )
+    if backend == "native":
+        # the kernels, which the run would load anyway, now: this thread then imports nothing
+        # of its own while the writer is imported beside the run
+        from fsarm_sim.engine.callbacks import load_native
+
+        load_native()
+    preload("pyarrow.csv" if fmt == "csv" else "pyarrow.parquet")  # while the run steps
     try:
         result = run_scenario(
             scenario,
@@ -287,13 +305,18 @@ def _register_extensions() -> None:
     importlib.import_module("fsarm_sim.cli.seed_experiments").register(app)
 
 
-_register_extensions()
+app.ready()
 
 
 def main() -> None:
     """Entry point: named errors become one red line and exit code 2, never a traceback."""
+    # a command defined in this module (`fsarm run ...`) needs none of the extension modules
+    core = command_name(sys.argv[1:]) in app.core_names()
+    freeze_imports_if_entry(main)  # the garbage collector skips the imports' objects
+    freeze_at_exit()
     try:
-        app()
+        with app.core_only() if core else contextlib.nullcontext():
+            app()
     except FsarmError as exc:
         err_console.print(f"[bold red]error:[/] {escape(str(exc))}", soft_wrap=True)
         raise SystemExit(2) from None

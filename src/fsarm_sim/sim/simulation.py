@@ -145,6 +145,8 @@ def check_clock(model: mujoco.MjModel, data: mujoco.MjData) -> None:
 
 def raise_on_warning(data: mujoco.MjData) -> None:
     """Turn any MuJoCo warning into a SimulationWarningError naming it."""
+    if not data.warning.number.any():  # the usual case, in ~2 us (the list below takes ~0.1 ms)
+        return
     hits = [
         f"{mujoco.mjtWarning(i).name} (x{int(w.number)}, info {int(w.lastinfo)})"
         for i, w in enumerate(data.warning)

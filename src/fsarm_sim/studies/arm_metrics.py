@@ -32,8 +32,10 @@
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import mujoco
@@ -62,9 +64,15 @@ BANDS_PER_DECADE = 20
 
 def scenario_holds_joint2(name: str, duration_s: float, ctrl_dt_s: float = 0.001) -> bool:
     """True if the scenario's joint-2 reference is constant (its pose defines the bend)."""
-    sc = scenarios.get(name)
+    return _holds_joint2(scenarios.get(name).reference, duration_s, ctrl_dt_s)
+
+
+@functools.lru_cache(maxsize=256)
+def _holds_joint2(reference: Callable[[Array], Array], duration_s: float, ctrl_dt_s: float) -> bool:
+    """Cached per reference function (a sweep asks for every point; a scenario registered anew
+    under the same name brings a new function, so a new answer)."""
     n = round(duration_s / ctrl_dt_s) + 1
-    table = sc.reference(np.arange(n, dtype=np.float64) * ctrl_dt_s)
+    table = reference(np.arange(n, dtype=np.float64) * ctrl_dt_s)
     return bool(np.ptp(table[:, 1]) == 0.0 and np.all(table[:, 4] == 0.0))
 
 

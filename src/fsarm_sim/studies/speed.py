@@ -22,11 +22,14 @@ the machine may be shared):
   default full logging (one row per control tick, recorded by the control kernel) and without
   logging (``log_every_ticks=0``): simulated time / stepping wall time.
 * whole process - ``fsarm run fig14-sine --duration 10 --out TMP`` as a subprocess (wall time
-  from start to exit), and the same steps timed inside one fresh interpreter: imports of the CLI,
-  loading the native kernels, building and stepping the run, writing the output.
+  from start to exit), and the same steps timed inside one fresh interpreter: imports of the CLI
+  and of what ``fsarm run`` imports, loading the native kernels, building and stepping the run,
+  writing the output (the rest of the process's wall time: interpreter start and exit, parsing
+  the command line, printing).
 * sweep - ``fsarm_sim.studies.sweep.run_sweep`` of 12 tracking points of 10 s (four diameters x
-  three lengths) into a new store, with 1 and 2 workers: throughput per core as a real-time factor,
-  against the single-run one.
+  three lengths) into a new store, with 1 and 2 workers (process workers, forked where that is
+  safe, and threads), three repetitions: throughput per core as a real-time factor, against the
+  single-run one.
 * batch - differently configured runs (every catalogue shaft D/L, series hysteresis on), each in
   its own thread through ``mujoco.rollout`` (:mod:`fsarm_sim.sim.batch`), with 1..N workers.
 """
@@ -34,6 +37,7 @@ the machine may be shared):
 from __future__ import annotations
 
 import json
+import math
 import statistics
 import subprocess
 import sys
@@ -103,6 +107,9 @@ class SpeedReport:
     sweep_scaling: dict[int, float] = field(default_factory=dict)  # workers -> vs 1 worker
     sweep_threads_rtf_per_core: dict[int, float] = field(default_factory=dict)  # executor threads
     sweep_threads_scaling: dict[int, float] = field(default_factory=dict)
+    sweep_cpu_s: dict[int, float] = field(default_factory=dict)  # workers -> median CPU s
+    sweep_threads_cpu_s: dict[int, float] = field(default_factory=dict)
+    sweep_start_method: str = ""  # how the process workers started: fork or spawn
 
 
 def _full_config() -> SimConfig:
@@ -172,7 +179,8 @@ _PHASES = """
 import json, sys, tempfile, time
 from pathlib import Path
 t = [time.perf_counter()]
-import fsarm_sim.cli  # the command and what it imports at start
+import fsarm_sim.cli  # the command and what `fsarm run` imports
+import fsarm_sim.engine.callbacks, fsarm_sim.records.timeseries, fsarm_sim.sim.simulation
 t.append(time.perf_counter())
 from fsarm_sim.engine import callbacks  # loading the compiled kernels
 source = callbacks.native_source()
@@ -222,9 +230,17 @@ def _process(reps: int, duration_s: float) -> tuple[list[float], dict[str, list[
 
 def _sweep(
     reps: int, duration_s: float, max_workers: int, executor: str = "local"
-) -> tuple[int, dict[int, list[float]]]:
-    """Real-time factor per core of a 12-point tracking sweep, per number of workers."""
+) -> tuple[int, dict[int, list[float]], dict[int, list[float]]]:
+    """Real-time factor per core of a 12-point tracking sweep, per number of workers, and the
+    CPU seconds each sweep took (this process and its workers: what the workers cost beyond
+    the points, whatever else the machine runs)."""
+    import os
+
     from fsarm_sim.studies import sweep
+
+    def cpu() -> float:
+        t = os.times()
+        return t.user + t.system + t.children_user + t.children_system
 
     spec = sweep.build_spec(
         grid=["diameter_mm=6,8,10,12", "length_mm=335,435,535"],
@@ -234,14 +250,17 @@ def _sweep(
     )
     n_points = len(sweep.points(spec))
     out: dict[int, list[float]] = {}
+    cpus: dict[int, list[float]] = {}
     for _ in range(reps):
         for w in range(1, max_workers + 1):
             with tempfile.TemporaryDirectory(prefix="fsarm-bench-") as tmp:
+                c0 = cpu()
                 rep = sweep.run_sweep(spec, Path(tmp) / "s.sqlite", executor=executor, workers=w)
+                cpus.setdefault(w, []).append(cpu() - c0)  # (the pool's workers were joined)
             if rep.failed:
                 raise InvalidParameterError(f"benchmark sweep points failed: {rep.errors[:2]}")
             out.setdefault(w, []).append(n_points * duration_s / rep.wall_s / w)
-    return n_points, out
+    return n_points, out, cpus
 
 
 def _batch(
@@ -295,7 +314,7 @@ def measure_speed(
     batch_duration_s: float = 2.0,
     max_workers: int | None = None,
     process_reps: int = 3,
-    sweep_reps: int = 1,
+    sweep_reps: int = 3,
 ) -> SpeedReport:
     """Run the whole benchmark (about a minute on 2 cores) and return its medians."""
     for name, v in (("reps", reps), ("block_steps", block_steps), ("rtf_reps", rtf_reps)):
@@ -315,13 +334,16 @@ def measure_speed(
     walls = _realtime(rtf_reps, rtf_duration_s)
     walls_logged = _realtime(rtf_reps, rtf_duration_s, log_every_ticks=1)
     proc, phases, source = _process(process_reps, rtf_duration_s)
-    sweep_n, sweep = (
-        _sweep(sweep_reps, rtf_duration_s, min(n_workers, 2)) if sweep_reps > 0 else (0, {})
+    from fsarm_sim.executors import start_method
+
+    pool_start = start_method()
+    sweep_n, sweep, sweep_cpu = (
+        _sweep(sweep_reps, rtf_duration_s, min(n_workers, 2)) if sweep_reps > 0 else (0, {}, {})
     )
-    _, sweep_t = (
+    _, sweep_t, sweep_t_cpu = (
         _sweep(sweep_reps, rtf_duration_s, min(n_workers, 2), "threads")
         if sweep_reps > 0
-        else (0, {})
+        else (0, {}, {})
     )
     thr, scale, thr_best = _batch(batch_reps, n_runs, batch_duration_s, n_workers)
     return SpeedReport(
@@ -369,6 +391,9 @@ def measure_speed(
             w: statistics.median(a * w / b for a, b in zip(v, sweep_t[1], strict=True))
             for w, v in sweep_t.items()
         },
+        sweep_cpu_s={w: statistics.median(v) for w, v in sweep_cpu.items()},
+        sweep_threads_cpu_s={w: statistics.median(v) for w, v in sweep_t_cpu.items()},
+        sweep_start_method=pool_start,
     )
 
 
@@ -411,24 +436,34 @@ def format_report(r: SpeedReport) -> str:
         f"whole process `fsarm run {SCENARIO} --duration {r.rtf_duration_s:g} --out DIR`: "
         f"{r.process_s:.2f} s   goal <= {GOAL_PROCESS_S:g} s: {goal(r.process_s <= GOAL_PROCESS_S)}",
         f"  phases in a fresh interpreter (native callbacks from the {r.kernel_source}): "
-        + ", ".join(f"{k} {v:.3f} s" for k, v in r.process_phases.items()),
+        + ", ".join(f"{k} {v:.3f} s" for k, v in r.process_phases.items())
+        + (
+            f"; the rest (interpreter start and exit, CLI parsing, printing): "
+            f"{r.process_s - sum(v for k, v in r.process_phases.items() if '(' not in k):.3f} s"
+            if r.process_phases
+            else ""
+        ),
     ]
     if r.sweep_points:
         single = r.rtf_logged
         lines.append(
             f"sweep: {r.sweep_points} tracking points x {r.sweep_duration_s:g} s (run_sweep, "
-            "process workers):"
+            f"process workers started by {r.sweep_start_method or '?'}; CPU: of the sweep's "
+            "process and workers):"
         )
         for w, v in r.sweep_rtf_per_core.items():
+            cpu = r.sweep_cpu_s.get(w, math.nan)
             lines.append(
                 f"  {w} worker{'s' if w > 1 else ' '}  {v:6.0f}x real time per core"
-                f" ({v / single:.2f} of the single run), scaling {r.sweep_scaling[w]:.2f}x"
+                f" ({v / single:.2f} of the single run), scaling {r.sweep_scaling[w]:.2f}x,"
+                f" CPU {cpu:.2f} s"
             )
         for w, v in r.sweep_threads_rtf_per_core.items():
+            cpu = r.sweep_threads_cpu_s.get(w, math.nan)
             lines.append(
                 f"  {w} thread{'s' if w > 1 else ' '}  {v:6.0f}x real time per core"
                 f" ({v / single:.2f} of the single run), scaling "
-                f"{r.sweep_threads_scaling[w]:.2f}x  (--executor threads)"
+                f"{r.sweep_threads_scaling[w]:.2f}x, CPU {cpu:.2f} s  (--executor threads)"
             )
         if 1 in r.sweep_rtf_per_core:
             per = r.sweep_rtf_per_core[1] / single

@@ -546,11 +546,7 @@ def evaluate_point(task: Mapping[str, Any]) -> dict[str, Any]:
 
     p = task["point"]
     text = task.get("catalogue_toml")
-    cat = (
-        load_catalogue()
-        if text is None
-        else parse_catalogue(tomllib.loads(text), str(task.get("catalogue_source", "shaft file")))
-    )
+    cat = _task_catalogue(text, str(task.get("catalogue_source", "shaft file")))
     d, ell, bend = p["diameter_mm"], p["length_mm"], math.radians(p["bend_deg"])
     shaft = cat.shaft(d, ell, extrapolate=p["extrapolate"])
     backend = task.get("backend", "native")
@@ -617,6 +613,13 @@ def evaluate_point(task: Mapping[str, Any]) -> dict[str, Any]:
     if "relief" in outputs:
         out["static_relief_nm"] = arm_metrics.static_relief_nm(cfg)
     return out
+
+
+@functools.lru_cache(maxsize=8)
+def _task_catalogue(text: str | None, source: str) -> Catalogue:
+    """The catalogue of a task, parsed once per process (a Catalogue is immutable, so the points
+    of a sweep share it; parsing the TOML took ~2 ms of every point)."""
+    return load_catalogue() if text is None else parse_catalogue(tomllib.loads(text), source)
 
 
 @functools.lru_cache(maxsize=64)
@@ -716,10 +719,12 @@ def run_sweep(
             if on_done is not None:
                 on_done(o)
 
-        try:
+        def start_bar() -> None:  # once the workers run: the bar's thread is not forked
             if bar is not None:
                 bar[0].start()
                 bar[0].update(bar[1], total=len(tasks))
+
+        try:
             run_tasks(
                 evaluate_point,
                 tasks,
@@ -728,12 +733,26 @@ def run_sweep(
                 scheduler=scheduler,
                 processes=processes,
                 on_done=store_one,
+                prepare=functools.partial(prepare_workers, spec),
+                on_start=start_bar,
             )
         finally:
             if bar is not None:
                 bar[0].stop()
             report.wall_s = time.perf_counter() - start
     return report
+
+
+def prepare_workers(spec: SweepSpec) -> None:
+    """What every point needs, done once in the sweep's process before the local pool forks its
+    workers (:func:`fsarm_sim.executors.run_tasks`): the simulation, metrics and bench modules
+    (imported, so the workers inherit them) and, on the native backend, the compiled kernels."""
+    from fsarm_sim.engine import callbacks
+    from fsarm_sim.studies import arm_metrics, campaign
+
+    del arm_metrics, campaign  # imported for the workers to inherit
+    if spec.backend == "native":
+        callbacks.load_native()
 
 
 def _progress(enabled: bool) -> tuple[Any, Any] | None:
