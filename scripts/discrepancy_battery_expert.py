@@ -72,6 +72,7 @@ def main() -> None:
                             "signature": r.signature,
                             "ci_covered": r.covered,
                             "runtime_s": r.runtime_s,
+                            "cpu_s": r.cpu_s,
                             "error": r.error,
                         }
                         for r in results

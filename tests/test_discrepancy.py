@@ -337,8 +337,9 @@ def test_an_extra_effect_must_earn_its_place_clearly(monkeypatch: pytest.MonkeyP
     ds = _dataset(truth, rec)
     diag = diagnose(ds)
     assert diag.named == ["nonlinear_stiffness"]
-    last = diag.steps[-1]
+    last = [st for st in diag.steps if not st.joint][-1]  # the last one-at-a-time step
     assert last.added is None and "extra effect" in last.reason
+    assert diag.steps[-1].added is None  # nor does a joint search or restart name it
     top = last.scores[0]
     assert top.extra and top.share_of_explained < S.MIN_SHARE_EXTRA
     assert "remains that no further effect claims" in diag.verdict

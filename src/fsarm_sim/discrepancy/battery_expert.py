@@ -85,6 +85,7 @@ class Result:
     signature: dict[str, Any]
     covered: list[tuple[str, bool]] = field(default_factory=list)
     runtime_s: float = math.nan
+    cpu_s: float = math.nan  # process time of the diagnosis (one core; the machine may be shared)
     joint_steps: int = 0
     error: str = ""
     extra_truth: dict[str, float] = field(default_factory=dict)  # the disturbance's truth
@@ -186,9 +187,9 @@ def run(group: str, case: B.Case) -> Result:
     truth, _ = B.build_truth(case)
     try:
         ds = B.dataset(truth, case, case.noise)
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         diag = diagnose(ds)
-        dt = time.perf_counter() - t0
+        dt, dc = time.perf_counter() - t0, time.process_time() - c0
     except Exception as exc:  # a battery reports failures, it does not stop at them
         return Result(case, group, truth, [], None, {}, error=f"{type(exc).__name__}: {exc}"[:160])
     ci = diag.extras.get("confidence_intervals") or {}
@@ -214,6 +215,7 @@ def run(group: str, case: B.Case) -> Result:
         signature=diag.extras.get("residual_signature") or {},
         covered=covered,
         runtime_s=dt,
+        cpu_s=dc,
         joint_steps=sum(1 for st in diag.steps if st.joint and st.added),
         extra_truth=extra_truth(truth, case),
     )
@@ -303,6 +305,11 @@ def format_results(results: list[Result]) -> str:
             f"{'' if sr is None else ('sig-ok ' if sr else 'sig-BAD ')}{sig[:90]}{r.error}"
         )
     lines += rate_lines(rates(results), [r.runtime_s for r in results], "")
+    cpu = [r.cpu_s for r in results if math.isfinite(r.cpu_s)]
+    if cpu:
+        lines.append(
+            f"  process time per record: median {float(np.median(cpu)):.1f} s, max {max(cpu):.1f} s"
+        )
     return "\n".join(lines)
 
 

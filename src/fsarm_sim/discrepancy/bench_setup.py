@@ -39,7 +39,7 @@ from fsarm_sim.discrepancy.residuals import (
     signature,
 )
 from fsarm_sim.discrepancy.selection import Score
-from fsarm_sim.discrepancy.uncertainty import interval_lines, intervals
+from fsarm_sim.discrepancy.uncertainty import RICHARDSON, interval_lines, intervals
 from fsarm_sim.discrepancy.unexplained import Signals, characterise
 from fsarm_sim.discrepancy.unexplained import plot as plot_signature
 from fsarm_sim.plant.effects import registry
@@ -148,7 +148,28 @@ class BenchSetup:
     def accept(self, fit: C.Fit) -> C.Fit:
         # hysteresis elements were fitted on a fixed grid: move them off it before the next
         # step, so that the grid's approximation error is not left for another effect
-        return C.refine_elements(self.ctx, fit) if fit.effect == V.HYSTERESIS else fit
+        out = C.refine_elements(self.ctx, fit) if fit.effect == V.HYSTERESIS else fit
+        # the nonlinear settings of the effects named before, searched again with this one in
+        return C.backfit(self.ctx, out, fit.effect)
+
+    def swap_variants(self, fit: C.Fit) -> tuple[C.Fit, dict[str, str]]:
+        """:func:`.candidates.swap_variants` (the core's pruning, optional in the protocol; an
+        inertia load's fits are output-error fits: kept as they are)."""
+        if self.ctx.inp.inertia_load:
+            return fit, {}
+        return C.swap_variants(self.ctx, fit, list(self.pairs), self.look_alikes)
+
+    def holds(self, fit: C.Fit, effect: str) -> bool:
+        """Does ``fit``'s structure still hold ``effect`` (hysteresis elements can all be
+        pruned when later effects are fitted)? (The core's pruning, optional in the protocol.)"""
+        return any(e == effect for e, _ in C.present(fit.structure))
+
+    def without(self, fit: C.Fit, effect: str) -> C.Fit | None:
+        """:func:`.candidates.without` (the core's pruning, optional in the protocol; None on
+        an inertia load)."""
+        if self.ctx.inp.inertia_load:
+            return None
+        return C.without(self.ctx, fit, effect)
 
     def finish(self, fit: C.Fit, named: Sequence[str]) -> C.Fit:
         return C.refine(self.ctx, fit) if named else fit
@@ -157,14 +178,22 @@ class BenchSetup:
         self, nominal: C.Fit, final: C.Fit, named: Sequence[str]
     ) -> tuple[str, dict[str, Any]]:
         sigma_in = input_error_floor(self.dataset, self.ctx, final.model)
-        extras: dict[str, Any] = {"sigma_inputs": sigma_in}
-        extras["unexplained"] = unexplained(self.ctx, final, sigma_in)
+        half = R.prepare_inputs(self.dataset, window_scale=0.5)
+        sigma_rep = replay_error_floor(self.ctx, final, half)
+        sigma_all = math.hypot(sigma_in, sigma_rep)
+        extras: dict[str, Any] = {"sigma_inputs": sigma_in, "sigma_replay": sigma_rep}
+        extras["unexplained"] = unexplained(self.ctx, final, sigma_all)
         sig = characterise(self.signal_set(final))
         extras["residual_signature"] = sig
         extras["confidence_intervals"] = intervals(
-            final.model, self.ctx.inp, self.ctx.teach, final.yhat, self.ctx.multi_bend
+            final.model,
+            self.ctx.inp,
+            self.ctx.teach,
+            final.yhat,
+            self.ctx.multi_bend,
+            half=half,
         )
-        text = verdict(self.ctx, nominal, final, named, sigma_in)
+        text = verdict(self.ctx, nominal, final, named, sigma_all)
         if extras["unexplained"]:
             text += f"; what remains: {sig['summary']}"
         return text, extras
@@ -249,6 +278,9 @@ class BenchSetup:
                 f"{ds.output_column} from the recorded inputs' errors (propagated)": (
                     floors.sigma_inputs
                 ),
+                f"{ds.output_column} from the replay's smoothing (filter windows halved)": float(
+                    diag.extras.get("sigma_replay", 0.0)
+                ),
                 **(
                     {"theta_s": noise_floor(inp.theta_s)}
                     if inp.inertia_load and inp.theta_s is not None
@@ -300,10 +332,25 @@ def _over_noise(mse: float, sigma: float) -> float:
 def diagnose(ds: Dataset, *, max_effects: int = S.MAX_EFFECTS) -> BenchDiagnosis:
     """Find, name and fit the effects missing from the nominal model of a bench dataset."""
     t0 = time.perf_counter()
-    return core.diagnose(BenchSetup(ds), max_effects, kind=BenchDiagnosis, started=t0)
+    setup = BenchSetup(ds)
+    # restart and pruning refit whole structures: not on an inertia load (output-error fits)
+    restart = not setup.ctx.inp.inertia_load
+    return core.diagnose(setup, max_effects, kind=BenchDiagnosis, started=t0, restart=restart)
 
 
 UNEXPLAINED = math.sqrt(2.0)  # residual RMS / noise floor from which the rest is "unexplained"
+
+
+def replay_error_floor(ctx: C.Context, final: C.Fit, half: R.ReplayInputs) -> float:
+    """The replay's own error on the held-out samples: the recorded angles are smoothed and
+    differentiated before they drive the model (:func:`.replay.prepare_inputs`), which rounds off
+    fast motion (steps at 500 Hz: ~0.6 x the output noise on a plain record). Estimated as in
+    :mod:`.uncertainty`: the RMS change of the final model's replay with every filter window
+    halved, times :data:`.uncertainty.RICHARDSON`. Like the inputs' own errors, part of the floor
+    below which a residual is not ``unexplained``; never used to name an effect."""
+    d = (final.yhat - R.replay(final.model, half)["y"])[ctx.held]
+    d = d[np.isfinite(d)]
+    return float(RICHARDSON * np.sqrt(np.mean(d * d))) if d.size else 0.0
 
 
 def unexplained(ctx: C.Context, final: C.Fit, sigma_in: float = 0.0) -> bool:

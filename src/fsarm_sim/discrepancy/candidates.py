@@ -21,13 +21,15 @@ linear, same data matrices) and then refined on the output error of the full rep
 from __future__ import annotations
 
 import math
+from collections.abc import Collection
 from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
-from scipy.optimize import least_squares, lsq_linear, minimize, minimize_scalar
+from scipy.optimize import least_squares, minimize, minimize_scalar
 
+from fsarm_sim.discrepancy import lsq
 from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.discrepancy.benchmodel import BenchModel, EffectInstance
@@ -266,14 +268,13 @@ def build_columns(
 
 
 def solve_columns(cols: Columns, y: FloatArray, rows: BoolArray) -> FloatArray:
-    """Bounded linear least squares on the rows (columns scaled to unit RMS)."""
+    """Bounded linear least squares on the rows (columns scaled to unit RMS; reduced to k x k
+    first, :mod:`fsarm_sim.discrepancy.lsq`)."""
     a = cols.a[rows]
     scale = np.sqrt(np.mean(a * a, axis=0))
     scale[scale == 0.0] = 1.0
-    res = lsq_linear(
-        a / scale, y[rows], bounds=(cols.lower * scale, cols.upper * scale), method="bvls"
-    )
-    return np.asarray(res.x / scale, dtype=np.float64)
+    x = lsq.bounded(a / scale, y[rows], cols.lower * scale, cols.upper * scale)
+    return np.asarray(x / scale, dtype=np.float64)
 
 
 # ----------------------------------------------------------------------------- coefficients -> model
@@ -838,8 +839,9 @@ def refine_elements(ctx: Context, fit: Fit) -> Fit:
 
 
 def refine(ctx: Context, fit: Fit) -> Fit:
-    """Joint refinement of the nonlinear parameters (delay, input offset, backlash) of the final
-    structure, each around its value (Nelder-Mead on the teaching MSE)."""
+    """Joint refinement of the nonlinear parameters (delay, input offset, backlash, the Coulomb
+    element's presliding deflection in log) of the final structure, each around its value
+    (Nelder-Mead on the teaching MSE)."""
     st = fit.structure
     keys: list[str] = []
     x0: list[float] = []
@@ -852,6 +854,9 @@ def refine(ctx: Context, fit: Fit) -> Fit:
     if st.backlash is not None:
         keys += ["w", "c"]
         x0 += list(st.backlash)
+    if st.coulomb is not None:
+        keys.append("cd")
+        x0.append(math.log(st.coulomb))
     if len(keys) < 2 and not (keys and len(fit.model.effects) > 1):
         return fit
     quick = ctx.inp.inertia_load  # inertia load: search on the equation error, refine once
@@ -869,6 +874,9 @@ def refine(ctx: Context, fit: Fit) -> Fit:
                 float(np.clip(vals["w"], 1e-6, BACKLASH_W.upper)),
                 float(np.clip(vals["c"], BACKLASH_C.lower, BACKLASH_C.upper)),
             )
+        if "cd" in vals:
+            hi = max(2.0 * ctx.delta_c, coulomb_delta_max(ctx.x_ref))
+            s2.coulomb = float(np.clip(math.exp(vals["cd"]), ctx.delta_c, hi))
         fi = solve(ctx, s2, quick)
         if fi.mse_teach < best[0].mse_teach:
             best[0] = fi
@@ -887,3 +895,181 @@ def refine(ctx: Context, fit: Fit) -> Fit:
             out = fit
     out.label, out.effect, out.variant = fit.label, fit.effect, fit.variant
     return out
+
+
+# ----------------------------------------------------------------------------- backfitting
+
+# the effects whose nonlinear setting :func:`candidate` searches, and the structure field it sits in
+SEARCHED = ((V.DELAY, "input", "delay_s"), (V.OFFSET, "input", "in_offset"))
+SEARCHED_2 = ((V.BACKLASH, "coupling", "backlash"), (V.COULOMB, "shaft", "coulomb"))
+
+
+def backfit(ctx: Context, fit: Fit, added: str | None) -> Fit:
+    """Re-search the nonlinear setting of every effect of ``fit`` other than the one just
+    ``added`` (input delay, input offset, backlash width and centre, Coulomb presliding
+    deflection) on top of all the others, one at a time (backfitting). Each was searched when it
+    was named, with the effects named after it missing: a delay found before a Coulomb element
+    absorbs part of the friction's lag, a backlash found before an output offset is off-centre.
+    A re-search is kept when it lowers the teaching MSE; with two or more such settings they are
+    then refined together (:func:`refine`: correlated settings, e.g. a delay and a Coulomb
+    element's presliding deflection, do not reach their joint optimum one at a time). Blocked
+    series and parallel bench (an inertia load's searches are output-error fits: kept as they
+    are)."""
+    if ctx.inp.inertia_load:
+        return fit
+    best = fit
+    for effect, variant, attr in (*SEARCHED, *SEARCHED_2):
+        if effect == added or getattr(best.structure, attr) is None:
+            continue
+        base = best.structure.copy()
+        setattr(base, attr, None)
+        f = candidate(ctx, replace(best, structure=base), effect, variant)
+        if f is not None and f.mse_teach < best.mse_teach:
+            best = f
+    if sum(getattr(best.structure, a) is not None for _, _, a in (*SEARCHED, *SEARCHED_2)) >= 2:
+        best = refine(ctx, best)  # the settings together, around the values found one at a time
+    if best is not fit:
+        best.label, best.effect, best.variant, best.note = (
+            fit.label,
+            fit.effect,
+            fit.variant,
+            fit.note,
+        )
+    return best
+
+
+# ----------------------------------------------------------------------------- pruning
+
+# (effect, variant) -> (the structure field it sits in, the field's value when absent)
+_FIELDS: dict[tuple[str, str], tuple[str, Any]] = {
+    (V.DELAY, "input"): ("delay_s", None),
+    (V.OFFSET, "input"): ("in_offset", None),
+    (V.OFFSET, "output"): ("out_offset", False),
+    (V.BACKLASH, "coupling"): ("backlash", None),
+    (V.COULOMB, "shaft"): ("coulomb", None),
+    (V.COULOMB, "load"): ("load_coulomb", False),
+    (V.VISCOUS, "shaft"): ("viscous", False),
+    (V.VISCOUS, "load"): ("load_viscous", False),
+    (V.NONLINEAR, "poly"): ("poly", None),
+    (V.NONLINEAR, "poly_per_sign"): ("poly", None),
+    (V.HYSTERESIS, "maxwell_slip"): ("slip", None),
+    (V.HYSTERESIS, "viscoelastic"): ("ve", None),
+}
+
+
+def present(st: Structure) -> list[tuple[str, str]]:
+    """The (effect, variant) pairs a structure holds."""
+    out = []
+    for (e, v), (attr, absent) in _FIELDS.items():
+        val = getattr(st, attr)
+        if attr == "poly":
+            if val == v:
+                out.append((e, v))
+        elif val is not absent and val is not False:
+            out.append((e, v))
+    return out
+
+
+def strip(st: Structure, effect: str) -> Structure:
+    """A copy of ``st`` without ``effect`` (whichever variant)."""
+    s2 = st.copy()
+    for (e, _v), (attr, absent) in _FIELDS.items():
+        if e == effect:
+            setattr(s2, attr, absent)
+    return s2
+
+
+def without(ctx: Context, fit: Fit, effect: str) -> Fit | None:
+    """``fit``'s structure without ``effect``, refit (the other effects' nonlinear settings
+    searched again: :func:`backfit`); None when it does not hold the effect."""
+    if not any(e == effect for e, _ in present(fit.structure)):
+        return None
+    f = solve(ctx, strip(fit.structure, effect))
+    f = backfit(ctx, f, None)
+    f.label = f"without {effect}"
+    return f
+
+
+def refit_hysteresis(ctx: Context, fit: Fit, added: str | None) -> Fit:
+    """The hysteresis elements of ``fit`` fitted again from their grid (and moved off it:
+    :func:`refine_elements`) on top of the rest, unless hysteresis is what was just ``added``;
+    kept when the teaching MSE falls. The grid fit prunes the elements that contribute little
+    next to what was named before - next to an input offset standing in for an output offset
+    a visco-elastic spectrum collapses to one branch - and the pruned elements do not come
+    back by themselves when that stand-in is replaced."""
+    best = fit
+    for e, v in present(fit.structure):
+        if e != V.HYSTERESIS or added == V.HYSTERESIS:
+            continue
+        g = candidate(ctx, replace(best, structure=strip(best.structure, e)), e, v)
+        if g is not None:
+            g = refine_elements(ctx, g)
+            if g.mse_teach < best.mse_teach:
+                best = g
+    if best is not fit:
+        best.label, best.effect, best.variant, best.note = (
+            fit.label,
+            fit.effect,
+            fit.variant,
+            fit.note,
+        )
+    return best
+
+
+SWAP_BIC = 10.0  # BIC fall (teaching and held-out) for a look-alike to replace a named effect
+
+
+def _beats(ctx: Context, new: Fit, old: Fit) -> bool:
+    """Does ``new`` lower the BIC by more than :data:`SWAP_BIC` against ``old`` on the teaching and
+    on the held-out samples (effective counts from ``new``'s residual)?"""
+    r = ctx.inp.y - new.yhat
+    n_t, n_h = effective_n(r, ctx.teach), effective_n(r, ctx.held)
+    d_t = bic(new.mse_teach, n_t, new.k) - bic(old.mse_teach, n_t, old.k)
+    d_h = bic(new.mse_held, n_h, new.k) - bic(old.mse_held, n_h, old.k)
+    return d_t < -SWAP_BIC and d_h < -SWAP_BIC
+
+
+def swap_variants(
+    ctx: Context,
+    fit: Fit,
+    pairs: list[tuple[str, str]],
+    look_alikes: Collection[frozenset[str]] = (),
+) -> tuple[Fit, dict[str, str]]:
+    """Each effect of ``fit`` refit as each of its other applicable variants (``pairs``) on top of
+    the rest - kept when it lowers the teaching *and* the held-out MSE - and as each of its
+    ``look_alikes`` (an effect not in ``fit``) - kept when it lowers the BIC by more than
+    :data:`SWAP_BIC` on both sample sets. What was chosen when the effect was named, with the
+    effects named after it missing, can be a stand-in: an input offset for an output offset
+    next to a per-sign stiffness, a visco-elastic branch at its shortest time constant for a
+    damper until a Coulomb element is named. Returns (the fit, {replaced effect: its
+    replacement})."""
+    best = fit
+    replaced: dict[str, str] = {}
+    for e, v in present(fit.structure):
+        if e in replaced:
+            continue
+        held = {x for x, _ in present(best.structure)}
+        for e2, v2 in pairs:
+            same = e2 == e and v2 != v
+            alike = e2 != e and e2 not in held and frozenset({e, e2}) in look_alikes
+            if not (same or alike):
+                continue
+            base = replace(best, structure=strip(best.structure, e))
+            f = candidate(ctx, base, e2, v2)
+            if f is None:
+                continue
+            f = refit_hysteresis(ctx, backfit(ctx, f, e2), e2)
+            if same and f.mse_teach < best.mse_teach and f.mse_held < best.mse_held:
+                best = f
+            elif alike and _beats(ctx, f, best):
+                best = f
+                replaced[e] = e2
+                break
+    if best is not fit:
+        best.label, best.effect, best.variant, best.note = (
+            fit.label,
+            fit.effect,
+            fit.variant,
+            fit.note,
+        )
+    return best, replaced

@@ -13,7 +13,12 @@ to replay its records and fit its models; the core knows how to choose. :func:`d
    least :data:`JOINT_TRIGGER` x the noise floor, pairs and triples are fitted jointly
    (:func:`joint_step`: effects that come together, neither earning its place alone) and named
    together when the combination and each member earn their places; else the selection stops,
-3. the final model (:meth:`Setup.finish`) and the setup's verdict (:meth:`Setup.conclude`).
+3. with ``restart`` (the benches): when it stopped with the residual still above
+   :data:`RESTART_TRIGGER` x the noise floor, the joint search once more from the refit nominal
+   model (:func:`restart_step`: a look-alike of two true effects can win a greedy step), and
+   backward elimination (:func:`prune`: variants and look-alikes swapped, effects that no
+   longer earn their place on top of the others dropped),
+4. the final model (:meth:`Setup.finish`) and the setup's verdict (:meth:`Setup.conclude`).
 
 The report (:mod:`.report`) is the core's too: the common keys of the result, the model file
 the setup writes, the setup's plots and print-out. A new setup implements the protocol and gets
@@ -297,7 +302,7 @@ def _margin(top: Score, runner: Score | None) -> tuple[float | None, float | Non
     if runner is None:
         return None, None
     margin = runner.d_bic_held - top.d_bic_held
-    return margin, 1.0 / (1.0 + math.exp(-min(margin, 700.0) / 2.0))
+    return margin, 1.0 / (1.0 + math.exp(-min(max(margin, -700.0), 700.0) / 2.0))
 
 
 def step(
@@ -398,6 +403,7 @@ def joint_step(
     nom: F,
     ranked: list[tuple[Score, F]],
     room: int,
+    both_orders: bool = False,
 ) -> tuple[Step, F | None]:
     """Pairs (then triples) of effects fitted jointly on top of ``cur``, when no single effect
     earns its place (``ranked``: that step's best fit of each effect) but the residual stays
@@ -411,7 +417,10 @@ def joint_step(
     combination is named when it earns its place as a whole (the rule of a single effect, or
     of an extra effect when effects are named already) *and* each member earns its place on
     top of the others (the rule of an extra effect, against the combination without it), so
-    that no passenger rides along with a real pair."""
+    that no passenger rides along with a real pair. ``both_orders``: a pair of two of the best
+    single fits is fitted in both orders (the second member's nonlinear setting is searched
+    with the first in place, so the order matters when the first alone settles off its true
+    value, e.g. a delay that absorbs part of a damper's lead); the better of the two counts."""
     singles = {s.effect: f for s, f in ranked}
     firsts = sorted(singles.items(), key=lambda ef: setup.cost(ef[1])[1])[:JOINT_FIRST]
     combos: list[_Combo[F]] = []
@@ -423,10 +432,22 @@ def joint_step(
             if members[1][0] in singles:
                 subs[e_a] = singles[members[1][0]]
             combos.append(_Combo(members, f, subs))
-        done.append(e_a)
+        if not both_orders:
+            done.append(e_a)
+    if room >= 3 and combos and both_orders:  # triples only when no pair earns its place
+        n_t2, n_h2 = common_n_eff(setup, [c.fit for c in combos])
+        if any(
+            score(setup, cur, c.fit, n_t2, n_h2, nom).earns_place
+            and all(_member_needed(setup, sub, c.fit, n_t2, n_h2, nom) for sub in c.subs.values())
+            and len(c.subs) == len(c.members)
+            for c in combos
+        ):
+            room = 2
     if room >= 3 and combos:
-        pairs = {c.effects: c for c in combos}
-        best_pairs = sorted(combos, key=lambda c: setup.cost(c.fit)[1])[:JOINT_TRIPLES_FROM]
+        pairs: dict[frozenset[str], _Combo[F]] = {}
+        for c in sorted(combos, key=lambda c: setup.cost(c.fit)[1], reverse=True):
+            pairs[c.effects] = c  # the better order of a pair last
+        best_pairs = sorted(pairs.values(), key=lambda c: setup.cost(c.fit)[1])[:JOINT_TRIPLES_FROM]
         seen: set[frozenset[str]] = set()
         for pc in best_pairs:
             for members, f in _extend(setup, pc.fit, pc.members, [*named, *pc.effects]):
@@ -511,9 +532,169 @@ def accept_joint(setup: Setup[F], fit: F, members: Sequence[tuple[str, str]]) ->
     return fit
 
 
+RESTART_TRIGGER = math.sqrt(2.0)  # residual RMS / noise floor from which the restart runs
+
+
+def _over(setup: Setup[F], fit: F) -> float:
+    """Held-out residual RMS of ``fit`` in noise-floor units."""
+    return math.sqrt(setup.cost(fit)[1] / setup.noise_var) if setup.noise_var > 0 else 0.0
+
+
+def restart_step(
+    setup: Setup[F],
+    cur: F,
+    named: Sequence[str],
+    index: int,
+    nom: F,
+    ranked0: list[tuple[Score, F]],
+    max_effects: int,
+) -> tuple[Step, F | None]:
+    """The joint search again, from the refit nominal model (``ranked0``: the first step's best
+    fit of each effect), when the one-at-a-time selection stopped with the residual still above
+    the noise floor. Greedy selection names first the effect that alone explains most, and a
+    look-alike of two true effects can win that step (a backlash off its centre standing in for
+    a backlash *and* an output offset) - what it then leaves is structured, so no later effect
+    earns its place on top of it. The best combination (pairs in both orders, then triples; the
+    rules of :func:`joint_step` against the nominal model) replaces what was named when it
+    earns its place against the current model too: by the rule of an extra effect when it names
+    a different set, or by a lower teaching *and* held-out cost when it names the same set."""
+    jst, jfit = joint_step(setup, nom, [], index, nom, ranked0, max_effects, both_orders=True)
+    if jfit is None:
+        jst.reason = "restart from the nominal model: " + jst.reason
+        return jst, None
+    t_c, h_c, _ = setup.cost(cur)
+    t_j, h_j, _ = setup.cost(jfit)
+    same = set(jst.added_effects) == set(named)
+    if same:
+        better = t_j < t_c and h_j < h_c
+        why = "same effects, a better fit" if better else "same effects, no better fit"
+    else:
+        n_t, n_h = common_n_eff(setup, [cur, jfit])
+        j = S.judge(
+            setup.cost(cur), setup.cost(jfit), n_t, n_h, setup.noise_var, setup.cost(nom)[1]
+        )
+        better = j.earns_place and j.explained_over_noise >= S.MIN_EXPLAINED_EXTRA
+        why = (
+            f"held-out BIC {j.d_bic_held:+.1f} and held-out {setup.mse_name} "
+            f"{-100 * j.gain_held:+.1f} % against {' + '.join(named)}"
+        )
+    jst.reason = (
+        f"restart from the nominal model ({' + '.join(named)} left "
+        f"{_over(setup, cur):.2g} x the noise floor): {jst.added} - {why}; "
+        + ("it replaces them" if better else "kept what was named")
+    )
+    if not better:
+        jst.added, jst.added_effects = None, []
+        return jst, None
+    return jst, jfit
+
+
+def prune(
+    setup: Setup[F], cur: F, named: list[str], nom: F, steps: list[Step]
+) -> tuple[F, list[str]]:
+    """Backward elimination after the selection (setups with the optional ``holds``,
+    ``swap_variants`` and ``without`` methods): a named effect the model no longer holds is not
+    named; each named effect is refit as its other variants (kept when better on teaching and
+    held-out samples) and as its look-alikes (kept when the BIC falls clearly: the setup's
+    rule); then, latest named first, an effect that no longer earns its place on top of the
+    others even by the rule of a *first* effect is dropped (an effect enters by the stricter
+    rule of an extra effect and leaves only by the looser one, the usual asymmetry of stepwise
+    selection that keeps it from cycling). A later effect or variant can make an earlier
+    stand-in redundant - the effect named first too: a damper that stood in for a delay next to
+    a backlash ends with a damping coefficient of zero within its interval once the delay is
+    named. One effect is always kept; each drop is a step of its own. (``nom``: the refit
+    nominal model, for the setups' protocol symmetry with :func:`joint_step`.)"""
+    swap = getattr(setup, "swap_variants", None)
+    drop = getattr(setup, "without", None)
+    if drop is None:
+        return cur, named
+    named = list(named)
+    holds: Callable[[F, str], bool] | None = getattr(setup, "holds", None)
+
+    def drop_absent() -> None:
+        for e in list(named):
+            if holds is not None and len(named) >= 2 and not holds(cur, e):
+                named.remove(e)
+                steps.append(
+                    Step(
+                        len(steps) + 1,
+                        [],
+                        None,
+                        None,
+                        None,
+                        None,
+                        False,
+                        f"pruning: {e} is no longer in the model (the fits of the other effects "
+                        "dropped all its elements): not named",
+                    )
+                )
+
+    drop_absent()
+    if swap is not None:
+        label = cur.label
+        cur, replaced = swap(cur)
+        cur.label = label
+        for old, new in replaced.items():
+            named[named.index(old)] = new
+            steps.append(
+                Step(
+                    len(steps) + 1,
+                    [],
+                    new,
+                    old,
+                    None,
+                    None,
+                    True,
+                    f"pruning: {new} replaces its look-alike {old} (held-out and teaching BIC "
+                    "lower by more than 10 with the other effects refit around it)",
+                )
+            )
+        drop_absent()
+    changed = True
+    while changed and len(named) >= 2:
+        changed = False
+        for e in reversed(named):
+            sub = drop(cur, e)
+            if sub is None:
+                continue
+            n_t, n_h = common_n_eff(setup, [sub, cur])
+            if S.judge(setup.cost(sub), setup.cost(cur), n_t, n_h, setup.noise_var).earns_place:
+                continue  # it still earns its place by the rule of a first effect: kept
+            sc = score(setup, sub, cur, n_t, n_h)
+            sc.label, sc.effect = f"{e} on top of the others", e
+            steps.append(
+                Step(
+                    len(steps) + 1,
+                    [sc],
+                    None,
+                    None,
+                    None,
+                    None,
+                    False,
+                    f"pruning: {e} no longer earns its place on top of the others (held-out BIC "
+                    f"{sc.d_bic_held:+.1f}, held-out {setup.mse_name} gain "
+                    f"{100 * sc.gain_held:.2f} %, explains {sc.explained_over_noise:.2f} of "
+                    "the noise variance): dropped",
+                )
+            )
+            label = cur.label
+            named.remove(e)
+            cur = sub
+            cur.label = label
+            drop_absent()
+            changed = True
+            break
+    return cur, named
+
+
 @overload
 def diagnose(
-    setup: Setup[F], max_effects: int, *, started: float | None = None, joint: bool = True
+    setup: Setup[F],
+    max_effects: int,
+    *,
+    started: float | None = None,
+    joint: bool = True,
+    restart: bool = False,
 ) -> Diagnosis[F]: ...
 
 
@@ -525,6 +706,7 @@ def diagnose(
     kind: Callable[..., D],
     started: float | None = None,
     joint: bool = True,
+    restart: bool = False,
 ) -> D: ...
 
 
@@ -535,11 +717,15 @@ def diagnose(
     kind: Callable[..., Any] = Diagnosis,
     started: float | None = None,
     joint: bool = True,
+    restart: bool = False,
 ) -> Any:
     """Forward selection on a setup: name and fit the effects missing from its nominal model,
     one at a time while each earns its place (at most ``max_effects``); when none does but the
     held-out residual stays at least :data:`JOINT_TRIGGER` x the noise floor, a joint search
-    of pairs and triples (:func:`joint_step`, unless ``joint`` is False). ``kind``: the
+    of pairs and triples (:func:`joint_step`, unless ``joint`` is False). ``restart`` (with
+    ``joint``): pairs fitted in both orders, and once the selection stops with the held-out
+    residual still :data:`RESTART_TRIGGER` x the noise floor, the joint search from the refit
+    nominal model (:func:`restart_step`) may replace what was named. ``kind``: the
     diagnosis class to return; ``started``: ``time.perf_counter()`` at the start of the work
     (the record's preparation included), for ``runtime_s``."""
     t0 = time.perf_counter() if started is None else started
@@ -548,25 +734,46 @@ def diagnose(
     named: list[str] = []
     steps: list[Step] = []
     trail: list[tuple[Any, list[tuple[Score, Any]]]] = []
-    while len(named) < max_effects:
-        st, accepted, ranked = _step(setup, cur, named, len(steps) + 1, nom)
-        steps.append(st)
-        trail.append((cur, ranked))
-        if accepted is None or st.added is None:
-            room = max_effects - len(named)
-            over = math.sqrt(setup.cost(cur)[1] / setup.noise_var) if setup.noise_var > 0 else 0.0
-            if not (joint and ranked and room >= 2 and over >= JOINT_TRIGGER):
-                break
-            jst, jfit = joint_step(setup, cur, named, len(steps) + 1, nom, ranked, room)
-            steps.append(jst)
-            if jfit is None:
-                break
-            members = list(zip(jst.added_effects, (jfit.variant or "").split("+"), strict=False))
-            named.extend(jst.added_effects)
-            cur = accept_joint(setup, jfit, members)
+    restarted = not (joint and restart)
+    while True:
+        st, accepted, ranked = (
+            _step(setup, cur, named, len(steps) + 1, nom)
+            if len(named) < max_effects
+            else (None, None, [])
+        )
+        if st is not None:
+            steps.append(st)
+            trail.append((cur, ranked))
+        if accepted is not None and st is not None and st.added is not None:
+            named.append(st.added)
+            cur = setup.accept(accepted)
             continue
-        named.append(st.added)
-        cur = setup.accept(accepted)
+        room = max_effects - len(named)
+        over = _over(setup, cur)
+        if joint and ranked and room >= 2 and over >= JOINT_TRIGGER:
+            jst, jfit = joint_step(
+                setup, cur, named, len(steps) + 1, nom, ranked, room, both_orders=restart
+            )
+            steps.append(jst)
+            if jfit is not None:
+                members = list(
+                    zip(jst.added_effects, (jfit.variant or "").split("+"), strict=False)
+                )
+                named.extend(jst.added_effects)
+                cur = accept_joint(setup, jfit, members)
+                continue
+        if restarted or not named or over < RESTART_TRIGGER or not trail:
+            break
+        restarted = True
+        rst, rfit = restart_step(setup, cur, named, len(steps) + 1, nom, trail[0][1], max_effects)
+        steps.append(rst)
+        if rfit is None:
+            break
+        members = list(zip(rst.added_effects, (rfit.variant or "").split("+"), strict=False))
+        named = list(rst.added_effects)
+        cur = accept_joint(setup, rfit, members)
+    if joint and restart and len(named) >= 2:
+        cur, named = prune(setup, cur, named, nom, steps)
     final = setup.finish(cur, named)
     if named:
         final.label = "nominal + " + " + ".join(named)

@@ -364,10 +364,11 @@ def savgol_window(h: float, seconds: float, minimum: int = 5) -> int:
 
 
 def derivative(
-    y: FloatArray, h: float, order: int = 1, window_s: float | None = None
+    y: FloatArray, h: float, order: int = 1, window_s: float | None = None, scale: float = 1.0
 ) -> FloatArray:
-    """Savitzky-Golay derivative (cubic; 15 ms window for rates, 31 ms for accelerations)."""
-    w = savgol_window(h, window_s or (0.015 if order == 1 else 0.031), 7)
+    """Savitzky-Golay derivative (cubic; 15 ms window for rates, 31 ms for accelerations; the
+    window times ``scale``)."""
+    w = savgol_window(h, scale * (window_s or (0.015 if order == 1 else 0.031)), 7)
     if y.size < w:
         return np.gradient(y, h) if order == 1 else np.gradient(np.gradient(y, h), h)
     return np.asarray(savgol_filter(y, w, 3, deriv=order, delta=h), dtype=np.float64)
@@ -376,12 +377,13 @@ def derivative(
 INPUT_SMOOTH_S = 0.021  # Savitzky-Golay window (cubic) applied to recorded angles before replay
 
 
-def smooth(y: FloatArray, h: float) -> FloatArray:
+def smooth(y: FloatArray, h: float, scale: float = 1.0) -> FloatArray:
     """Zero-phase cubic Savitzky-Golay smoothing of a recorded angle (21 ms window: -3 dB near
     65 Hz at 1 kHz, far above the benches' 0.1-20 Hz inputs). Encoder quantisation steps would
     otherwise drive stiff presliding / slip elements in jumps that the physical, continuous
-    motion never makes."""
-    w = savgol_window(h, INPUT_SMOOTH_S, 7)
+    motion never makes. ``scale``: the window times this (the uncertainty's check of what the
+    smoothing itself does to the fitted parameters)."""
+    w = savgol_window(h, scale * INPUT_SMOOTH_S, 7)
     if y.size < w:
         return y.copy()
     return np.asarray(savgol_filter(y, w, 3), dtype=np.float64)
@@ -412,42 +414,44 @@ class ReplayInputs:
         return int(self.t.size)
 
 
-def prepare_inputs(ds: Dataset) -> ReplayInputs:
-    """Columns of a bench dataset arranged for the replay kernels."""
+def prepare_inputs(ds: Dataset, window_scale: float = 1.0) -> ReplayInputs:
+    """Columns of a bench dataset arranged for the replay kernels; ``window_scale``: every
+    smoothing and differentiation window times this (1: the replay's own)."""
     c = ds.columns
     h = ds.dt
+    sc = window_scale
     if ds.setup == "series_bench":
-        u = smooth(c["theta_m"], h)
+        u = smooth(c["theta_m"], h, sc)
         s_raw = c["theta_s"]
-        s = smooth(s_raw, h)
+        s = smooth(s_raw, h, sc)
         inertia = ds.load_inertia_kgm2 is not None
         return ReplayInputs(
             setup=ds.setup,
             t=c["t"],
             h=h,
             u=u,
-            udot=derivative(u, h),
-            uacc=derivative(u, h, 2),
+            udot=derivative(u, h, scale=sc),
+            uacc=derivative(u, h, 2, scale=sc),
             s=s if not inertia else np.zeros_like(u),
-            sdot=derivative(s, h) if not inertia else np.zeros_like(u),
+            sdot=derivative(s, h, scale=sc) if not inertia else np.zeros_like(u),
             phi=c["phi_b"],
             y=c["tau_s"],
             theta_s=s_raw if inertia else None,
             inertia_load=inertia,
-            omega_s=derivative(s, h, 1, 0.031) if inertia else None,
+            omega_s=derivative(s, h, 1, 0.031, sc) if inertia else None,
             theta_s_smooth=s if inertia else None,
-            alpha_s=derivative(s, h, 2) if inertia else None,
+            alpha_s=derivative(s, h, 2, scale=sc) if inertia else None,
         )
     if ds.setup == "parallel_bench":
-        u = smooth(c["phi_b"], h)
+        u = smooth(c["phi_b"], h, sc)
         z = np.zeros_like(u)
         return ReplayInputs(
             setup=ds.setup,
             t=c["t"],
             h=h,
             u=u,
-            udot=derivative(u, h),
-            uacc=derivative(u, h, 2),
+            udot=derivative(u, h, scale=sc),
+            uacc=derivative(u, h, 2, scale=sc),
             s=z,
             sdot=z,
             phi=u,
