@@ -928,6 +928,11 @@ def backfit(ctx: Context, fit: Fit, added: str | None) -> Fit:
             best = f
     if sum(getattr(best.structure, a) is not None for _, _, a in (*SEARCHED, *SEARCHED_2)) >= 2:
         best = refine(ctx, best)  # the settings together, around the values found one at a time
+    return _labelled_as(best, fit)
+
+
+def _labelled_as(best: Fit, fit: Fit) -> Fit:
+    """``best`` (a refit of ``fit``) under ``fit``'s label, effect, variant and note."""
     if best is not fit:
         best.label, best.effect, best.variant, best.note = (
             fit.label,
@@ -1006,14 +1011,7 @@ def refit_hysteresis(ctx: Context, fit: Fit, added: str | None) -> Fit:
             g = refine_elements(ctx, g)
             if g.mse_teach < best.mse_teach:
                 best = g
-    if best is not fit:
-        best.label, best.effect, best.variant, best.note = (
-            fit.label,
-            fit.effect,
-            fit.variant,
-            fit.note,
-        )
-    return best
+    return _labelled_as(best, fit)
 
 
 SWAP_BIC = 10.0  # BIC fall (teaching and held-out) for a look-alike to replace a named effect
