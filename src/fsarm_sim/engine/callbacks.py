@@ -116,18 +116,26 @@ _lock = threading.RLock()
 _free = threading.Condition(_lock)
 _holders: dict[int, int] = {}  # thread id -> nesting depth inside active()
 _backend: str | None = None
-_saved: tuple[Any, Any, Any] | None = None
+_saved: tuple[Any, Any, Any, Any] | None = None
 
 
-def _current() -> tuple[Any, Any, Any]:
-    return (mujoco.get_mjcb_passive(), mujoco.get_mjcb_act_dyn(), mujoco.get_mjcb_control())
+def _current() -> tuple[Any, Any, Any, Any]:
+    """passive, act_dyn, control and the clock (``mjcb_time``: the native path stops MuJoCo's
+    stage timers while it steps, see :mod:`fsarm_sim.engine.native`)."""
+    return (
+        mujoco.get_mjcb_passive(),
+        mujoco.get_mjcb_act_dyn(),
+        mujoco.get_mjcb_control(),
+        mujoco.get_mjcb_time(),
+    )
 
 
-def _restore(cbs: tuple[Any, Any, Any] | None) -> None:
-    cbs = cbs or (None, None, None)
+def _restore(cbs: tuple[Any, Any, Any, Any] | None) -> None:
+    cbs = cbs or (None, None, None, None)
     mujoco.set_mjcb_passive(cbs[0])
     mujoco.set_mjcb_act_dyn(cbs[1])
     mujoco.set_mjcb_control(cbs[2])
+    mujoco.set_mjcb_time(cbs[3])
 
 
 def _ours(cb: Any) -> bool:
@@ -137,7 +145,7 @@ def _ours(cb: Any) -> bool:
     return any(
         src is not None and cb is getattr(src, n, None)
         for src in sources
-        for n in ("PASSIVE", "ACT_DYN", "CONTROL")
+        for n in ("PASSIVE", "ACT_DYN", "CONTROL", "TIME")
     )
 
 
@@ -186,7 +194,7 @@ def install_python() -> None:
             )
         if not _installed:
             cbs = _current()
-            for key, cb in zip(("passive", "act_dyn", "control"), cbs, strict=True):
+            for key, cb in zip(("passive", "act_dyn", "control"), cbs[:3], strict=True):
                 _previous[key] = None if _ours(cb) else cb
         _set_python()
         _installed = True
@@ -201,7 +209,14 @@ def uninstall() -> None:
                 "fsarm's callbacks are in use by a running simulation (callbacks.active); "
                 "uninstall() can be called only when none runs"
             )
-        _restore((_previous.get("passive"), _previous.get("act_dyn"), _previous.get("control")))
+        _restore(
+            (
+                _previous.get("passive"),
+                _previous.get("act_dyn"),
+                _previous.get("control"),
+                mujoco.get_mjcb_time(),  # the Python path never touches the clock
+            )
+        )
         _previous.clear()
         _installed = False
 
@@ -270,7 +285,7 @@ def active(backend: str = DEFAULT_BACKEND) -> Iterator[None]:
             saved = _current()
             foreign = [
                 n
-                for n, cb in zip(("passive", "act_dyn", "control"), saved, strict=True)
+                for n, cb in zip(("passive", "act_dyn", "control"), saved[:3], strict=True)
                 if not _ours(cb)
             ]
             if backend == "native" and foreign:
@@ -289,7 +304,7 @@ def active(backend: str = DEFAULT_BACKEND) -> Iterator[None]:
                     backend = "python"
             if backend == "python":
                 if not _installed:
-                    for key, cb in zip(("passive", "act_dyn", "control"), saved, strict=True):
+                    for key, cb in zip(("passive", "act_dyn", "control"), saved[:3], strict=True):
                         _previous[key] = None if _ours(cb) else cb
                 _set_python()
             _saved = saved

@@ -8,6 +8,16 @@ addresses, so no Python runs per physics step and ``mujoco.rollout`` threads run
 * ``mjcb_act_dyn(const mjModel*, const mjData*, int id)`` -> :func:`physics.state_rate`
   (state address ``m->actuator_actadr[id]``)
 * ``mjcb_control(const mjModel*, mjData*)``  -> :func:`physics.control`
+* ``mjcb_time(void)`` -> 0: MuJoCo's profiling clock, stopped while fsarm steps (see below)
+
+MuJoCo (3.17) times every stage of every step into ``data.timer`` with its own clock when no
+``mjcb_time`` is installed: two ``clock_gettime`` calls for each of about a dozen timed stages
+of a step, 0.5 us of the arm's 2.5 us raw step on the development machine (``fsarm bench-speed`` shows raw MuJoCo with and without
+them). fsarm reads no timer, so :func:`install` points ``mjcb_time`` at a function returning 0
+(``data.timer`` then counts calls with zero durations; like every ``mjcb_*`` this is process-wide
+while the callbacks are installed, so other models stepped meanwhile report zero durations too) -
+unless a clock of your own is installed, which stays, as does its profiling. Timers never enter
+the dynamics (``tests/test_native_clock.py``).
 
 How the pure-Python kernels become compilable without editing them: every function defined in
 ``fsarm_sim.kernels.physics``, ``fsarm_sim.plant.effects.*`` and ``fsarm_sim.controllers.*`` is registered with
@@ -302,37 +312,63 @@ with _numba_cache_in(_CACHE_PATH or Path(tempfile.gettempdir())):
             _f64_array(da, D_CTRL, _int(ma, M_NU, M_NU_SIZE)),
         )
 
+    @cfunc(types.float64(), **_OPTIONS)
+    def _time_cb() -> float:
+        """mjcb_time: the stopped clock (MuJoCo's stage timers cost ~20 % of a raw step)."""
+        return 0.0
+
 
 @dataclass(frozen=True)
 class CompileInfo:
-    seconds: float  # wall time of compiling or loading the three callbacks at import
-    cache_hits: int  # 3: all loaded from the cache; 0: all compiled now
+    seconds: float  # wall time of compiling or loading the callbacks (CFUNCS) at import
+    cache_hits: int  # len(CFUNCS): all loaded from the cache; 0: all compiled now
     cache_path: str  # "" when the cache directory is not writable (compiled on every import)
 
 
 COMPILE_INFO = CompileInfo(
     seconds=time.perf_counter() - _t0,
-    cache_hits=_passive_cb.cache_hits + _act_dyn_cb.cache_hits + _control_cb.cache_hits,
+    cache_hits=(
+        _passive_cb.cache_hits
+        + _act_dyn_cb.cache_hits
+        + _control_cb.cache_hits
+        + _time_cb.cache_hits
+    ),
     cache_path=str(_CACHE_PATH) if _CACHE_PATH is not None else "",
 )
 
 # the compiled callbacks (engine.native_lib rebuilds these very functions into its library)
-CFUNCS = (_passive_cb, _act_dyn_cb, _control_cb)
+CFUNCS = (_passive_cb, _act_dyn_cb, _control_cb, _time_cb)
 # ctypes function pointers (cached on the CFunc objects; module globals keep them alive)
 PASSIVE = _passive_cb.ctypes
 ACT_DYN = _act_dyn_cb.ctypes
 CONTROL = _control_cb.ctypes
+TIME = _time_cb.ctypes
+
+
+def install_clock(stopped: Any) -> None:
+    """Point ``mjcb_time`` at ``stopped`` (a clock returning 0) unless a clock of the user's is
+    installed (theirs stays, with MuJoCo's profiling). (native_lib.Library does the same.)"""
+    if mujoco.get_mjcb_time() is None:
+        mujoco.set_mjcb_time(stopped)
+
+
+def uninstall_clock(stopped: Any) -> None:
+    """Remove ``stopped`` from ``mjcb_time`` (MuJoCo's own timers come back), if it is there."""
+    if mujoco.get_mjcb_time() is stopped:
+        mujoco.set_mjcb_time(None)
 
 
 def install() -> None:
-    """Install the native callbacks process-wide (idempotent). Replaces whatever was installed."""
+    """Install the native callbacks process-wide (idempotent). Replaces whatever was installed,
+    except a clock of the user's in ``mjcb_time`` (see the module docstring)."""
     mujoco.set_mjcb_passive(PASSIVE)
     mujoco.set_mjcb_act_dyn(ACT_DYN)
     mujoco.set_mjcb_control(CONTROL)
+    install_clock(TIME)
 
 
 def installed() -> bool:
-    """Whether the three MuJoCo callbacks currently are the native ones."""
+    """Whether the three MuJoCo callbacks currently are the native ones (the clock aside)."""
     return (
         mujoco.get_mjcb_passive() is PASSIVE
         and mujoco.get_mjcb_act_dyn() is ACT_DYN
@@ -348,3 +384,4 @@ def uninstall() -> None:
         mujoco.set_mjcb_act_dyn(None)
     if mujoco.get_mjcb_control() is CONTROL:
         mujoco.set_mjcb_control(None)
+    uninstall_clock(TIME)

@@ -41,7 +41,7 @@ from fsarm_sim.engine.native_abi import NativeBackendError, cache_dir, source_ke
 
 ENV = "FSARM_PREBUILT"  # "0": never load or build the library (the Numba path then runs)
 LIB_NAME = "libfsarm_callbacks.so"
-NAMES = ("passive", "act_dyn", "control")
+NAMES = ("passive", "act_dyn", "control", "time")
 
 # Numba runtime helpers referenced only from the exception paths of the compiled wrappers
 _STUBS_C = r"""
@@ -89,20 +89,24 @@ def library_dir() -> Path:
 
 @dataclass(frozen=True)
 class Library:
-    """The loaded library: the three callbacks as ctypes function pointers MuJoCo accepts, with
-    the same ``install``/``installed``/``uninstall`` and ``PASSIVE``/``ACT_DYN``/``CONTROL`` as
-    :mod:`fsarm_sim.engine.native` (the callbacks module uses either)."""
+    """The loaded library: the callbacks as ctypes function pointers MuJoCo accepts, with the
+    same ``install``/``installed``/``uninstall`` and ``PASSIVE``/``ACT_DYN``/``CONTROL``/``TIME``
+    as :mod:`fsarm_sim.engine.native` (the callbacks module uses either; ``TIME`` is the stopped
+    clock, installed in ``mjcb_time`` unless a clock of the user's is there)."""
 
     path: Path
     handle: Any
     PASSIVE: Any
     ACT_DYN: Any
     CONTROL: Any
+    TIME: Any
 
     def install(self) -> None:
         mujoco.set_mjcb_passive(self.PASSIVE)
         mujoco.set_mjcb_act_dyn(self.ACT_DYN)
         mujoco.set_mjcb_control(self.CONTROL)
+        if mujoco.get_mjcb_time() is None:
+            mujoco.set_mjcb_time(self.TIME)
 
     def installed(self) -> bool:
         return (
@@ -118,11 +122,14 @@ class Library:
             mujoco.set_mjcb_act_dyn(None)
         if mujoco.get_mjcb_control() is self.CONTROL:
             mujoco.set_mjcb_control(None)
+        if mujoco.get_mjcb_time() is self.TIME:
+            mujoco.set_mjcb_time(None)
 
 
 _PASSIVE_T = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p)
 _ACT_DYN_T = ctypes.CFUNCTYPE(ctypes.c_double, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_int)
 _CONTROL_T = _PASSIVE_T
+_TIME_T = ctypes.CFUNCTYPE(ctypes.c_double)
 
 
 def load() -> Library | None:
@@ -139,7 +146,7 @@ def load() -> Library | None:
         handle = ctypes.CDLL(str(path))
         fns = [
             t(int(ctypes.cast(getattr(handle, symbols[n]), ctypes.c_void_p).value or 0))
-            for n, t in zip(NAMES, (_PASSIVE_T, _ACT_DYN_T, _CONTROL_T), strict=True)
+            for n, t in zip(NAMES, (_PASSIVE_T, _ACT_DYN_T, _CONTROL_T, _TIME_T), strict=True)
         ]
     except (OSError, ValueError, KeyError, AttributeError):
         return None

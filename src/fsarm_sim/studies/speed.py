@@ -18,6 +18,10 @@ the machine may be shared):
   A fourth path, *native lean*, steps the lean twin of the same model (no visual geoms or
   sensors: :mod:`fsarm_sim.engine.lean`, what ``Simulation`` steps by default) from the same state;
   its ratio is taken against raw MuJoCo on the FULL model (the shipped scene).
+  The native paths stop MuJoCo's stage timers (``mjcb_time`` returns 0, see
+  :mod:`fsarm_sim.engine.native`); *raw* keeps them, as anyone stepping the shipped scene does, and
+  a fifth path, *raw untimed*, steps the full model without callbacks and with the timers stopped,
+  so the report shows what the timers cost and what the callbacks cost on a timer-free step.
 * real-time factor - ``Simulation.run`` of 10 s ``fig14-sine`` on the native path, with the
   default full logging (one row per control tick, recorded by the control kernel) and without
   logging (``log_every_ticks=0``): simulated time / stepping wall time.
@@ -91,11 +95,14 @@ class SpeedReport:
     batch_steps_per_s_best: dict[int, float]  # workers -> best repetition
     cores: int
     compile_s: float  # import of fsarm_sim.engine.native: compile, or load from cache
-    compile_cache_hits: int  # 3: all three callbacks came from the cache
+    compile_cache_hits: int  # == compile_callbacks: all the callbacks came from the cache
     machine_note: str
     lean_us: float = float("nan")  # native callbacks on the lean twin, median per step
     lean_us_best: float = float("nan")
     lean_over_raw: float = float("nan")  # median of per-repetition lean / raw (full model)
+    raw_untimed_us: float = float("nan")  # raw, MuJoCo's stage timers stopped, median per step
+    raw_untimed_us_best: float = float("nan")
+    lean_over_raw_untimed: float = float("nan")  # median of per-repetition lean / raw untimed
     rtf_logged: float = float("nan")  # real-time factor with full logging (the default run)
     rtf_logged_best: float = float("nan")
     process_s: float = float("nan")  # whole `fsarm run` process, median
@@ -110,6 +117,7 @@ class SpeedReport:
     sweep_cpu_s: dict[int, float] = field(default_factory=dict)  # workers -> median CPU s
     sweep_threads_cpu_s: dict[int, float] = field(default_factory=dict)
     sweep_start_method: str = ""  # how the process workers started: fork or spawn
+    compile_callbacks: int = 4  # compiled callbacks (passive, act_dyn, control, stopped clock)
 
 
 def _full_config() -> SimConfig:
@@ -143,15 +151,24 @@ def _per_step(reps: int, block_steps: int) -> tuple[dict[str, list[float]], int,
     mujoco.mj_getState(m, d, s0, INTEGRATION)
     if mujoco.mj_stateSize(twin.model, INTEGRATION) != s0.size:
         raise InvalidParameterError("the lean twin's state differs in size from the full model's")
-    times: dict[str, list[float]] = {"raw": [], "python": [], "native": [], "lean": []}
-    order = ["raw", "python", "native", "lean"]
+    order = ["raw", "python", "native", "lean", "raw_untimed"]
+    times: dict[str, list[float]] = {p: [] for p in order}
+    native = callbacks.load_native()
     nefc = 0
     for rep in range(reps + 1):  # repetition 0 warms caches up and is dropped
-        for path in order[rep % 4 :] + order[: rep % 4]:
+        for path in order[rep % len(order) :] + order[: rep % len(order)]:
             if path == "raw":
                 with callbacks.suspended():
                     dt = _time_block(m, d, s0, block_steps)
                     nefc = int(d.nefc)
+            elif path == "raw_untimed":
+                with callbacks.suspended():
+                    if native is not None:  # (else the row repeats raw: the timers run)
+                        mujoco.set_mjcb_time(native.TIME)
+                    try:
+                        dt = _time_block(m, d, s0, block_steps)
+                    finally:
+                        mujoco.set_mjcb_time(None)
             elif path == "lean":
                 with callbacks.active("native"):
                     dt = _time_block(twin.model, twin.data, s0, block_steps)
@@ -331,6 +348,7 @@ def measure_speed(
     ratio_native = [n / r for n, r in zip(times["native"], times["raw"], strict=True)]
     ratio_python = [p / r for p, r in zip(times["python"], times["raw"], strict=True)]
     ratio_lean = [n / r for n, r in zip(times["lean"], times["raw"], strict=True)]
+    ratio_untimed = [n / r for n, r in zip(times["lean"], times["raw_untimed"], strict=True)]
     walls = _realtime(rtf_reps, rtf_duration_s)
     walls_logged = _realtime(rtf_reps, rtf_duration_s, log_every_ticks=1)
     proc, phases, source = _process(process_reps, rtf_duration_s)
@@ -370,10 +388,14 @@ def measure_speed(
         cores=cores,
         compile_s=native.COMPILE_INFO.seconds,
         compile_cache_hits=native.COMPILE_INFO.cache_hits,
+        compile_callbacks=len(native.CFUNCS),
         machine_note=_load_note(cores),
         lean_us=statistics.median(times["lean"]) * 1e6,
         lean_us_best=min(times["lean"]) * 1e6,
         lean_over_raw=statistics.median(ratio_lean),
+        raw_untimed_us=statistics.median(times["raw_untimed"]) * 1e6,
+        raw_untimed_us_best=min(times["raw_untimed"]) * 1e6,
+        lean_over_raw_untimed=statistics.median(ratio_untimed),
         rtf_logged=rtf_duration_s / statistics.median(walls_logged),
         rtf_logged_best=rtf_duration_s / min(walls_logged),
         process_s=statistics.median(proc),
@@ -414,11 +436,17 @@ def format_report(r: SpeedReport) -> str:
     lines = [
         f"fsarm speed benchmark ({r.machine_note}); medians of {r.reps} repetitions",
         f"native callbacks: import {r.compile_s:.2f} s "
-        + ("(loaded from cache)" if r.compile_cache_hits == 3 else "(compiled now; cached)"),
+        + (
+            "(loaded from cache)"
+            if r.compile_cache_hits == r.compile_callbacks
+            else "(compiled now; cached)"
+        ),
         f"per mj_step, full model, blocks of {r.block_steps} steps from the {SCENARIO} start "
         "(median, best):",
         f"  raw MuJoCo (callbacks off)  {r.raw_us:8.3f} us {r.raw_us_best:8.3f} us"
         f"   (constraints at block end: {r.raw_nefc})",
+        f"  raw, MuJoCo timers stopped   {r.raw_untimed_us:8.3f} us {r.raw_untimed_us_best:8.3f} us"
+        f"   (the native paths stop them too; lean/raw untimed = {r.lean_over_raw_untimed:.3f})",
         f"  python callbacks            {r.python_us:8.3f} us {r.python_us_best:8.3f} us"
         f"   python/raw = {r.python_over_raw:6.2f}",
         f"  native callbacks            {r.native_us:8.3f} us {r.native_us_best:8.3f} us"
@@ -432,7 +460,8 @@ def format_report(r: SpeedReport) -> str:
         f"   goal >= {GOAL_REALTIME_FACTOR:g}x: {goal(r.rtf_logged >= GOAL_REALTIME_FACTOR)}",
         f"  no logging              {r.rtf_native:6.0f}x (best {r.rtf_native_best:.0f}x)",
         f"  (ceiling set by raw MuJoCo's best step alone, full model: "
-        f"{r.timestep_s / (r.raw_us_best * 1e-6):.0f}x)",
+        f"{r.timestep_s / (r.raw_us_best * 1e-6):.0f}x with its stage timers, "
+        f"{r.timestep_s / (r.raw_untimed_us_best * 1e-6):.0f}x without)",
         f"whole process `fsarm run {SCENARIO} --duration {r.rtf_duration_s:g} --out DIR`: "
         f"{r.process_s:.2f} s   goal <= {GOAL_PROCESS_S:g} s: {goal(r.process_s <= GOAL_PROCESS_S)}",
         f"  phases in a fresh interpreter (native callbacks from the {r.kernel_source}): "
