@@ -31,7 +31,7 @@ def main() -> None:
         "--joint",
         action=argparse.BooleanOptionalAction,
         default=None,
-        help="the core's joint search (default: fsarm_sim.discrepancy.arm.JOINT_SEARCH)",
+        help="the core's joint search, restart and pruning (default: arm.JOINT_SEARCH)",
     )
     ap.add_argument("--json", default="", help="write per-case outcomes here")
     args = ap.parse_args()

@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from fsarm_sim.discrepancy import arm_expert as X
+from fsarm_sim.discrepancy import arm_joint as J
 from fsarm_sim.discrepancy import arm_modelfile as MF
 from fsarm_sim.discrepancy import core
 from fsarm_sim.discrepancy import replay as R
@@ -107,16 +108,14 @@ __all__ = [
 
 MAX_EFFECTS = 3
 CHANNELS = ("q3", "theta_m", "q2", "twist")  # the report's channels
-# the core's joint search of pairs / triples (issue 16) is not run on the arm: each arm candidate
-# is a set of closed-loop simulations. Measured (8 s fig14-sine records,
-# scripts/discrepancy_battery_arm_expert.py --joint): the search triggers on every record whose
-# residual stays >= 2x the noise and cost up to 136 s a record (308 closed-loop runs, against
-# 9-37 s without); on the out-of-library records and on the pair payload_error + Coulomb friction
-# (where the greedy selection names nothing: the nominal refit drifts to a wrong stiffness / K_b
-# and no single candidate earns its place) it named nothing either. Without it the greedy
-# selection names both effects of 16/21 pairs. ``core.diagnose(ArmSetup(ds), ..., joint=True)``
-# runs it.
-JOINT_SEARCH = False
+# the core's joint search of pairs / triples (issue 16), with the restart from the nominal model
+# and the final pruning (``restart``): the arm's pairs are fitted together from the start
+# (:meth:`ArmSetup.joint_pairs`, :mod:`.arm_joint`). Without it the greedy selection named both
+# effects of 16/21 pairs of scripts/discrepancy_battery_arm_expert.py: where two effects hide
+# each other (payload error + Coulomb friction: the nominal refit runs to a wrong stiffness and
+# K_b, no single candidate earns its place) it named nothing. Runtime: see the README's rate
+# table (8 s records, measured by that script).
+JOINT_SEARCH = True
 WITHIN_NOISE = 1.15  # residual (noise-floor units, channel average) "within noise"
 ARM_LOOK_ALIKES = (
     *LOOK_ALIKES,
@@ -172,8 +171,28 @@ class ArmSetup:
 
     def effect_params(self, fit: ArmFit) -> dict[str, Any]:
         effs = {e.label: e for e in fit.model.effects()}
-        eff = effs.get(fit.label)
+        eff = effs.get(fit.label) or effs.get(f"{fit.effect}[{fit.variant}]")
         return dict(eff.params) if eff is not None else {}
+
+    def joint_pairs(
+        self, cur: ArmFit, named: Sequence[str]
+    ) -> list[tuple[list[tuple[str, str]], ArmFit]]:
+        """Pairs fitted together from the start (:func:`.arm_joint.pair_candidates`; the
+        core's joint search, optional in the protocol)."""
+        return J.pair_candidates(self.ctx, cur, named)
+
+    def swap_variants(self, fit: ArmFit) -> tuple[ArmFit, dict[str, str]]:
+        """:func:`.arm_joint.swap_variants` (the core's pruning, optional in the protocol)."""
+        return J.swap_variants(self.ctx, fit)
+
+    def holds(self, fit: ArmFit, effect: str) -> bool:
+        """Does ``fit``'s model still hold ``effect``? (The core's pruning.)"""
+        return any(lab.startswith(effect + "[") for lab in fit.model.labels)
+
+    def without(self, fit: ArmFit, effect: str) -> ArmFit | None:
+        """``fit``'s model without ``effect``, the rest refit on the simulation (the core's
+        pruning); None when it does not hold the effect."""
+        return J.without(self.ctx, fit, effect)
 
     def accept(self, fit: ArmFit) -> ArmFit:
         return fit
@@ -300,7 +319,9 @@ class ArmSetup:
 def diagnose_arm(ds: Dataset, *, max_effects: int = MAX_EFFECTS) -> core.Diagnosis[ArmFit]:
     """Replay an arm record closed loop, refit the nominal model, name and fit what is missing."""
     t0 = time.perf_counter()
-    return core.diagnose(ArmSetup(ds), max_effects, started=t0, joint=JOINT_SEARCH)
+    return core.diagnose(
+        ArmSetup(ds), max_effects, started=t0, joint=JOINT_SEARCH, restart=JOINT_SEARCH
+    )
 
 
 def residual_signature(

@@ -910,7 +910,7 @@ def add_candidate(ctx: ArmContext, m: ArmModel, effect: str, variant: str) -> Ar
     return out
 
 
-def _prune_slip(ctx: ArmContext, m: ArmModel) -> tuple[ArmModel, list[int]]:
+def prune_slip(ctx: ArmContext, m: ArmModel) -> tuple[ArmModel, list[int]]:
     """Drop hysteresis elements with (almost) no stiffness: below 1 % of the shaft's K.
     Returns the model and the grid indices of the elements kept (renumbered 0, 1, ...)."""
     k_ref = 0.01 * max(ctx.run.shaft.k_pos, ctx.run.shaft.k_neg)
@@ -969,7 +969,7 @@ def screen_solve(
     r_lin = sj.r0 + jac @ du
     free = keys
     if effect == V.HYSTERESIS:
-        m, keep = _prune_slip(ctx, m)
+        m, keep = prune_slip(ctx, m)
         if not keep:
             return None
         free = list(cur.free) + [f"hysteresis.k{j}" for j in range(len(keep))]

@@ -186,8 +186,8 @@ def truth_values(truth: ArmModel) -> dict[str, float]:
 
 
 def run(case: ArmCase, joint: bool | None = None) -> ArmResult:
-    """Synthesize, diagnose and score one case (``joint``: the core's joint search; None:
-    :data:`.arm.JOINT_SEARCH`)."""
+    """Synthesize, diagnose and score one case (``joint``: the core's joint search with its
+    restart and pruning; None: :data:`.arm.JOINT_SEARCH`)."""
     truth = truth_of(case)
     rec = S.ArmRecording(
         duration_s=case.duration_s,
@@ -205,7 +205,7 @@ def run(case: ArmCase, joint: bool | None = None) -> ArmResult:
             t0 = time.perf_counter()
             setup = A.ArmSetup(ds)
             j = A.JOINT_SEARCH if joint is None else joint
-            diag = core.diagnose(setup, A.MAX_EFFECTS, started=t0, joint=j)
+            diag = core.diagnose(setup, A.MAX_EFFECTS, started=t0, joint=j, restart=j)
             dt = time.perf_counter() - t0
     except Exception as exc:  # a battery reports failures, it does not stop at them
         return ArmResult(case, [], None, {}, error=f"{type(exc).__name__}: {exc}"[:160])

@@ -420,11 +420,23 @@ def joint_step(
     that no passenger rides along with a real pair. ``both_orders``: a pair of two of the best
     single fits is fitted in both orders (the second member's nonlinear setting is searched
     with the first in place, so the order matters when the first alone settles off its true
-    value, e.g. a delay that absorbs part of a damper's lead); the better of the two counts."""
+    value, e.g. a delay that absorbs part of a damper's lead); the better of the two counts. A
+    setup with the optional ``joint_pairs(cur, named)`` method fits its pairs itself (the arm,
+    :mod:`.arm_joint`: every pair together from the start) - they replace the extended singles."""
     singles = {s.effect: f for s, f in ranked}
     firsts = sorted(singles.items(), key=lambda ef: setup.cost(ef[1])[1])[:JOINT_FIRST]
     combos: list[_Combo[F]] = []
     done: list[str] = []
+    own: Callable[[F, Sequence[str]], list[tuple[list[tuple[str, str]], F]]] | None = getattr(
+        setup, "joint_pairs", None
+    )
+    if own is not None:  # the setup fits its pairs itself (optional in the protocol: the arm)
+        for members, f in own(cur, named):
+            e_a, e_b = members[0][0], members[1][0]
+            subs = {e: singles[o] for e, o in ((e_a, e_b), (e_b, e_a)) if o in singles}
+            f.label = _label(members)
+            combos.append(_Combo(members, f, subs))
+        firsts = []
     for e_a, f_a in firsts:
         m_a = [(e_a, f_a.variant or "")]
         for members, f in _extend(setup, f_a, m_a, [*named, e_a, *done]):

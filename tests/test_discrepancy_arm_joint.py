@@ -1,0 +1,59 @@
+"""The arm's pairs for the core's joint search, the restart and the pruning (issue 16):
+:mod:`fsarm_sim.discrepancy.arm_joint` behind :class:`fsarm_sim.discrepancy.arm.ArmSetup`. One
+short synthetic record (3 s of ``fig14-sine``) with a payload error and Coulomb friction at
+joint 3 - two effects that hide each other: alone neither earns its place."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from fsarm_sim.discrepancy import arm as A
+from fsarm_sim.discrepancy import arm_synth as S
+from fsarm_sim.discrepancy import battery_arm_expert as E
+from fsarm_sim.discrepancy import core
+from fsarm_sim.records.measured import Dataset, load_dataset
+
+DURATION_S = 3.0
+PAIR = ("payload_error", "coulomb_friction")
+
+
+@pytest.fixture(scope="module")
+def record(tmp_path_factory: pytest.TempPathFactory) -> Dataset:
+    case = E.ArmCase("pair", "pair", PAIR, seed=1701, duration_s=DURATION_S)
+    rec = S.ArmRecording(duration_s=DURATION_S, noise_rad=E.NOISE_RAD, seed=case.seed)
+    path: Path = tmp_path_factory.mktemp("joint") / "arm.csv"
+    S.write_arm_synthetic(path, E.truth_of(case), rec)
+    return load_dataset(path)
+
+
+@pytest.fixture(scope="module")
+def diag(record: Dataset) -> core.Diagnosis[A.ArmFit]:
+    return A.diagnose_arm(record)
+
+
+def test_two_effects_that_hide_each_other_are_named_together(
+    record: Dataset, diag: core.Diagnosis[A.ArmFit]
+) -> None:
+    greedy = core.diagnose(A.ArmSetup(record), A.MAX_EFFECTS, joint=False)
+    assert set(PAIR) - set(greedy.named), "the greedy selection names both: no test of the pair"
+    assert sorted(diag.named) == sorted(PAIR)
+    assert any(st.joint and st.added for st in diag.steps)
+    assert diag.extras["unexplained"] is False
+    truth = E.truth_values(E.truth_of(E.ArmCase("p", "pair", PAIR, duration_s=DURATION_S)))
+    ci = {p["name"]: p for p in diag.extras["confidence_intervals"]["parameters"]}
+    for name in ("payload_error.dm_kg", "coulomb_friction.f_c_nm"):
+        assert ci[name]["lower"] <= truth[name] <= ci[name]["upper"], (name, ci[name])
+
+
+def test_without_drops_one_effect_and_refits_the_rest(diag: core.Diagnosis[A.ArmFit]) -> None:
+    setup = diag.setup
+    assert isinstance(setup, A.ArmSetup)
+    assert setup.holds(diag.final, "coulomb_friction") and not setup.holds(diag.final, "backlash")
+    assert setup.without(diag.final, "backlash") is None
+    sub = setup.without(diag.final, "coulomb_friction")
+    assert sub is not None
+    assert [e.name for e in sub.model.effects()] == ["payload_error"]
+    assert not any(k.startswith("coulomb_friction.") for k in [*sub.model.values, *sub.free])
+    assert setup.cost(sub)[1] > 2.0 * setup.cost(diag.final)[1]  # the friction was needed
