@@ -48,6 +48,7 @@ from fsarm_sim.discrepancy.arm_fit import (
     stated_nominal,
     step_jacobian,
 )
+from fsarm_sim.discrepancy.fit_label import labelled_as
 
 N_REFINE_PAIRS = 4  # pairs refined on the simulation (estimate: the runtime budget, issue 16)
 PAIR_ITER = 6  # Gauss-Newton iterations of a pair's refinement (two starts measured: 3-5 used)
@@ -172,11 +173,4 @@ def swap_variants(ctx: ArmContext, fit: ArmFit) -> tuple[ArmFit, dict[str, str]]
             f = refine(ctx, f)
             if f.cost < best.cost and f.w(ctx) < best.w(ctx):
                 best = f
-    if best is not fit:
-        best.label, best.effect, best.variant, best.note = (
-            fit.label,
-            fit.effect,
-            fit.variant,
-            fit.note,
-        )
-    return best, {}
+    return labelled_as(best, fit), {}

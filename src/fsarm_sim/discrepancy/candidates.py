@@ -33,6 +33,7 @@ from fsarm_sim.discrepancy import lsq
 from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.discrepancy.benchmodel import BenchModel, EffectInstance
+from fsarm_sim.discrepancy.fit_label import labelled_as
 from fsarm_sim.discrepancy.residuals import bic, effective_n, noise_floor, split_masks
 from fsarm_sim.plant.effects import registry
 
@@ -928,19 +929,7 @@ def backfit(ctx: Context, fit: Fit, added: str | None) -> Fit:
             best = f
     if sum(getattr(best.structure, a) is not None for _, _, a in (*SEARCHED, *SEARCHED_2)) >= 2:
         best = refine(ctx, best)  # the settings together, around the values found one at a time
-    return _labelled_as(best, fit)
-
-
-def _labelled_as(best: Fit, fit: Fit) -> Fit:
-    """``best`` (a refit of ``fit``) under ``fit``'s label, effect, variant and note."""
-    if best is not fit:
-        best.label, best.effect, best.variant, best.note = (
-            fit.label,
-            fit.effect,
-            fit.variant,
-            fit.note,
-        )
-    return best
+    return labelled_as(best, fit)
 
 
 # ----------------------------------------------------------------------------- pruning
@@ -1011,7 +1000,7 @@ def refit_hysteresis(ctx: Context, fit: Fit, added: str | None) -> Fit:
             g = refine_elements(ctx, g)
             if g.mse_teach < best.mse_teach:
                 best = g
-    return _labelled_as(best, fit)
+    return labelled_as(best, fit)
 
 
 SWAP_BIC = 10.0  # BIC fall (teaching and held-out) for a look-alike to replace a named effect
@@ -1063,11 +1052,4 @@ def swap_variants(
                 best = f
                 replaced[e] = e2
                 break
-    if best is not fit:
-        best.label, best.effect, best.variant, best.note = (
-            fit.label,
-            fit.effect,
-            fit.variant,
-            fit.note,
-        )
-    return best, replaced
+    return labelled_as(best, fit), replaced
