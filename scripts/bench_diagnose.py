@@ -38,7 +38,7 @@ ARM_EFFECTS: tuple[list[str], ...] = (
 
 def _paths(old: bool) -> None:
     lsq.REDUCE = not old
-    arm_fit.SIM_THREADS = 1 if old else arm_fit._sim_threads()
+    arm_fit.SIM_THREADS = 1 if old else arm_fit.sim_threads()
 
 
 def _time(job: Callable[[], Any]) -> tuple[float, Any]:
@@ -101,7 +101,7 @@ def main() -> None:
                 )
                 print(f"arm {label}: {rows[-1][2]:.2f} s -> {rows[-1][3]:.2f} s", flush=True)
     _paths(False)
-    print(f"\nsimulation threads (arm): {arm_fit._sim_threads()}")
+    print(f"\nsimulation threads (arm): {arm_fit.sim_threads()}")
     print(
         f"{'setup':6} {'records':>7} {'0.4.0 path median/max':>24} {'today median/max':>20} "
         f"{'median ratio':>13} {'same effects':>13}"

@@ -29,8 +29,13 @@ def main() -> None:
     ap.add_argument("--timestep", type=float, default=1e-3, help="physics timestep, s")
     ap.add_argument("--ctrl-dt", type=float, default=1e-3, help="control period, s")
     ap.add_argument("--window", type=float, default=60.0, help="first/last window, s")
+    ap.add_argument("--transmission", default="flexible-shaft", help="joint 3's transmission")
     args = ap.parse_args()
-    cfg = SimConfig(timestep_s=args.timestep, gains=Gains(ctrl_dt_s=args.ctrl_dt))
+    cfg = SimConfig(
+        timestep_s=args.timestep,
+        gains=Gains(ctrl_dt_s=args.ctrl_dt),
+        transmission=args.transmission,
+    )
     n = round(args.duration / args.ctrl_dt) + 1
     table = scenarios.get("fig14-sine").reference(np.arange(n) * args.ctrl_dt)
     sim = Simulation(cfg, table, "native")
@@ -40,7 +45,8 @@ def main() -> None:
     total = time.perf_counter() - start
     t = cols["t"]
     print(
-        f"{args.duration:g} s at h = {args.timestep:g} s: {sim.step_index()} steps, "
+        f"{args.transmission}, {args.duration:g} s at h = {args.timestep:g} s: "
+        f"{sim.step_index()} steps, "
         f"stepping {wall:.1f} s, total {total:.1f} s"
     )
     for label, mask in (

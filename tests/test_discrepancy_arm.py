@@ -362,5 +362,6 @@ def test_model_timestep_constant_is_the_models() -> None:
     import mujoco
 
     from fsarm_sim.engine.model import model_path
+    from fsarm_sim.sim.simulation import DEFAULT_TIMESTEP_S
 
-    assert mujoco.MjModel.from_xml_path(str(model_path())).opt.timestep == S.MODEL_TIMESTEP_S
+    assert mujoco.MjModel.from_xml_path(str(model_path())).opt.timestep == DEFAULT_TIMESTEP_S

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -268,15 +268,19 @@ def register(app: typer.Typer) -> None:
             if input_file is not None and duration is None:
                 t_in, _ = synth.read_input_file(input_file, setup)
                 duration = float(t_in[-1] - t_in[0])
+            stated: dict[str, Any] = {
+                "duration_s": duration,
+                "rate_hz": rate,
+                "noise": noise,
+                "trajectory": trajectory,
+                "bend_rad": None if bend_deg is None else math.radians(bend_deg),
+                "input_file": None if input_file is None else str(input_file),
+            }
+            # what is not given takes synth.Recording's defaults
             rec = synth.Recording(
-                duration_s=30.0 if duration is None else duration,
-                rate_hz=1000.0 if rate is None else rate,
-                noise=0.003 if noise is None else noise,
-                trajectory=trajectory or "chirp",
                 amplitude=amplitude,
-                bend_rad=math.radians(bend_deg or 0.0),
                 seed=seed,
-                input_file=None if input_file is None else str(input_file),
+                **{k: v for k, v in stated.items() if v is not None},
             )
         cols, side, hidden = synth.synthesize_setup(
             setup,

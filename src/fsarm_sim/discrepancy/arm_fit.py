@@ -114,7 +114,9 @@ N_SLIP_GRID = 3  # hysteresis: slip deflections tried (ShaftParams has three ele
 
 # simulations run side by side where a step needs several (ArmContext.prefetch): the cores this
 # process may use, at most 4; FSARM_DIAGNOSE_THREADS overrides (1: one after the other)
-def _sim_threads() -> int:
+def sim_threads() -> int:
+    """Simulation threads for a diagnosis step (FSARM_DIAGNOSE_THREADS, else the usable cores,
+    at most 4)."""
     given = os.environ.get("FSARM_DIAGNOSE_THREADS", "").strip()
     if given:
         if not given.isdigit() or int(given) < 1:
@@ -126,7 +128,7 @@ def _sim_threads() -> int:
     return min(4, cores or 1)
 
 
-SIM_THREADS = _sim_threads()
+SIM_THREADS = sim_threads()
 REFINE_ITER = 3  # Gauss-Newton iterations of a refinement (each: free parameters + 1 runs)
 NOMINAL_ITER = 5
 REFINE_SECANT = 0.1  # secant step of the refinement, in units of each parameter's magnitude
@@ -617,8 +619,10 @@ class ArmContext:
         :meth:`simulate` calls find them in the cache. The same runs as one after the other."""
         todo: dict[tuple[Any, ...], ArmModel] = {}
         for m in models:
-            if m is not None and m.physical_key() not in self.cache:
-                todo.setdefault(m.physical_key(), m)
+            if m is not None:
+                key = m.physical_key()
+                if key not in self.cache:
+                    todo.setdefault(key, m)
         threads = min(SIM_THREADS, len(todo))
         if threads < 2:
             return  # one run (or one core): simulate() runs it when it is asked for

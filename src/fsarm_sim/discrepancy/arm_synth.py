@@ -29,6 +29,7 @@ from fsarm_sim.plant.shaft import ShaftParams
 from fsarm_sim.records import sidecar as records
 from fsarm_sim.records.measured import stated_shaft, write_dataset
 from fsarm_sim.sim import scenarios
+from fsarm_sim.sim.simulation import DEFAULT_TIMESTEP_S
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -86,7 +87,6 @@ class ArmRecording:
         return ctrl_dt_s, k
 
 
-MODEL_TIMESTEP_S = 1e-3  # models/fsarm: <option timestep> (tests/test_discrepancy_arm.py checks)
 MIN_RATE_HZ = 100.0  # an arm record slower than this cannot follow the 0.1-1 Hz scenarios' loops
 MAX_RATE_HZ = 5000.0  # estimate: the scenarios' loops gain nothing from a faster controller
 
@@ -151,7 +151,7 @@ def synthesize_arm(
     ctrl_dt, every = rec.sampling(Gains().ctrl_dt_s)
     gains = Gains(ctrl_dt_s=ctrl_dt)
     # a controller faster than the model's physics step steps the physics at its own period
-    timestep = ctrl_dt if ctrl_dt < MODEL_TIMESTEP_S * (1.0 - 1e-9) else None
+    timestep = ctrl_dt if ctrl_dt < DEFAULT_TIMESTEP_S * (1.0 - 1e-9) else None
     duration = float(sc.duration_s if rec.duration_s is None else rec.duration_s)
     payload = float(sc.payload_kg if rec.payload_kg is None else rec.payload_kg)
     n_ticks = round(duration / ctrl_dt) + 1
