@@ -498,12 +498,20 @@ def stick_rate(tr: Any, x: float, bend: float, z: float) -> float:
     sheath reverses (the joint end stuck, seed 004 phases C and F: the motor turns, the joint
     stays): from ``d(K_m x - K_d |x| z) = 0``, ``(K_m - s K_d z) / (K_d |x| + K_m delta0)``
     (s the taut twist's sign; ``delta0`` keeps it finite at zero twist)."""
+    km, kd, s, d = _dahl_terms(tr, x, bend)
+    return (km - s * kd * z) / d
+
+
+def _dahl_terms(tr: Any, x: float, bend: float) -> tuple[float, float, float, float]:
+    """``(K_m, K_d, s, D)`` of the friction state's stick law at twist ``x``: the branches' mean
+    and half-difference stiffness, the taut twist's sign and ``D = K_d |x_eff| + K_m delta0``
+    (shared by :func:`stick_rate` and :func:`friction_step`)."""
     kp = branch_stiffness_pull(tr, bend)
     kr = branch_stiffness_release(tr, bend)
     km, kd = 0.5 * (kp + kr), 0.5 * (kp - kr)
     xe = effective_twist_rad(tr, x)
     s = -1.0 if xe < 0.0 else 1.0
-    return (km - s * kd * z) / (kd * abs(xe) + km * tr[I_DELTA0])
+    return km, kd, s, kd * abs(xe) + km * tr[I_DELTA0]
 
 
 def friction_fraction(tr: Any, vm: float) -> float:
@@ -513,6 +521,14 @@ def friction_fraction(tr: Any, vm: float) -> float:
     if tr[I_V0] <= 0.0:
         return 1.0
     return v / (v + tr[I_V0])
+
+
+def sliding_target(tr: Any, travel: float, speed: float) -> float:
+    """Where the friction state heads while the tendon slides: ``sgn(travel)
+    friction_fraction(speed)`` (``travel`` the sliding direction, the sum of the ends' motions;
+    ``speed`` the faster end's)."""
+    target = friction_fraction(tr, speed)
+    return -target if travel < 0.0 else target
 
 
 # width (in z) over which the ramp slows down on reaching its target (smooths the arrival)
@@ -533,9 +549,7 @@ def state_rate(
     z = _z(act, a0)
     vj = vm - xdot
     u = vm + vj
-    target = friction_fraction(tr, max(abs(vm), abs(vj)))
-    if u < 0.0:
-        target = -target
+    target = sliding_target(tr, u, max(abs(vm), abs(vj)))
     gap = (target - z) / Z_SMOOTH
     if gap > 1.0:
         gap = 1.0
@@ -586,16 +600,11 @@ def friction_step(
     travel = dtheta_m + dtheta_j
     if travel == 0.0:
         return z
-    speed = max(abs(dtheta_m), abs(dtheta_j))
-    target = friction_fraction(tr, speed / dt) if dt > 0.0 else 1.0
-    if travel < 0.0:
-        target = -target
-    kp = branch_stiffness_pull(tr, bend)
-    kr = branch_stiffness_release(tr, bend)
-    km, kd = 0.5 * (kp + kr), 0.5 * (kp - kr)
-    xe = effective_twist_rad(tr, x)
-    s = -1.0 if xe < 0.0 else 1.0
-    d = kd * abs(xe) + km * tr[I_DELTA0]
+    if dt > 0.0:
+        target = sliding_target(tr, travel, max(abs(dtheta_m), abs(dtheta_j)) / dt)
+    else:  # infinitely fast: the full friction
+        target = -1.0 if travel < 0.0 else 1.0
+    km, kd, s, d = _dahl_terms(tr, x, bend)
     if kd <= 0.0:  # no friction: the state jumps to its target (it carries no torque)
         return target
     a = s * km / kd
