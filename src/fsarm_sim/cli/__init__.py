@@ -13,6 +13,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
+from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.lazy_commands import (
@@ -50,9 +51,7 @@ def scenarios_cmd() -> None:
 
 @app.command("shafts")
 def shafts_cmd(
-    shaft_file: Annotated[
-        Path | None, typer.Option(help="coefficient file (TOML); default: built-in catalogue")
-    ] = None,
+    shaft_file: opt.ShaftFile = None,
 ) -> None:
     """List the catalogue's bench shafts with their eq. 3/4 stiffnesses."""
     from fsarm_sim.plant.shaft import load_catalogue
@@ -89,8 +88,8 @@ def shafts_cmd(
 @app.command("run")
 def run_cmd(
     scenario: Annotated[str, typer.Argument(help="scenario name (see `fsarm scenarios`)")],
-    diameter_mm: Annotated[float, typer.Option(help="shaft diameter D, mm")] = 9.0,
-    length_mm: Annotated[float, typer.Option(help="shaft length L, mm")] = 450.0,
+    diameter_mm: opt.DiameterMm = 9.0,
+    length_mm: opt.LengthMm = 450.0,
     payload_kg: Annotated[
         float | None, typer.Option(help="payload at the flange, kg (default: the scenario's)")
     ] = None,
@@ -106,12 +105,8 @@ def run_cmd(
     fmt: Annotated[
         str, typer.Option("--format", help="time-series format: csv or parquet")
     ] = "csv",
-    shaft_file: Annotated[
-        Path | None, typer.Option(help="your own shaft coefficient file (TOML)")
-    ] = None,
-    extrapolate: Annotated[
-        bool, typer.Option(help="allow D/L outside the coefficient file's validity range")
-    ] = False,
+    shaft_file: opt.ShaftFile = None,
+    extrapolate: opt.Extrapolate = False,
     series_hysteresis: Annotated[
         bool | None,
         typer.Option(
@@ -127,9 +122,7 @@ def run_cmd(
     ] = None,
     ctrl_dt: Annotated[float, typer.Option(help="control period, s")] = 0.001,
     log_every: Annotated[int, typer.Option(help="log one row every N control ticks")] = 1,
-    backend: Annotated[
-        str, typer.Option(help="callback path: python (reference) or native")
-    ] = "native",
+    backend: opt.Backend = "native",
     rrd: Annotated[
         Path | None, typer.Option(help="write a Rerun recording (.rrd) of the run here")
     ] = None,
@@ -149,13 +142,8 @@ def run_cmd(
             "length-mm, payload-kg, backend; repeatable) and record both into --rrd"
         ),
     ] = None,
-    transmission: Annotated[
-        str, typer.Option(help="joint 3's transmission (see `fsarm transmissions`)")
-    ] = "flexible-shaft",
-    tr_param: Annotated[
-        list[str] | None,
-        typer.Option(help="override a transmission parameter, NAME=VALUE (repeatable)"),
-    ] = None,
+    transmission: opt.Transmission = "flexible-shaft",
+    tr_param: opt.TrParam = None,
 ) -> None:
     """Run a scenario headless, print tracking metrics, write its time series."""
     from fsarm_sim.engine.model import Gains, SimConfig

@@ -19,6 +19,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
+from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.outputs import OutputPlan, safe_write, write_text
@@ -31,13 +32,8 @@ def _fmt(x: float | None, scale: float = 1.0, digits: int = 3) -> str:
 def register(app: typer.Typer) -> None:
     @app.command("collision")
     def collision_cmd(
-        transmission: Annotated[
-            str, typer.Option(help="joint 3's transmission (see `fsarm transmissions`)")
-        ] = "flexible-shaft",
-        tr_param: Annotated[
-            list[str] | None,
-            typer.Option(help="override a transmission parameter, NAME=VALUE (repeatable)"),
-        ] = None,
+        transmission: opt.Transmission = "flexible-shaft",
+        tr_param: opt.TrParam = None,
         series_hysteresis: Annotated[
             bool | None,
             typer.Option(
@@ -45,9 +41,7 @@ def register(app: typer.Typer) -> None:
                 "(default: the coefficient file's, on)"
             ),
         ] = None,
-        backend: Annotated[
-            str, typer.Option(help="callback path: python (reference) or native")
-        ] = "native",
+        backend: opt.Backend = "native",
         json_file: Annotated[
             Path | None, typer.Option("--json", help="write the results as JSON here")
         ] = None,

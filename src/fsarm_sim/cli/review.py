@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 from rich.console import Console
 
+from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.outputs import OutputPlan, SafeWriter
@@ -177,8 +178,8 @@ def register(app: typer.Typer) -> None:
         duration: Annotated[
             float | None, typer.Option(help="simulated time per scenario, s (default: its own)")
         ] = None,
-        diameter_mm: Annotated[float, typer.Option(help="shaft diameter D, mm")] = 9.0,
-        length_mm: Annotated[float, typer.Option(help="shaft length L, mm")] = 450.0,
+        diameter_mm: opt.DiameterMm = 9.0,
+        length_mm: opt.LengthMm = 450.0,
     ) -> None:
         """Run every scenario and write its figures: tracking (Fig. 14 style), torque vs twist
         (Fig. 6/7) and bending moment vs bend (Fig. 9), as <out>/<scenario>_<kind>.<format>."""

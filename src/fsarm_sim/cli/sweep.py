@@ -12,6 +12,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
+from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.outputs import OutputPlan, SafeWriter
@@ -139,7 +140,7 @@ def register(app: typer.Typer) -> None:
         nearest: Annotated[
             bool, typer.Option(help="accept the nearest shaft if none reaches K_des")
         ] = False,
-        shaft_file: Annotated[Path | None, typer.Option(help="coefficient file (TOML)")] = None,
+        shaft_file: opt.ShaftFile = None,
     ) -> None:
         """Choose a shaft for a desired stiffness: Algorithm 1 (seed 000) and the closed-form selector."""
         from fsarm_sim.plant.shaft import load_catalogue
@@ -231,10 +232,8 @@ def register(app: typer.Typer) -> None:
         scheduler: Annotated[
             str | None, typer.Option(help="Dask scheduler address, e.g. tcp://host:8786")
         ] = None,
-        shaft_file: Annotated[Path | None, typer.Option(help="coefficient file (TOML)")] = None,
-        extrapolate: Annotated[
-            bool, typer.Option(help="allow shafts outside the validity box")
-        ] = False,
+        shaft_file: opt.ShaftFile = None,
+        extrapolate: opt.Extrapolate = False,
         out: Annotated[
             Path | None, typer.Option(help="after the run: re-fit eq. 3/4 and write plots here")
         ] = None,
@@ -364,8 +363,8 @@ def register(app: typer.Typer) -> None:
 
     @bench_app.command("series")
     def bench_series_cmd(
-        diameter_mm: Annotated[float, typer.Option(help="shaft diameter D, mm")] = 9.0,
-        length_mm: Annotated[float, typer.Option(help="shaft length L, mm")] = 450.0,
+        diameter_mm: opt.DiameterMm = 9.0,
+        length_mm: opt.LengthMm = 450.0,
         bends: Annotated[str, typer.Option(help="bend angles, deg")] = "0,15,30,45,60,75,90",
         chirp_s: Annotated[float | None, typer.Option(help="chirp length, s")] = None,
         amplitude_fraction: Annotated[
@@ -380,7 +379,7 @@ def register(app: typer.Typer) -> None:
         workers: Annotated[
             int | None, typer.Option(help="worker processes (default: all cores)")
         ] = None,
-        shaft_file: Annotated[Path | None, typer.Option(help="coefficient file (TOML)")] = None,
+        shaft_file: opt.ShaftFile = None,
     ) -> None:
         """Series test: chirp into the torque controller at each bend; eq. 8/eq. 1 fits per sign."""
         from fsarm_sim.plant.shaft import load_catalogue
@@ -425,8 +424,8 @@ def register(app: typer.Typer) -> None:
 
     @bench_app.command("parallel")
     def bench_parallel_cmd(
-        diameter_mm: Annotated[float, typer.Option(help="shaft diameter D, mm")] = 9.0,
-        length_mm: Annotated[float, typer.Option(help="shaft length L, mm")] = 450.0,
+        diameter_mm: opt.DiameterMm = 9.0,
+        length_mm: opt.LengthMm = 450.0,
         period_s: Annotated[float | None, typer.Option(help="bending cycle period, s")] = None,
         amplitude_deg: Annotated[float | None, typer.Option(help="bend amplitude, deg")] = None,
         torsion_fraction: Annotated[
@@ -438,7 +437,7 @@ def register(app: typer.Typer) -> None:
         workers: Annotated[
             int | None, typer.Option(help="worker processes (default: all cores)")
         ] = None,
-        shaft_file: Annotated[Path | None, typer.Option(help="coefficient file (TOML)")] = None,
+        shaft_file: opt.ShaftFile = None,
     ) -> None:
         """Parallel test: bend both ways with and without torsion; eq. 2 K_b fits of the moment loop."""
         from fsarm_sim.plant.shaft import load_catalogue
@@ -501,7 +500,7 @@ def register(app: typer.Typer) -> None:
             int | None, typer.Option(help="worker processes (default: all cores)")
         ] = None,
         scheduler: Annotated[str | None, typer.Option(help="Dask scheduler address")] = None,
-        shaft_file: Annotated[Path | None, typer.Option(help="coefficient file (TOML)")] = None,
+        shaft_file: opt.ShaftFile = None,
         progress: Annotated[bool, typer.Option(help="progress bar with ETA")] = True,
     ) -> None:
         """The nine-shaft bench campaign: both tests per shaft, eq. 3/4 re-fit, error vs catalogue."""
