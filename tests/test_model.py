@@ -100,3 +100,84 @@ def test_broken_mjcf_gives_structure_error(tmp_path: Path) -> None:
     f.write_text(text)
     with pytest.raises(ModelStructureError, match="shaft_twist"):
         build_model(SimConfig(), hold_table(0, 0, 0), path=f)
+
+
+def _mjb(model: mujoco.MjModel) -> bytes:
+    """Every field of a compiled model, as MuJoCo saves it (MJB)."""
+    buf = np.zeros(mujoco.mj_sizeModel(model), dtype=np.uint8)
+    mujoco.mj_saveModel(model, None, buf)
+    return buf.tobytes()
+
+
+def _cached_configs() -> list[SimConfig]:
+    from dataclasses import replace
+
+    from fsarm_sim.engine.model import Effects
+    from fsarm_sim.plant.shaft import load_catalogue
+
+    cat = load_catalogue()
+    return [
+        SimConfig(shaft=cat.shaft(6, 335)),
+        SimConfig(shaft=cat.shaft(12, 535)),  # other slip limits: the same structure
+        SimConfig(shaft=cat.shaft(8, 435, series_hysteresis=True), payload_kg=5.0),
+        SimConfig(shaft=replace(cat.shaft(10, 435), inertia_kgm2=2e-5)),
+        SimConfig(
+            effects=Effects(q3_friction_nm=0.5, q3_damping_nms=0.2),
+            joint_damping=False,
+            timestep_s=0.0005,
+            integrator="RK4",
+        ),
+        SimConfig(transmission="rtca"),
+        SimConfig(transmission="tendon-sheath"),
+        SimConfig(shaft=cat.shaft(6, 335), gains=Gains(wn_rad_s=(10.0, 12.0, 14.0))),
+    ]
+
+
+@pytest.mark.parametrize("lean", [True, False])
+def test_cached_build_is_the_fresh_build(lean: bool) -> None:
+    """build_model copies a compiled model kept per structure: every field of what it returns is
+    the same as compiling afresh, whichever runs were built before (issue 15)."""
+    from fsarm_sim.engine import model as model_mod
+
+    table = hold_table(0.0, 0.5, 0.3, n=50)
+    configs = _cached_configs()
+    fresh = []
+    for cfg in configs:
+        model_mod.clear_model_cache()
+        fresh.append(_mjb(build_model(cfg, table, lean=lean)))
+    model_mod.clear_model_cache()
+    for _ in range(2):  # in order, then again with every structure kept
+        for cfg, want in zip(configs, fresh, strict=True):
+            assert _mjb(build_model(cfg, table, lean=lean)) == want
+    for cfg, want in zip(reversed(configs), reversed(fresh), strict=True):
+        assert _mjb(build_model(cfg, table, lean=lean)) == want
+    # the cached path was the one tested: configs 0, 1 and 7 differ only in numbers, so they
+    # share one kept structure
+    model_mod.clear_model_cache()
+    for i in (0, 1, 7):
+        build_model(configs[i], table, lean=lean)
+    assert len(model_mod._cache) == 1
+
+
+def test_built_models_share_nothing() -> None:
+    """Each build_model is its own model: writing one changes neither the next nor another."""
+    table = hold_table(0.0, 0.5, 0.3, n=5)
+    a = build_model(SimConfig(), table, lean=True)
+    want = _mjb(a)
+    b = build_model(SimConfig(), table, lean=True)
+    b.dof_damping[:] = 123.0
+    b.numeric(L.PARAMS_NAME).data[:] = -1.0
+    b.numeric(L.REF_NAME).data[:] = 7.0
+    b.actuator_actrange[:] = 0.25
+    assert _mjb(a) == want
+    assert _mjb(build_model(SimConfig(), table, lean=True)) == want
+
+
+def test_long_tables_are_not_kept() -> None:
+    """A reference table over the cache's size limit is compiled afresh and not kept."""
+    from fsarm_sim.engine import model as model_mod
+
+    model_mod.clear_model_cache()
+    n = model_mod.MODEL_CACHE_MAX_REF_NUMBERS // L.REF_COLS + 1
+    build_model(SimConfig(), hold_table(0.0, 0.5, 0.3, n=n), lean=True)
+    assert not model_mod._cache

@@ -7,8 +7,16 @@ import math
 import numpy as np
 import pytest
 
-from fsarm_sim.engine.model import SimConfig
-from fsarm_sim.errors import InvalidParameterError, ScenarioNotFoundError, SimulationWarningError
+from fsarm_sim.engine import model as model_mod
+from fsarm_sim.engine.model import SimConfig, build_model
+from fsarm_sim.errors import (
+    InvalidParameterError,
+    RunHealthError,
+    ScenarioNotFoundError,
+    SimulationWarningError,
+)
+from fsarm_sim.kernels import layout as L
+from fsarm_sim.plant.shaft import load_catalogue
 from fsarm_sim.sim import scenarios
 from fsarm_sim.sim.simulation import Simulation, run_scenario
 
@@ -97,3 +105,107 @@ def test_interrupted_run_keeps_finished_work(monkeypatch: pytest.MonkeyPatch) ->
     assert len(r.columns["t"]) == round(r.duration_s / 1e-3)
     assert np.allclose(r.columns["t"], np.arange(len(r.columns["t"])) * 1e-3, rtol=0, atol=1e-12)
     assert np.all(np.isfinite(r.columns["q3"]))
+
+
+def _fig14_table(seconds: float) -> np.ndarray:
+    n = round(seconds / 0.001) + 1
+    return scenarios.get("fig14-sine").reference(np.arange(n, dtype=np.float64) * 0.001)
+
+
+def _record(cfg: SimConfig, table: np.ndarray) -> tuple[dict[str, np.ndarray], np.ndarray]:
+    sim = Simulation(cfg, table, "native")
+    cols, _ = sim.run(0.6)
+    return cols, sim.data.userdata[: L.N_USERDATA].copy()
+
+
+def test_runs_in_a_row_equal_fresh_runs() -> None:
+    """Simulations built one after another with different shafts and payloads (build_model keeps
+    the compiled structure, issue 15) record exactly what each records when built first."""
+    cat = load_catalogue()
+    cfgs = [
+        SimConfig(shaft=cat.shaft(6, 335)),
+        SimConfig(shaft=cat.shaft(12, 535, series_hysteresis=True)),
+        SimConfig(shaft=cat.shaft(6, 335), payload_kg=3.0),
+        SimConfig(shaft=cat.shaft(6, 335)),
+    ]
+    table = _fig14_table(0.6)
+    fresh = []
+    for cfg in cfgs:
+        model_mod.clear_model_cache()
+        fresh.append(_record(cfg, table))
+    model_mod.clear_model_cache()
+    for cfg, (want_cols, want_ud) in zip(cfgs, fresh, strict=True):
+        cols, ud = _record(cfg, table)
+        assert cols.keys() == want_cols.keys()
+        for key in cols:
+            np.testing.assert_array_equal(cols[key], want_cols[key], err_msg=key)
+        np.testing.assert_array_equal(ud, want_ud)
+    assert not np.array_equal(fresh[0][0]["twist"], fresh[1][0]["twist"])  # they differ
+
+
+def test_live_simulations_share_no_model() -> None:
+    """Two Simulations of one configuration alive at once: stepping or writing one leaves the
+    other as a fresh one."""
+    table = _fig14_table(0.6)
+    a = Simulation(SimConfig(), table, "native")
+    b = Simulation(SimConfig(), table, "native")
+    assert a.model is not b.model and a.data is not b.data
+    a.run(0.3)
+    a.params[L.P_WN3] = 1.0
+    a.model.dof_damping[:] = 9.0
+    cols, _ = b.run(0.6)
+    want, _ = _record(SimConfig(), table)
+    for key in cols:
+        np.testing.assert_array_equal(cols[key], want[key], err_msg=key)
+
+
+def test_health_sees_the_state_and_the_model_it_has_now() -> None:
+    """health() keeps views of the parameters and reference per model: a model put in place
+    afterwards is the one checked; a non-finite state and a joint far from its reference are
+    caught."""
+    table = _fig14_table(0.6)
+    sim = Simulation(SimConfig(), table, "native")
+    sim.run(0.5)
+    sim.health()
+    far = table.copy()
+    far[:, 2] += math.radians(50.0)  # joint 3's reference 50 deg away: a diverged run
+    sim.model = build_model(SimConfig(), far, lean=True)
+    with pytest.raises(RunHealthError, match=r"joint q3 is -5\d\.\d deg from its reference"):
+        sim.health()
+    sim = Simulation(SimConfig(), table, "native")
+    sim.run(0.5)
+    sim.data.qpos[sim.structure.qadr[1]] = math.nan
+    with pytest.raises(RunHealthError, match=r"state is not finite \(q2\)"):
+        sim.health()
+    sim.data.qpos[sim.structure.qadr[1]] = 0.0
+    sim.data.qvel[0] = math.inf
+    with pytest.raises(RunHealthError, match=r"state is not finite \(rotor\)"):
+        sim.health()
+
+
+@pytest.mark.parametrize("name", sorted(scenarios.REGISTRY))
+def test_scenario_table_is_the_reference_and_the_callers_own(name: str) -> None:
+    """Scenario.table (kept per process) equals the reference function at the tick times, and
+    each call hands out a writable copy that later calls do not see."""
+    sc = scenarios.get(name)
+    want = sc.reference(np.arange(500, dtype=np.float64) * 0.002)
+    a = sc.table(500, 0.002)
+    np.testing.assert_array_equal(a, want)
+    a[:] = 1e9
+    np.testing.assert_array_equal(sc.table(500, 0.002), want)
+    assert sc.table(500, 0.002) is not sc.table(500, 0.002)
+
+
+def test_scenario_table_of_an_impure_reference_is_computed_every_time() -> None:
+    """A scenario registered with ``pure_reference=False`` (its reference draws new numbers per
+    call) gets a fresh table at every call: nothing is kept."""
+    draws = iter(range(1, 100))
+
+    def noisy(t: np.ndarray) -> np.ndarray:
+        return np.full((t.size, 9), float(next(draws)))
+
+    sc = scenarios.Scenario("noisy", "test", 1.0, 0.0, noisy, pure_reference=False)
+    first, second = sc.table(10, 0.001), sc.table(10, 0.001)
+    assert first[0, 0] == 1.0 and second[0, 0] == 2.0
+    pure = scenarios.Scenario("kept", "test", 1.0, 0.0, noisy)
+    assert pure.table(10, 0.001)[0, 0] == pure.table(10, 0.001)[0, 0]

@@ -212,6 +212,37 @@ def test_evaluate_point_outputs_and_labels() -> None:
     assert cat_out["kb"] == cat_out["kb_catalogue"]
 
 
+def test_a_point_after_other_points_equals_a_fresh_one() -> None:
+    """What one process keeps between points (compiled models, reference tables, issue 15)
+    changes no output: each point evaluated after the others, in either order, equals the point
+    evaluated first in an emptied process cache."""
+    from fsarm_sim.engine import model as model_mod
+    from fsarm_sim.sim import scenarios
+
+    spec = sw.build_spec(
+        grid=["diameter_mm=6,12", "length_mm=335,535", "scenario=fig14-sine,p2p-payload"],
+        fixed=["duration_s=0.4"],
+        outputs=["tracking"],
+    )
+    tasks = [{"point": p, "catalogue_toml": None, "backend": "native"} for p in sw.points(spec)]
+
+    def clear() -> None:
+        model_mod.clear_model_cache()
+        scenarios._cached_table.cache_clear()
+
+    fresh = []
+    for t in tasks:
+        clear()
+        fresh.append(sw.evaluate_point(t))
+    clear()
+    for t, want in [
+        *zip(tasks, fresh, strict=True),
+        *reversed(list(zip(tasks, fresh, strict=True))),
+    ]:
+        assert sw.evaluate_point(t) == want
+    assert fresh[0] != fresh[1]
+
+
 # ---------------------------------------------------------------------------------------------
 # resume after kill -9, and the analysis
 

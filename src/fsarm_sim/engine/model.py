@@ -8,7 +8,11 @@ reference table (see :mod:`fsarm_sim.kernels.layout` for where each lands).
 
 from __future__ import annotations
 
+import copy
 import math
+import threading
+from collections import OrderedDict
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
@@ -367,6 +371,10 @@ def build_model(
     ``ref_table`` has one row per control tick: ``q_ref[3], qd_ref[3], qdd_ref[3]``. ``lean``:
     the lean twin (:mod:`fsarm_sim.engine.lean`: no visual geoms or sensors; the same dynamics),
     for stepping only.
+
+    The model returned is the caller's own: a copy of a compiled model kept per structure in this
+    process (:func:`_compiled`; the same bytes as compiling afresh, tests/test_model.py), with
+    this run's numbers written into it.
     """
     config.validate()
     ref = np.ascontiguousarray(ref_table, dtype=np.float64)
@@ -378,11 +386,13 @@ def build_model(
         raise InvalidParameterError("reference table contains NaN or infinite values")
     if config.transmission_model().routed_over_joint2:  # phi_B = q2: the file's bend range
         config.shaft.check_bend(ref[:, 1], "joint 2's reference q2 (the shaft's bend phi_B)")
-    spec = build_spec(config, ref, path, ref_data=False)
-    if lean:
-        strip(spec)
-    with callbacks.suspended():
-        model = spec.compile()
+    tr = config.transmission_model()
+    plant = config.transmission_blocks()[0]  # (~40 us each time: computed once here)
+    base = _compiled(config, ref, path, lean, tr.state_limits(plant))
+    model = copy.copy(base.model)  # mj_copyModel: nothing shared with the cache or other runs
+    for a, lim in zip(base.slip_actuators, base.limits, strict=True):
+        if lim is not None:  # (build_spec writes these; the key holds which are limited)
+            model.actuator_actrange[a] = (lim[0], lim[1])
     model.numeric(L.REF_NAME).data[:] = ref.ravel()  # (the spec sized it: build_spec)
     if config.timestep_s is not None:
         model.opt.timestep = config.timestep_s
@@ -396,11 +406,11 @@ def build_model(
         )
     if not config.joint_damping:
         model.dof_damping[:] = 0.0
-    st = read_structure(model)
+    st = base.structure
     model.dof_frictionloss[st.dof[2]] += config.effects.q3_friction_nm
     model.dof_damping[st.dof[2]] += config.effects.q3_damping_nms
-    write_params(model, st, config, ref.shape[0])
-    omega = shaft_mode_rad_s(model, st, max_stiffness(config), ref[0, :3])
+    write_params(model, st, config, ref.shape[0], lever_arms=base.lever_arms)
+    omega = float(np.sqrt(tr.max_stiffness(plant) * base.mode_inertia(ref[0, :3])))
     if config.effects.series and omega * model.opt.timestep > MAX_OMEGA_DT:
         raise InvalidParameterError(
             f"timestep {model.opt.timestep:g} s is too large for the shaft: its stiffest mode is "
@@ -408,6 +418,108 @@ def build_model(
             f"use a timestep of at most {MAX_OMEGA_DT / omega:.2g} s"
         )
     return model
+
+
+# Compiled models kept per structure in one process (build_model copies them): a sweep's points
+# differ in numbers, not structure, and reading + compiling the MJCF took ~1.5 ms of each.
+MODEL_CACHE_ENTRIES = 8  # structures (a sweep has one; estimate, a few MB each at most)
+# Runs with longer reference tables compile afresh and are not kept: 2^21 numbers = 16 MiB,
+# ~230 s at 1 kHz (a sweep point runs seconds; an hour-long run would pin 260 MB).
+MODEL_CACHE_MAX_REF_NUMBERS = 1 << 21
+
+
+@dataclass
+class _Compiled:
+    """One compiled structure and what follows from it alone. ``model`` is never handed out
+    nor written once kept (build_model copies it)."""
+
+    model: mujoco.MjModel
+    structure: ArmStructure
+    slip_actuators: tuple[int, ...]  # the shaft_slip actuators build_spec limits, in order
+    limits: tuple[tuple[float, float] | None, ...]  # this run's (not part of the cached entry)
+    lever_arms: tuple[float, float]  # payload_lever_arms_m: kinematics at the zero pose only
+    # q -> c_m^2 / I_rotor + c_s^2 / M_33 (the mass matrix depends on the structure and q only)
+    _modes: dict[tuple[float, ...], float] = field(default_factory=dict)
+
+    def mode_inertia(self, q: npt.NDArray[np.float64]) -> float:
+        key = tuple(float(v) for v in q)
+        inv = self._modes.get(key)
+        if inv is None:
+            inv = _mode_inertia(self.model, self.structure, q)
+            if len(self._modes) < 64:
+                self._modes[key] = inv
+        return inv
+
+
+_cache: OrderedDict[tuple[object, ...], _Compiled] = OrderedDict()
+_cache_lock = threading.Lock()
+
+
+def _compiled(
+    config: SimConfig,
+    ref: npt.NDArray[np.float64],
+    path: Path | None,
+    lean: bool,
+    state_limits: Sequence[tuple[float, float] | None],
+) -> _Compiled:
+    """The compiled structure of a run, from the cache or compiled (and kept when small).
+
+    Keyed by everything :func:`build_spec` and :func:`~fsarm_sim.engine.lean.strip` read: the
+    MJCF file (path, size, modification time), ``lean``, the reference table's size, the payload,
+    the shaft inertia, and which transmission states are limited; the limits themselves are
+    numbers the compiler only copies, so build_model writes them into its copy.
+    ``state_limits``: the transmission's (``Transmission.state_limits``, as build_spec sets them).
+    """
+    file = Path(path or model_path())
+    stat = file.stat()
+    limits = tuple(None if lim is None else (float(lim[0]), float(lim[1])) for lim in state_limits)
+    key = (
+        str(file),
+        stat.st_mtime_ns,
+        stat.st_size,
+        bool(lean),
+        int(ref.size),
+        float(config.payload_kg),
+        float(config.shaft.inertia_kgm2),
+        tuple(lim is None for lim in limits),
+    )
+    # a range the compiler would reject (or a large table) is compiled afresh, never kept
+    keep = ref.size <= MODEL_CACHE_MAX_REF_NUMBERS and all(
+        lim is None or (math.isfinite(lim[0]) and math.isfinite(lim[1]) and lim[0] < lim[1])
+        for lim in limits
+    )
+    with _cache_lock:
+        hit = _cache.get(key) if keep else None
+        if hit is not None:
+            _cache.move_to_end(key)
+    if hit is None:
+        spec = build_spec(config, ref, path, ref_data=False)
+        if lean:
+            strip(spec)
+        with callbacks.suspended():
+            compiled = spec.compile()
+        A = mujoco.mjtObj.mjOBJ_ACTUATOR
+        hit = _Compiled(
+            model=compiled,
+            structure=read_structure(compiled),
+            slip_actuators=tuple(
+                _id(compiled, A, f"shaft_slip{i + 1}") for i in range(len(limits))
+            ),
+            limits=limits,
+            lever_arms=payload_lever_arms_m(compiled),
+        )
+        if keep:
+            with _cache_lock:
+                _cache[key] = hit
+                while len(_cache) > MODEL_CACHE_ENTRIES:
+                    _cache.popitem(last=False)
+    return replace(hit, limits=limits)
+
+
+def clear_model_cache() -> None:
+    """Forget the compiled models kept by :func:`build_model` (tests; memory)."""
+    with _cache_lock:
+        _cache.clear()
 
 
 MAX_OMEGA_DT = (
@@ -432,6 +544,11 @@ def shaft_mode_rad_s(
     Two inertias on one spring: w^2 = K (c_m^2 / I_rotor + c_s^2 / M_33), with the twist
     coefficients c_m = 1/i_G1 and c_s = i_G2 of the tendon.
     """
+    return float(np.sqrt(k * _mode_inertia(model, st, q)))
+
+
+def _mode_inertia(model: mujoco.MjModel, st: ArmStructure, q: npt.NDArray[np.float64]) -> float:
+    """c_m^2 / I_rotor + c_s^2 / M_33 at pose ``q`` (:func:`shaft_mode_rad_s`)."""
     data = mujoco.MjData(model)
     data.qpos[list(st.qadr[:3])] = q
     mujoco.mj_kinematics(model, data)
@@ -439,12 +556,21 @@ def shaft_mode_rad_s(
     mujoco.mj_crb(model, data)
     full = np.zeros((model.nv, model.nv))
     mujoco.mj_fullM(model, data, full)
-    inv = st.coef_m**2 / full[st.dof[3], st.dof[3]] + st.coef_s**2 / full[st.dof[2], st.dof[2]]
-    return float(np.sqrt(k * inv))
+    return float(
+        st.coef_m**2 / full[st.dof[3], st.dof[3]] + st.coef_s**2 / full[st.dof[2], st.dof[2]]
+    )
 
 
-def write_params(model: mujoco.MjModel, st: ArmStructure, config: SimConfig, n_ticks: int) -> None:
-    """Fill ``fsarm_params`` (layout.P_*)."""
+def write_params(
+    model: mujoco.MjModel,
+    st: ArmStructure,
+    config: SimConfig,
+    n_ticks: int,
+    *,
+    lever_arms: tuple[float, float] | None = None,
+) -> None:
+    """Fill ``fsarm_params`` (layout.P_*). ``lever_arms``: :func:`payload_lever_arms_m` of this
+    model if known (None: computed here)."""
     p = model.numeric(L.PARAMS_NAME).data
     sh, cm_sh, g, fx = (
         config.shaft,
@@ -488,7 +614,7 @@ def write_params(model: mujoco.MjModel, st: ArmStructure, config: SimConfig, n_t
     p[L.P_SETUP] = L.SETUP_ARM
     p[L.P_RK4] = on[model.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4]
     write_transmission(p, config)
-    write_arm_effects(model, p, config.effects)
+    write_arm_effects(model, p, config.effects, lever_arms=lever_arms)
 
 
 def write_transmission(p: npt.NDArray[np.float64], config: SimConfig) -> None:
@@ -498,7 +624,7 @@ def write_transmission(p: npt.NDArray[np.float64], config: SimConfig) -> None:
     p[L.P_TRANS] = tr.kind
     p[L.P_TR : L.P_TR + L.N_TR] = plant
     p[L.P_TRC : L.P_TRC + L.N_TR] = ctrl
-    p[L.P_TR_K0] = reference_stiffness(config)
+    p[L.P_TR_K0] = _reference_stiffness(tr, ctrl)
     if not tr.routed_over_joint2:  # no shaft over joint 2: no bending moment to feel or cancel
         p[L.P_EN_BEND] = p[L.P_EN_CONDUIT] = p[L.P_EN_COUPLING] = 0.0
         p[L.P_CM_KB] = p[L.P_CM_BETA] = 0.0
@@ -516,8 +642,11 @@ def reference_stiffness(config: SimConfig) -> float:
     shaft this is simply K_sp(0); for stiffening laws (RTCA, QA-Joint) it avoids tuning on the
     near-zero stiffness at zero twist.
     """
-    tr = config.transmission_model()
-    _, ctrl = config.transmission_blocks()
+    return _reference_stiffness(config.transmission_model(), config.transmission_blocks()[1])
+
+
+def _reference_stiffness(tr: Transmission, ctrl: npt.NDArray[np.float64]) -> float:
+    """:func:`reference_stiffness` of the controller's block ``ctrl`` of ``tr``."""
     try:
         x = tr.twist_for_torque(ctrl, REFERENCE_TORQUE_FRACTION * tr.rating_nm(ctrl), 0.0)
     except TransmissionError:
@@ -566,14 +695,20 @@ def write_laws(p: npt.NDArray[np.float64], fx: Effects) -> None:
             p[start + i] = values.get(d.name, d.default)
 
 
-def write_arm_effects(model: mujoco.MjModel, p: npt.NDArray[np.float64], fx: Effects) -> None:
+def write_arm_effects(
+    model: mujoco.MjModel,
+    p: npt.NDArray[np.float64],
+    fx: Effects,
+    *,
+    lever_arms: tuple[float, float] | None = None,
+) -> None:
     """Plant-only arm effects (payload error, backlash, the registry's laws); geometry read from
-    the compiled MJCF."""
+    the compiled MJCF (``lever_arms``: :func:`payload_lever_arms_m` of ``model`` if known)."""
     write_laws(p, fx)
     p[L.P_PAY_DM] = fx.payload_error_kg
     p[L.P_BL_WIDTH] = fx.backlash_width_rad
     p[L.P_BL_CENTER] = fx.backlash_center_rad
-    l2, l3 = payload_lever_arms_m(model)
+    l2, l3 = payload_lever_arms_m(model) if lever_arms is None else lever_arms
     p[L.P_PAY_L2], p[L.P_PAY_L3] = l2, l3
     p[L.P_GRAVITY] = float(np.linalg.norm(model.opt.gravity))
 

@@ -14,6 +14,7 @@ A scenario may also script the outside world and an outer control loop (both use
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -54,6 +55,37 @@ class Scenario:
     reference: Callable[[Array], Array]  # tick times -> table (n, 9)
     disturbance: Disturbance | None = None
     outer_loop: OuterLoop | None = None
+    # the reference is a pure function of time (same times, same table), as every built-in one
+    # is (fsarm_sim.sim.references): its table may be kept and reused. False for one that draws
+    # new random numbers per call, say: its table is computed at every run.
+    pure_reference: bool = True
+
+    def table(self, n_ticks: int, ctrl_dt_s: float) -> Array:
+        """The reference table of ticks ``0, ctrl_dt_s, ..., (n_ticks - 1) ctrl_dt_s``: the
+        caller's own copy of ``reference`` at those times, computed once per process for each
+        (function, n_ticks, ctrl_dt_s) when ``pure_reference`` - a sweep asks for the same one
+        at every point."""
+        if not self.pure_reference or n_ticks * 9 > TABLE_CACHE_MAX_NUMBERS:
+            return _compute_table(self.reference, n_ticks, ctrl_dt_s)
+        return _cached_table(self.reference, n_ticks, ctrl_dt_s).copy()
+
+
+# Tables kept (Scenario.table): a few, and only short ones - 2^21 numbers = 16 MiB, ~230 s at
+# 1 kHz (estimate: a sweep point runs seconds; longer runs compute theirs each time).
+TABLE_CACHE_ENTRIES = 8
+TABLE_CACHE_MAX_NUMBERS = 1 << 21
+
+
+def _compute_table(reference: Callable[[Array], Array], n_ticks: int, ctrl_dt_s: float) -> Array:
+    return reference(np.arange(n_ticks, dtype=np.float64) * ctrl_dt_s)
+
+
+@functools.lru_cache(maxsize=TABLE_CACHE_ENTRIES)
+def _cached_table(reference: Callable[[Array], Array], n_ticks: int, ctrl_dt_s: float) -> Array:
+    """Kept read-only: the cache hands out copies only."""
+    table = _compute_table(reference, n_ticks, ctrl_dt_s)
+    table.flags.writeable = False
+    return table
 
 
 REGISTRY: dict[str, Scenario] = {}
@@ -67,10 +99,11 @@ def register(
     *,
     disturbance: Disturbance | None = None,
     outer_loop: OuterLoop | None = None,
+    pure_reference: bool = True,
 ) -> Callable[[Callable[[Array], Array]], Callable[[Array], Array]]:
     def wrap(fn: Callable[[Array], Array]) -> Callable[[Array], Array]:
         REGISTRY[name] = Scenario(
-            name, description, duration_s, payload_kg, fn, disturbance, outer_loop
+            name, description, duration_s, payload_kg, fn, disturbance, outer_loop, pure_reference
         )
         return fn
 

@@ -145,7 +145,8 @@ def check_clock(model: mujoco.MjModel, data: mujoco.MjData) -> None:
 
 def raise_on_warning(data: mujoco.MjData) -> None:
     """Turn any MuJoCo warning into a SimulationWarningError naming it."""
-    if not data.warning.number.any():  # the usual case, in ~2 us (the list below takes ~0.1 ms)
+    # the usual case, in ~1 us (the list below takes ~0.1 ms): a list of 8 ints beats numpy's any
+    if not any(data.warning.number.tolist()):
         return
     hits = [
         f"{mujoco.mjtWarning(i).name} (x{int(w.number)}, info {int(w.lastinfo)})"
@@ -231,11 +232,25 @@ class Simulation:
         # exactly the hook-free one
         self.hooks: list[scenarios.TickHook] = []
         self.states: dict[str, Array] = {}  # internal states at the rows of the last run()
+        self._views_of: mujoco.MjModel | None = None
+        self._prm: Array = np.empty(0)
+        self._ref: Array = np.empty((0, L.REF_COLS))
         initial_state(self.model, self.data, self.structure)
+
+    def _views(self) -> tuple[Array, Array]:
+        """(``fsarm_params``, reference table as rows) of ``self.model``: views into the model,
+        so they see every write; looked up again only if ``self.model`` was replaced (a lookup by
+        name took a few us of every health check)."""
+        m = self.model
+        if self._views_of is not m:
+            self._prm = m.numeric(L.PARAMS_NAME).data
+            self._ref = m.numeric(L.REF_NAME).data.reshape(-1, L.REF_COLS)
+            self._views_of = m
+        return self._prm, self._ref
 
     @property
     def params(self) -> Array:
-        return self.model.numeric(L.PARAMS_NAME).data
+        return self._views()[0]
 
     def step(self, n: int = 1) -> None:
         """``n`` physics steps with fsarm's callbacks active."""
@@ -259,10 +274,11 @@ class Simulation:
         """Index of the physics step that starts at the current state, by the control clock's
         own count (``data.time`` alone drifts by rounding over long runs)."""
         d = self.data
-        h = float(self.params[L.P_TIMESTEP])
-        if d.userdata[L.U_STEP] < 1.0:
+        ud = d.userdata
+        h = float(self._views()[0][L.P_TIMESTEP])
+        if ud[L.U_STEP] < 1.0:
             return round(float(d.time) / h)
-        return int(d.userdata[L.U_STEP]) - 1 + round((float(d.time) - d.userdata[L.U_STEP_T]) / h)
+        return int(ud[L.U_STEP]) - 1 + round((float(d.time) - float(ud[L.U_STEP_T])) / h)
 
     def metrics(self) -> dict[str, float | dict[str, float]]:
         """Tracking and effort metrics accumulated by the control kernel on every physics step
@@ -271,46 +287,56 @@ class Simulation:
 
     def health(self) -> None:
         """Raise :class:`RunHealthError` if the state is not finite, the control clock stopped,
-        or a joint left its reference by more than ``DIVERGENCE_LIMIT_RAD``."""
+        or a joint left its reference by more than ``DIVERGENCE_LIMIT_RAD``.
+
+        Called between chunks of every run: Python scalars on views kept per model (a few us; the
+        same tests as :func:`clock_gap_steps` and :meth:`step_index`, tests/test_simulation.py).
+        """
         m, d, st = self.model, self.data, self.structure
+        prm, ref = self._views()
         t = float(d.time)
-        if not (np.all(np.isfinite(d.qpos)) and np.all(np.isfinite(d.qvel))):
-            bad = [f"q{j + 1}" for j in range(3) if not math.isfinite(d.qpos[st.qadr[j]])]
+        qpos = d.qpos.tolist()
+        if not (all(map(math.isfinite, qpos)) and all(map(math.isfinite, d.qvel.tolist()))):
+            bad = [f"q{j + 1}" for j in range(3) if not math.isfinite(qpos[st.qadr[j]])]
             raise RunHealthError(
                 f"run diverged at t = {t:.4f} s: the state is not finite ({', '.join(bad) or 'rotor'})"
             )
-        steps = clock_gap_steps(m, d)
-        if steps is None:
+        if prm[L.P_EN_CONTROL] < 0.5:  # controllers off: no clock (clock_gap_steps is None)
             return
+        ud = d.userdata
         h = float(m.opt.timestep)
-        if d.userdata[L.U_STEP] < 1.0 or steps > 1.5:
+        step_n, step_t, tick = float(ud[L.U_STEP]), float(ud[L.U_STEP_T]), float(ud[L.U_TICK])
+        if step_n < 1.0 or (t - step_t) / h > 1.5:
             raise RunHealthError(
                 f"control clock stopped at t = {t:.6f} s: it last saw a step at "
-                f"t = {d.userdata[L.U_STEP_T]:.6f} s (timestep {h:g} s), so the controllers' "
+                f"t = {step_t:.6f} s (timestep {h:g} s), so the controllers' "
                 "outputs are frozen"
             )
-        per_tick = round(self.config.gains.ctrl_dt_s / h)
-        due = self.step_index() // per_tick  # the tick the controllers should be at
-        ticked = int(d.userdata[L.U_TICK]) - 1
+        ctrl_dt = self.config.gains.ctrl_dt_s
+        per_tick = round(ctrl_dt / h)
+        # the tick the controllers should be at (step_index with step_n >= 1)
+        hp = float(prm[L.P_TIMESTEP])
+        due = (int(step_n) - 1 + round((t - step_t) / hp)) // per_tick
+        ticked = int(tick) - 1
         if ticked < due - 1:
             raise RunHealthError(
                 f"controllers stopped at t = {t:.6f} s: their last tick was #{ticked} "
-                f"(t = {ticked * self.config.gains.ctrl_dt_s:.6f} s) but #{due} is due, so their "
+                f"(t = {ticked * ctrl_dt:.6f} s) but #{due} is due, so their "
                 "outputs are frozen"
             )
-        ref = m.numeric(L.REF_NAME).data.reshape(-1, L.REF_COLS)
-        k = min(int(d.userdata[L.U_TICK]) - 1, ref.shape[0] - 1)
+        k = min(int(tick) - 1, ref.shape[0] - 1)
+        row = ref[k, :3].tolist()
         for j in range(3):
-            q = float(d.qpos[st.qadr[j]])
-            e = q - float(ref[k, j])
+            q = qpos[st.qadr[j]]
+            e = q - row[j]
             if abs(e) > DIVERGENCE_LIMIT_RAD:
                 raise RunHealthError(
                     f"run diverged at t = {t:.4f} s: joint q{j + 1} is "
                     f"{math.degrees(e):+.1f} deg from its reference (limit "
                     f"{math.degrees(DIVERGENCE_LIMIT_RAD):.0f} deg; q{j + 1} = "
-                    f"{math.degrees(q):.2f} deg, reference {math.degrees(ref[k, j]):.2f} deg, "
+                    f"{math.degrees(q):.2f} deg, reference {math.degrees(row[j]):.2f} deg, "
                     f"speed {math.degrees(d.qvel[st.dof[j]]):.1f} deg/s, joint-3 motor torque "
-                    f"{d.userdata[L.U_OUT + 2]:.3g} N·m)"
+                    f"{ud[L.U_OUT + 2]:.3g} N·m)"
                 )
 
     def run(self, duration_s: float, log_every_ticks: int = 1) -> tuple[dict[str, Array], float]:
@@ -465,12 +491,12 @@ class Simulation:
         self, t: Array, qpos: Array, qvel: Array, act: Array, ud: Array
     ) -> dict[str, Array]:
         st = self.structure
-        ref = self.model.numeric(L.REF_NAME).data.reshape(-1, L.REF_COLS)
+        ref = self._views()[1]
         # the tick each row's step belongs to (the control clock's own count, never data.time)
         per_tick = round(self.config.gains.ctrl_dt_s / self.model.opt.timestep)
         stride = self._stride
         steps = self._step0 + stride * np.arange(len(t))
-        k = np.clip(steps // per_tick, 0, ref.shape[0] - 1)
+        ref = ref[np.clip(steps // per_tick, 0, ref.shape[0] - 1)]  # each row's reference, once
         theta_m = st.coef_m * qpos[:, st.qadr[3]]
         theta_s = st.coef_s * qpos[:, st.qadr[2]]
         log = ud[:, L.U_LOG :]
@@ -478,13 +504,13 @@ class Simulation:
         for j in range(3):
             cols[f"q{j + 1}"] = qpos[:, st.qadr[j]]
         for j in range(3):
-            cols[f"q{j + 1}_ref"] = ref[k, j]
+            cols[f"q{j + 1}_ref"] = ref[:, j]
         for j in range(3):
             cols[f"qd{j + 1}"] = qvel[:, st.dof[j]]
         for j in range(3):
-            cols[f"qd{j + 1}_ref"] = ref[k, 3 + j]
+            cols[f"qd{j + 1}_ref"] = ref[:, 3 + j]
         for j in range(3):  # the whole reference: a replay of the record needs no differences
-            cols[f"qdd{j + 1}_ref"] = ref[k, 6 + j]
+            cols[f"qdd{j + 1}_ref"] = ref[:, 6 + j]
         cols.update(
             theta_m=theta_m,
             theta_s=theta_s,
@@ -659,7 +685,7 @@ def run_scenario(
     timestep = cfg.timestep_s if cfg.timestep_s is not None else DEFAULT_TIMESTEP_S
     check_run_size(duration, timestep, cfg.gains.ctrl_dt_s, int(log_every_ticks), 120)
     n_ticks = round(duration / cfg.gains.ctrl_dt_s) + 1
-    table = sc.reference(np.arange(n_ticks, dtype=np.float64) * cfg.gains.ctrl_dt_s)
+    table = sc.table(n_ticks, cfg.gains.ctrl_dt_s)
     sim = Simulation(cfg, table, backend, lean=lean)
     if sc.disturbance is not None:
         sim.hooks.append(disturbance_hook(sim, sc.disturbance))

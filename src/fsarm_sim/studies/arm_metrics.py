@@ -106,7 +106,7 @@ def tracking(
             )
         cfg = config.with_(payload_kg=sc.payload_kg if payload_kg is None else payload_kg)
         n = round(duration / cfg.gains.ctrl_dt_s) + 1
-        table = sc.reference(np.arange(n, dtype=np.float64) * cfg.gains.ctrl_dt_s)
+        table = sc.table(n, cfg.gains.ctrl_dt_s)
         table[:, 1] = bend_rad
         sim = Simulation(cfg, table, backend)
         cols, wall = sim.run(duration)
