@@ -289,7 +289,7 @@ def register(app: typer.Typer) -> None:
             shaft=shaft,
             stiffness_scale=stiffness_scale,
             load_inertia_kgm2=(
-                (0.01 if inertia is None else inertia)
+                (synth.DEFAULT_LOAD_INERTIA_KGM2 if inertia is None else inertia)
                 if (setup == "series_bench" and load == "inertia")
                 else None
             ),

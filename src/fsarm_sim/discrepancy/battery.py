@@ -45,9 +45,7 @@ LARGE = 0.08
 NOISES = (0.003, 0.01)  # torque noise std / range
 TRAJ_STATIC = ("multisine", "triangle", "random", "steps", "biased_sine")
 TRAJ_INERTIA = ("multisine", "random", "steps")
-STATED_J = (
-    0.01  # kg*m^2, what the sidecar states for an inertia load (estimate: a 120 mm steel disc)
-)
+STATED_J = synth.DEFAULT_LOAD_INERTIA_KGM2  # what the sidecar states for an inertia load
 TRUE_J = 0.012
 
 

@@ -379,6 +379,11 @@ def synthetic_record(
     )
 
 
+# the inertia load a synthetic series-bench record states when none is given (kg*m^2; estimate:
+# a 120 mm steel disc); `fsarm synth --load inertia` and the batteries use it
+DEFAULT_LOAD_INERTIA_KGM2 = 0.01
+
+
 def truth_model(
     setup: str,
     effects: list[EffectInstance] | None = None,
