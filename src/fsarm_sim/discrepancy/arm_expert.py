@@ -40,6 +40,7 @@ from fsarm_sim.discrepancy.arm_fit import (
     ArmFit,
     bounds_of,
     jacobian_column,
+    secant_model,
 )
 from fsarm_sim.discrepancy.residuals import tau_int
 from fsarm_sim.discrepancy.uncertainty import LEVEL, Z
@@ -135,6 +136,7 @@ def intervals(ctx: ArmContext, fit: ArmFit) -> dict[str, Any]:
     # tau per channel block (the channels are concatenated end to end): the largest
     n = int(np.count_nonzero(ctx.teach))
     tau = max(tau_int(r[i * n : (i + 1) * n]) for i in range(len(BASIS)))
+    ctx.prefetch([secant_model(ctx, fit.model, k, SECANT) for k in keys])  # side by side
     cols: list[Any] = []
     for k in keys:
         c = jacobian_column(ctx, fit.model, fit.pred, fit.raw, k, SECANT)

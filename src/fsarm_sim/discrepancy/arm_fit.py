@@ -58,6 +58,11 @@ joined by a straight line), keeping the better. The two most promising effects a
 on the simulation itself (Gauss-Newton with fresh secant Jacobians, bounded steps, at most
 ``REFINE_ITER`` iterations) and all are scored.
 
+Runs are kept by their simulator input (:class:`ArmContext`: two models that build the same
+simulator configuration - most effects present at zero - are one run) and the runs a step
+needs are simulated side by side (:meth:`ArmContext.prefetch`; the refinements of a step in
+lockstep, :func:`refine_many`): the same runs and fits as one after the other (issue 15).
+
 The choice among the fitted candidates is the diagnosis core's (:mod:`.core`, the arm as a
 :class:`~.core.Setup` in :mod:`.arm`).
 """
@@ -67,7 +72,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Generator, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -557,18 +562,39 @@ def simulate_config(run: ArmRun, cfg: SimConfig) -> tuple[dict[str, FloatArray],
     return out, float(sim.structure.coef_s)
 
 
+def delayed(y: FloatArray, delay_samples: float) -> FloatArray:
+    """``y`` delayed by a (fractional, signed) number of samples: :func:`.replay.shifted`
+    (effects.delay's ``delayed_signal``: linear interpolation, ends held) with numpy's
+    element-wise arithmetic - the same operations in the same order, so the same bits
+    (tests/test_discrepancy_arm_speed.py) - without loading the compiled function, which took
+    0.24 s of every diagnosis in a fresh process (issue 15)."""
+    n = y.shape[0]
+    x = np.arange(n, dtype=np.float64) - delay_samples
+    out = np.empty(n)
+    low = x <= 0.0
+    high = ~low & (x >= n - 1)
+    mid = ~(low | high)
+    xm = x[mid]
+    i = xm.astype(np.int64)  # int(x) of x > 0: truncation
+    f = xm - i
+    out[mid] = y[i] + f * (y[i + 1] - y[i])
+    out[low] = y[0] if n else 0.0
+    out[high] = y[n - 1] if n else 0.0
+    return out
+
+
 def apply_measurement(
     raw: Mapping[str, FloatArray], m: ArmModel, h: float
 ) -> dict[str, FloatArray]:
     """The recorded channels of a simulated run: each delayed (effects.delay: linear
-    interpolation, ends held; compiled in :func:`.replay.shifted`) and biased
-    (effects.sensor_offset) as the model's measurement effects say."""
+    interpolation, ends held; :func:`delayed`) and biased (effects.sensor_offset) as the
+    model's measurement effects say."""
     out: dict[str, FloatArray] = {}
     for ch in RAW:
         y = raw[ch]
         d = m.v(f"delay.{ch}")
         if d != 0.0:
-            y = R.shifted(np.ascontiguousarray(y), d / h)
+            y = delayed(np.ascontiguousarray(y, dtype=np.float64), d / h)
         out[ch] = np.asarray(sensor_offset.reading(y, m.v(f"sensor_offset.{ch}")))  # type: ignore[arg-type]
     return out
 
@@ -598,6 +624,11 @@ class ArmContext:
     two_sided: bool
     cache: dict[tuple[Any, ...], dict[str, FloatArray] | None] = field(default_factory=dict)
     n_sims: int = 0
+    # runs by their simulator input (``repr`` of the SimConfig: every field, floats exactly;
+    # the reference table is the context's own): two models that differ only in parameters
+    # that do not reach the simulator - an effect present at zero, the slip deflection of an
+    # element with no stiffness - are one run (issue 15)
+    config_cache: dict[str, dict[str, FloatArray] | None] = field(default_factory=dict)
 
     def _run(self, m: ArmModel) -> dict[str, FloatArray] | None:
         try:
@@ -606,31 +637,60 @@ class ArmContext:
             return None
         return raw if all(np.all(np.isfinite(v)) for v in raw.values()) else None
 
-    def simulate(self, m: ArmModel) -> dict[str, FloatArray] | None:
+    def _config_key(self, m: ArmModel) -> str | None:
+        """The simulator input of ``m`` as a key (None: the configuration cannot be built;
+        :meth:`_run` then fails and returns None)."""
+        try:
+            return repr(to_config(self.run, m))
+        except InvalidParameterError:
+            return None
+
+    def _known(self, m: ArmModel) -> bool:
+        """Is ``m``'s run in the cache - by its parameters, or by an identical simulator input
+        (then filed under its parameters too)?"""
         key = m.physical_key()
-        if key not in self.cache:
-            self.n_sims += 1
-            self.cache[key] = self._run(m)
-        return self.cache[key]
+        if key in self.cache:
+            return True
+        ck = self._config_key(m)
+        if ck is not None and ck in self.config_cache:
+            self.cache[key] = self.config_cache[ck]
+            return True
+        return False
+
+    def _store(self, m: ArmModel, raw: dict[str, FloatArray] | None) -> None:
+        self.n_sims += 1
+        self.cache[m.physical_key()] = raw
+        ck = self._config_key(m)
+        if ck is not None:
+            self.config_cache.setdefault(ck, raw)
+
+    def simulate(self, m: ArmModel) -> dict[str, FloatArray] | None:
+        if not self._known(m):
+            self._store(m, self._run(m))
+        return self.cache[m.physical_key()]
 
     def prefetch(self, models: Sequence[ArmModel | None]) -> None:
         """Run the models not simulated yet side by side (:data:`SIM_THREADS` threads: the
         compiled callbacks step in parallel, MuJoCo releases the GIL while stepping); later
         :meth:`simulate` calls find them in the cache. The same runs as one after the other."""
         todo: dict[tuple[Any, ...], ArmModel] = {}
+        inputs: set[str] = set()
         for m in models:
-            if m is not None:
+            if m is not None and not self._known(m):
                 key = m.physical_key()
-                if key not in self.cache:
-                    todo.setdefault(key, m)
+                ck = self._config_key(m)
+                if key in todo or (ck is not None and ck in inputs):
+                    continue  # the same run asked for twice: simulate() finds the first
+                todo[key] = m
+                if ck is not None:
+                    inputs.add(ck)
         threads = min(SIM_THREADS, len(todo))
         if threads < 2:
             return  # one run (or one core): simulate() runs it when it is asked for
         with ThreadPoolExecutor(threads) as ex:
             results = list(ex.map(self._run, todo.values()))
-        for key, raw in zip(todo, results, strict=True):
-            self.n_sims += 1
-            self.cache[key] = raw
+        for m, raw in zip(todo.values(), results, strict=True):
+            self._store(m, raw)
 
     def predict(self, m: ArmModel) -> tuple[dict[str, FloatArray], dict[str, FloatArray]] | None:
         """(basis, raw) recorded channels the model predicts; None if its run fails."""
@@ -849,19 +909,62 @@ def refine(ctx: ArmContext, fit: ArmFit, max_iter: int = REFINE_ITER) -> ArmFit:
     """Nonlinear refinement of a fit's free parameters on the simulation itself: Gauss-Newton
     with fresh secant Jacobians (steps of REFINE_SECANT units), each step a bounded linear
     least-squares problem (:mod:`.lsq`); a step that does not lower the teaching cost is
-    halved once, then the search stops. Costs (free plant parameters + 1) runs per iteration."""
+    halved once, then the search stops. Costs (free plant parameters + 1) runs per iteration
+    (the secant runs of an iteration side by side: :func:`refine_many`)."""
+    return refine_many(ctx, [fit], max_iter)[0]
+
+
+def refine_many(
+    ctx: ArmContext, fits: Sequence[ArmFit], max_iter: int = REFINE_ITER
+) -> list[ArmFit]:
+    """:func:`refine` of each fit, in lockstep: the runs every refinement needs next (an
+    iteration's secant runs, its step, its halved step) are simulated side by side
+    (:meth:`ArmContext.prefetch`) before each refinement goes on. Each refinement does what it
+    does alone - the same runs, none on speculation (issue 15: the refinements were one run
+    after the other)."""
+    steps = [_refine_steps(ctx, f, max_iter) for f in fits]
+    out: list[ArmFit | None] = [None] * len(fits)
+    wants: dict[int, list[ArmModel | None]] = {}
+    for i, g in enumerate(steps):
+        try:
+            wants[i] = next(g)
+        except StopIteration as done:
+            out[i] = done.value
+    while wants:
+        ctx.prefetch([m for i in wants for m in wants[i]])
+        for i in list(wants):
+            try:
+                wants[i] = steps[i].send(None)
+            except StopIteration as done:
+                out[i] = done.value
+                del wants[i]
+    done_fits: list[ArmFit] = []
+    for f in out:
+        assert f is not None  # every refinement returned
+        done_fits.append(f)
+    return done_fits
+
+
+def _refine_steps(
+    ctx: ArmContext, fit: ArmFit, max_iter: int
+) -> Generator[list[ArmModel | None], None, ArmFit]:
+    """:func:`refine` of one fit as steps: yields the models whose runs it needs next (all of
+    them then asked for), returns the refined fit."""
     keys = fit.free
     cur = fit
     for _ in range(max_iter):
+        yield [secant_model(ctx, cur.model, k, REFINE_SECANT) for k in keys]
         cols = [jacobian_column(ctx, cur.model, cur.pred, cur.raw, k, REFINE_SECANT) for k in keys]
         if not keys or any(c is None for c in cols):
             break
         jac = np.column_stack([c for c in cols if c is not None])
         m_new = linear_solve(ctx, cur.model, keys, jac, ctx.wresid(cur.pred, ctx.teach))
+        yield [m_new]
         new = evaluate(ctx, m_new, keys, fit.label)
         if new is None or new.cost >= cur.cost:
             half = {k: 0.5 * (cur.model.v(k) + m_new.v(k)) for k in keys}
             m_half = with_values(cur.model, keys, np.array([half[k] for k in keys]))
+            yield [m_half]
             new = evaluate(ctx, m_half, keys, fit.label)
             if new is None or new.cost >= cur.cost:
                 break
@@ -933,15 +1036,23 @@ class StepJacobian:
     r0: FloatArray
 
 
+def jacobian_runs(
+    ctx: ArmContext, model: ArmModel, free: Sequence[str], pairs: Sequence[tuple[str, str]]
+) -> list[ArmModel | None]:
+    """The secant runs :func:`step_jacobian` needs at ``model`` with the free parameters
+    ``free`` (to simulate several linearisations' runs side by side)."""
+    runs = [secant_model(ctx, model, k) for k in free]
+    for e, v in pairs:
+        trial = add_candidate(ctx, model, e, v)
+        runs += [secant_model(ctx, trial, k) for k in candidate_keys(ctx, e, v)]
+    return runs
+
+
 def step_jacobian(ctx: ArmContext, cur: ArmFit, pairs: list[tuple[str, str]]) -> StepJacobian:
     """Secant columns at the current model for its free parameters and every candidate's
     (candidates enter at zero, so the current prediction is their base point)."""
     cols: dict[str, FloatArray] = {}
-    runs = [secant_model(ctx, cur.model, k) for k in cur.free]
-    for e, v in pairs:
-        trial = add_candidate(ctx, cur.model, e, v)
-        runs += [secant_model(ctx, trial, k) for k in candidate_keys(ctx, e, v)]
-    ctx.prefetch(runs)
+    ctx.prefetch(jacobian_runs(ctx, cur.model, cur.free, pairs))
     for k in cur.free:
         col = jacobian_column(ctx, cur.model, cur.pred, cur.raw, k)
         if col is not None:
@@ -1001,20 +1112,22 @@ def screen(
 
 def nominal_fit(ctx: ArmContext) -> tuple[ArmFit, ArmFit]:
     """(catalogue, refit nominal): the stated model, then its own parameters refit."""
+    keys = nominal_keys(ctx)
+    m = ArmModel()
+    for k in keys:
+        m.values.setdefault(k, NOMINAL_DEFAULTS.get(k, 0.0))
+    ctx.prefetch([ArmModel(), m])  # the catalogue and the refit's start (often the same run)
     cat = evaluate(ctx, ArmModel(), [], "nominal (catalogue)")
     if cat is None:
         raise ArmReplayError(
             f"{ctx.ds.path}: the nominal replay of the run fails (diverges or MuJoCo warns); "
             "check the sidecar's shaft, payload, gains and ctrl_dt_s"
         )
-    keys = nominal_keys(ctx)
     if not keys:
         return cat, replace(cat, label="nominal (refit)")
-    m = ArmModel()
-    for k in keys:
-        m.values.setdefault(k, NOMINAL_DEFAULTS.get(k, 0.0))
     start = evaluate(ctx, m, keys, "nominal (refit)")
     assert start is not None
+    ctx.prefetch([secant_model(ctx, m, k) for k in keys])
     cols = [jacobian_column(ctx, m, start.pred, start.raw, k) for k in keys]
     if any(c is None for c in cols):
         return cat, replace(cat, label="nominal (refit)")
@@ -1027,9 +1140,9 @@ def nominal_fit(ctx: ArmContext) -> tuple[ArmFit, ArmFit]:
     return cat, best
 
 
-def stated_nominal(ctx: ArmContext, fit: ArmFit) -> ArmFit | None:
+def stated_nominal_model(fit: ArmFit) -> ArmModel | None:
     """The fit's model with the nominal parameters back at their stated values (None when they
-    are there already, within 2 %, or the run fails)."""
+    are there already, within 2 %)."""
     m = fit.model.copy()
     moved = False
     for k in NOMINAL_KEYS:
@@ -1038,9 +1151,31 @@ def stated_nominal(ctx: ArmContext, fit: ArmFit) -> ArmFit | None:
             unit = BOUNDS[k][2]
             moved = moved or abs(m.values[k] - ref) > 0.2 * unit
             m.values[k] = ref
-    if not moved:
-        return None
-    return evaluate(ctx, m, fit.free, fit.label)
+    return m if moved else None
+
+
+def stated_nominal(ctx: ArmContext, fit: ArmFit) -> ArmFit | None:
+    """:func:`stated_nominal_model` simulated (None when the nominal parameters are at their
+    stated values already, within 2 %, or the run fails)."""
+    m = stated_nominal_model(fit)
+    return None if m is None else evaluate(ctx, m, fit.free, fit.label)
+
+
+def start_runs(
+    ctx: ArmContext,
+    cur: ArmFit,
+    pairs: Sequence[tuple[str, str]],
+    alt_pairs: Sequence[tuple[str, str]],
+) -> list[ArmModel | None]:
+    """The runs of the linearisations from ``cur`` (``pairs``) and from its stated nominal
+    (:func:`stated_nominal_model`, ``alt_pairs``): the stated nominal itself and both
+    :func:`jacobian_runs`, to be simulated side by side. (Should the stated nominal's own run
+    fail, its secant runs were in vain: a failure path, not worth a step of its own.)"""
+    runs = jacobian_runs(ctx, cur.model, cur.free, pairs)
+    alt = stated_nominal_model(cur)
+    if alt is not None:
+        runs += [alt, *jacobian_runs(ctx, alt, cur.free, alt_pairs)]
+    return runs
 
 
 def screen_all(ctx: ArmContext, cur: ArmFit, pairs: list[tuple[str, str]]) -> list[ArmFit]:
@@ -1048,19 +1183,27 @@ def screen_all(ctx: ArmContext, cur: ArmFit, pairs: list[tuple[str, str]]) -> li
     moved away from the stated values - also from the stated nominal (a refit nominal can mimic
     an effect, e.g. a softer shaft a heavier payload: the two valleys are not joined by a
     straight line); the better start per candidate is kept."""
+    plant = {e for e, _ in PLANT_CANDIDATES}
+    alt_pairs = [(e, v) for e, v in pairs if e in plant]
+    # both starts' runs side by side, then both starts' candidates' re-simulations
+    # (stated_nominal(), step_jacobian() and screen() then find them run)
+    ctx.prefetch(start_runs(ctx, cur, pairs, alt_pairs))
     starts = [cur]
     alt = stated_nominal(ctx, cur)
     if alt is not None:
         starts.append(alt)
-    plant = {e for e, _ in PLANT_CANDIDATES}
+    subs = [pairs, alt_pairs][: len(starts)]
+    sjs = [step_jacobian(ctx, st, sub) for st, sub in zip(starts, subs, strict=True)]
+    ctx.prefetch(
+        [
+            s[0]
+            for st, sub, sj in zip(starts, subs, sjs, strict=True)
+            for s in (screen_solve(ctx, sj, st, e, v) for e, v in sub)
+            if s is not None
+        ]
+    )
     best: dict[tuple[str, str], ArmFit] = {}
-    for i, start in enumerate(starts):
-        sub = pairs if i == 0 else [(e, v) for e, v in pairs if e in plant]
-        sj = step_jacobian(ctx, start, sub)
-        # the candidates' re-simulations side by side (screen() then finds them run)
-        ctx.prefetch(
-            [s[0] for s in (screen_solve(ctx, sj, start, e, v) for e, v in sub) if s is not None]
-        )
+    for start, sub, sj in zip(starts, subs, sjs, strict=True):
         for e, v in sub:
             s = screen(ctx, sj, start, e, v)
             if s is not None and ((e, v) not in best or s.cost < best[(e, v)].cost):
@@ -1085,11 +1228,13 @@ def step_candidates(ctx: ArmContext, cur: ArmFit, named: Sequence[str]) -> list[
             best_of[f.effect or ""] = f
     lead = sorted(best_of.values(), key=promise)[:N_REFINE]
     fits = list(screened)
+    starts = []
     for f in lead:
         g = f
         if f.effect == V.HYSTERESIS:  # the slip deflections leave their grid values
             n_el = len(f.model.slip_delta)
             g = replace(f, free=f.free + [f"hysteresis.d{i}" for i in range(n_el)])
-        r = refine(ctx, g)
+        starts.append(g)
+    for f, r in zip(lead, refine_many(ctx, starts), strict=True):
         fits = [r if x is f else x for x in fits]
     return fits

@@ -44,7 +44,10 @@ from fsarm_sim.discrepancy.arm_fit import (
     linear_solve,
     prune_slip,
     refine,
+    refine_many,
     screen,
+    screen_solve,
+    start_runs,
     stated_nominal,
     step_jacobian,
 )
@@ -95,6 +98,7 @@ def pair_candidates(
         for a, b in itertools.combinations(pool, 2)
         if a[0] != b[0] and not (a[0] in V.ARM_RECORDING and b[0] in V.ARM_RECORDING)
     ]
+    ctx.prefetch(start_runs(ctx, cur, pool, pool))  # both starts' linearisations side by side
     starts = [cur]
     alt = stated_nominal(ctx, cur)
     if alt is not None:
@@ -118,13 +122,17 @@ def pair_candidates(
         if key not in best or promise < best[key][0]:
             best[key] = (promise, [a, b], f)
     ranked = sorted(best.values(), key=lambda x: x[0])
+    lead: list[ArmFit] = []
+    for _, members, f in ranked[:N_REFINE_PAIRS]:
+        if any(e == V.HYSTERESIS for e, _ in members):  # the deflections leave their grid
+            n_el = len(f.model.slip_delta)
+            f = replace(f, free=f.free + [f"hysteresis.d{j}" for j in range(n_el)])
+        lead.append(f)
+    refined = refine_many(ctx, lead, PAIR_ITER)  # the pairs' refinements side by side
     out: list[tuple[list[Member], ArmFit]] = []
     for i, (_, members, f) in enumerate(ranked):
         if i < N_REFINE_PAIRS:
-            if any(e == V.HYSTERESIS for e, _ in members):  # the deflections leave their grid
-                n_el = len(f.model.slip_delta)
-                f = replace(f, free=f.free + [f"hysteresis.d{j}" for j in range(n_el)])
-            f = refine(ctx, f, PAIR_ITER)
+            f = refined[i]
         f.effect, f.variant = members[0][0], members[0][1]
         out.append((members, f))
     return out
@@ -166,11 +174,12 @@ def swap_variants(ctx: ArmContext, fit: ArmFit) -> tuple[ArmFit, dict[str, str]]
         if base is None:
             continue
         sj = step_jacobian(ctx, base, others)
-        for e, v in others:
-            f = screen(ctx, sj, base, e, v)
-            if f is None:
-                continue
-            f = refine(ctx, f)
+        ctx.prefetch(
+            [s[0] for s in (screen_solve(ctx, sj, base, e, v) for e, v in others) if s is not None]
+        )
+        screened = [screen(ctx, sj, base, e, v) for e, v in others]
+        # the variants' refinements side by side (each from the same model without the effect)
+        for f in refine_many(ctx, [f for f in screened if f is not None]):
             if f.cost < best.cost and f.w(ctx) < best.w(ctx):
                 best = f
     return labelled_as(best, fit), {}
