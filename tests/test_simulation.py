@@ -98,13 +98,43 @@ def test_interrupted_run_keeps_finished_work(monkeypatch: pytest.MonkeyPatch) ->
         real_step(m, d, nstep=nstep)
 
     monkeypatch.setattr(simulation.mujoco, "mj_step", step)
-    r = run_scenario("fig14-sine", duration_s=5.0)
+    r = run_scenario("fig14-sine", duration_s=5.0, keep_partial=True)
     assert r.interrupted
     assert 0.1 < r.duration_s < 5.0
     # every finished step's row, none lost or repeated
     assert len(r.columns["t"]) == round(r.duration_s / 1e-3)
     assert np.allclose(r.columns["t"], np.arange(len(r.columns["t"])) * 1e-3, rtol=0, atol=1e-12)
     assert np.all(np.isfinite(r.columns["q3"]))
+
+
+def test_interrupted_run_raises_unless_partial_is_wanted(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Ctrl-C in a run a study, sweep point or fit makes: KeyboardInterrupt, never a cut run's
+    numbers passed off as a whole run's (a sweep would store them as a finished point)."""
+    import mujoco
+
+    from fsarm_sim.sim import simulation
+    from fsarm_sim.studies import arm_metrics
+
+    calls = {"n": 0}
+    real_step = mujoco.mj_step
+
+    def step(m, d, nstep=1):  # type: ignore[no-untyped-def]
+        calls["n"] += 1
+        if calls["n"] == 3:
+            raise KeyboardInterrupt
+        real_step(m, d, nstep=nstep)
+
+    monkeypatch.setattr(simulation.mujoco, "mj_step", step)
+    with pytest.raises(KeyboardInterrupt):
+        run_scenario("fig14-sine", duration_s=5.0)
+    calls["n"] = 0
+    with pytest.raises(KeyboardInterrupt):
+        arm_metrics.tracking(SimConfig(), "fig14-sine", duration_s=5.0)
+    calls["n"] = 0
+    sim = Simulation(SimConfig(), _fig14_table(5.0))
+    with pytest.raises(KeyboardInterrupt):
+        sim.run(5.0)
+    assert sim.data.userdata[L.U_REC_STRIDE] == 0.0  # the recorder was switched off on the way
 
 
 def _fig14_table(seconds: float) -> np.ndarray:

@@ -323,3 +323,34 @@ def test_analysis_recovers_the_catalogue_surfaces(tmp_path: Path) -> None:
         "fig10_eq4_surface.png",
     } <= names
     assert "map_static_relief_nm.png" in names
+
+
+def test_ctrl_c_in_a_point_stores_no_cut_point(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Ctrl-C while a point's run steps (one worker, in this process): the sweep stops with
+    KeyboardInterrupt and stores only the points that finished - never the cut run's metrics as
+    if it were a finished point (0.5.0 stored it and went on)."""
+    import mujoco
+
+    from fsarm_sim.sim import simulation
+
+    calls = {"n": 0}
+    real_step = mujoco.mj_step
+
+    def step(m, d, nstep=1):  # type: ignore[no-untyped-def]
+        calls["n"] += 1
+        if calls["n"] == 3:  # each 1 s point steps in two chunks: this is the second point's
+            raise KeyboardInterrupt
+        real_step(m, d, nstep=nstep)
+
+    monkeypatch.setattr(simulation.mujoco, "mj_step", step)
+    spec = sw.build_spec(
+        grid=["payload_kg=0,1,2"], fixed=["duration_s=1"], outputs=["tracking"], name="cut"
+    )
+    store = tmp_path / "r.sqlite"
+    with pytest.raises(KeyboardInterrupt):
+        sw.run_sweep(spec, store, workers=1)
+    with ResultStore(store) as st:
+        rows = list(st.rows())
+    assert [r.inputs["payload_kg"] for r in rows] == [0.0]

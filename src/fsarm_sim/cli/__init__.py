@@ -191,6 +191,7 @@ def run_cmd(
             payload_kg=payload_kg,
             backend=backend,  # type: ignore[arg-type]
             log_every_ticks=log_every,
+            keep_partial=True,  # a long run cut by Ctrl-C keeps its finished part
         )
     except KeyboardInterrupt:
         err_console.print("[bold yellow]interrupted[/] before anything was recorded: no output")

@@ -339,11 +339,16 @@ class Simulation:
                     f"{ud[L.U_OUT + 2]:.3g} N·m)"
                 )
 
-    def run(self, duration_s: float, log_every_ticks: int = 1) -> tuple[dict[str, Array], float]:
+    def run(
+        self, duration_s: float, log_every_ticks: int = 1, *, keep_partial: bool = False
+    ) -> tuple[dict[str, Array], float]:
         """Step for ``duration_s``; return recorded columns and the stepping wall time (s).
 
-        Ctrl-C (KeyboardInterrupt) stops the run early but keeps what was recorded: the columns
-        then end at the interruption and ``self.interrupted`` is True.
+        Ctrl-C (KeyboardInterrupt) stops the run early. ``keep_partial``: keep what was recorded
+        - the columns then end at the interruption and ``self.interrupted`` is True (``fsarm
+        run``: a long run is not lost). Otherwise (studies, sweeps, fits: a cut run's numbers
+        would pass for a whole run's) the KeyboardInterrupt propagates after the run is cleaned
+        up.
         """
         duration_s = check_duration(duration_s)
         if isinstance(log_every_ticks, bool) or not isinstance(log_every_ticks, int | np.integer):
@@ -403,6 +408,8 @@ class Simulation:
             finally:
                 ud[L.U_REC_STRIDE] = 0.0  # recording off outside run()
             wall = _time.perf_counter() - start
+        if self.interrupted and not keep_partial:
+            raise KeyboardInterrupt
         if ud[L.U_REC_LOST] > 0.0:
             raise ModelStructureError(
                 f"the run recorder lost {int(ud[L.U_REC_LOST])} rows (a full buffer): a bug"
@@ -665,10 +672,13 @@ def run_scenario(
     backend: Backend = DEFAULT_BACKEND,
     log_every_ticks: int = 1,
     lean: bool = True,
+    keep_partial: bool = False,
 ) -> RunResult:
     """Run a registered scenario (or a :class:`~fsarm_sim.sim.scenarios.Scenario`) headless and
     compute its metrics. Its disturbance and outer loop, if any, run once per control tick.
-    ``lean``: step the lean twin of the model (the same dynamics; see :class:`Simulation`)."""
+    ``lean``: step the lean twin of the model (the same dynamics; see :class:`Simulation`).
+    ``keep_partial``: on Ctrl-C return what was recorded (``interrupted`` set; metrics over the
+    finished part) instead of raising KeyboardInterrupt (:meth:`Simulation.run`)."""
     sc = name if isinstance(name, scenarios.Scenario) else scenarios.get(name)
     duration = check_duration(sc.duration_s if duration_s is None else duration_s)
     if (
@@ -691,7 +701,7 @@ def run_scenario(
         sim.hooks.append(disturbance_hook(sim, sc.disturbance))
     if sc.outer_loop is not None:
         sim.hooks.append(sc.outer_loop(sim))
-    cols, wall = sim.run(duration, log_every_ticks=int(log_every_ticks))
+    cols, wall = sim.run(duration, log_every_ticks=int(log_every_ticks), keep_partial=keep_partial)
     if sim.interrupted:
         if len(cols["t"]) < 2:
             raise KeyboardInterrupt  # nothing worth keeping yet

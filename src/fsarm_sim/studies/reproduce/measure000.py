@@ -344,9 +344,6 @@ def fig14_runs(ctx: Context) -> tuple[Any, Any]:
         a = run_scenario("fig14-sine", base, duration_s=duration, backend=ctx.backend)
         off = base.with_(effects=replace(base.effects, slip=False))
         b = run_scenario("fig14-sine", off, duration_s=duration, backend=ctx.backend)
-        for r in (a, b):
-            if r.interrupted:
-                raise KeyboardInterrupt
         return a, b
 
     return ctx.once("000/fig14", run)
@@ -615,8 +612,6 @@ def static_relief_on_arm(ctx: Context) -> Measured:
     ):
         sim = Simulation(base.with_(effects=fx), table, ctx.backend)
         cols, _ = sim.run(hold_s)
-        if sim.interrupted:
-            raise KeyboardInterrupt
         sel = cols["t"] >= hold_s - 1.0
         tau2[label] = float(np.mean(cols["tau2"][sel]))
     relief = abs(tau2["without"]) - abs(tau2["with"])

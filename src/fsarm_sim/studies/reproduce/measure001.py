@@ -200,8 +200,6 @@ def held_torque_run(
     m.numeric(L.REF_NAME).data[:] = table.ravel()
     initial_state(m, d, st)
     cols, _ = sim.run(duration_s)
-    if sim.interrupted:
-        raise KeyboardInterrupt
     cols = dict(cols)
     cols["controller_block"] = cfg.transmission_blocks()[1]
     return cols
