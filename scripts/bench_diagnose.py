@@ -18,7 +18,8 @@ import argparse
 import statistics
 import tempfile
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager, nullcontext
 from functools import partial
 from pathlib import Path
 from typing import Any
@@ -36,9 +37,17 @@ ARM_EFFECTS: tuple[list[str], ...] = (
 )
 
 
-def _paths(old: bool) -> None:
-    lsq.REDUCE = not old
+@contextmanager
+def _path(old: bool) -> Iterator[None]:
+    """Run the block on 0.4.0's solver path (``old``: BVLS on the full problem, the arm's
+    simulations one after the other) or today's; the thread count comes back on exit."""
+    threads = arm_fit.SIM_THREADS
     arm_fit.SIM_THREADS = 1 if old else arm_fit.sim_threads()
+    try:
+        with lsq.full_problem() if old else nullcontext():
+            yield
+    finally:
+        arm_fit.SIM_THREADS = threads
 
 
 def _time(job: Callable[[], Any]) -> tuple[float, Any]:
@@ -60,8 +69,8 @@ def main() -> None:
             named: dict[bool, list[str]] = {}
             for rep in range(args.reps):
                 for old in (rep % 2 == 0, rep % 2 != 0):  # alternate which path goes first
-                    _paths(old)
-                    o = B.run_case(case)
+                    with _path(old):
+                        o = B.run_case(case)
                     times[old].append(o.runtime_s)
                     named[old] = o.named
             rows.append(
@@ -85,8 +94,8 @@ def main() -> None:
                 named = {}
                 for rep in range(args.reps):
                     for old in (rep % 2 == 0, rep % 2 != 0):
-                        _paths(old)
-                        dt, diag = _time(partial(diagnose_record, ds))
+                        with _path(old):
+                            dt, diag = _time(partial(diagnose_record, ds))
                         times[old].append(dt)
                         named[old] = list(diag.named)
                 label = ",".join(effects) or "null"
@@ -100,7 +109,6 @@ def main() -> None:
                     )
                 )
                 print(f"arm {label}: {rows[-1][2]:.2f} s -> {rows[-1][3]:.2f} s", flush=True)
-    _paths(False)
     print(f"\nsimulation threads (arm): {arm_fit.sim_threads()}")
     print(
         f"{'setup':6} {'records':>7} {'0.4.0 path median/max':>24} {'today median/max':>20} "

@@ -4,13 +4,16 @@ records, synthetic arm records of every transmission."""
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_synth as S
 from fsarm_sim.discrepancy import battery_arm_expert as E
+from fsarm_sim.discrepancy import battery_expert as BE
 from fsarm_sim.discrepancy import report
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.records.measured import load_dataset
@@ -72,3 +75,81 @@ def test_synthetic_arm_record_states_its_transmission(tmp_path: Path) -> None:
     assert A.arm_run(load_dataset(tmp_path / "a.csv")).transmission == "rtca"
     with pytest.raises(InvalidParameterError, match="unknown transmission"):
         S.ArmRecording(transmission="harmonic-drive").validate()
+
+
+# ---- the printout (format_results, shared with the bench battery: battery_expert.format_battery)
+
+# signatures that make signature_right True, False and not apply, a long summary cut at 90
+FAKE_SIGNATURES: list[dict[str, Any]] = [
+    {},
+    {
+        "summary": "x" * 120,
+        "kind": "spectral_line",
+        "spectral_lines": [{"frequency_hz": E.LINE_HZ, "in_input": False}],
+    },
+    {
+        "summary": "drift of the offset",
+        "kind": "drift",
+        "trend": {"offset": {"change_over_record": E.DRIFT_RAD}},
+    },
+    {"summary": "signal", "kind": "signal", "dependence": [{"signal": "q3"}]},
+    {"summary": "twist dep", "kind": "signal", "dependence": [{"signal": "twist"}]},
+]
+
+
+def _fake_results() -> list[E.ArmResult]:
+    """An ArmResult for every case of the battery, its fields varied case by case (no run)."""
+    out = []
+    for i, case in enumerate(E.cases()):
+        truth = list(case.effects)
+        named = truth if i % 3 else truth[:1] + (["payload_error"] if i % 2 else [])
+        covered = [(n, (i + j) % 3 != 0) for j, n in enumerate(["k", "c", "tau_f"][: 1 + i % 3])]
+        out.append(
+            E.ArmResult(
+                case=case,
+                named=named,
+                unexplained=[None, True, False][i % 3],
+                signature=FAKE_SIGNATURES[i % len(FAKE_SIGNATURES)],
+                covered=[] if i % 4 == 0 else covered,
+                runtime_s=math.nan if i % 7 == 0 else 1.3 * i,
+                simulations=3 * i,
+                joint_steps=i % 4,
+                error="" if i % 11 else f"failed {i}",
+            )
+        )
+    return out
+
+
+def _format_results_before_sharing(results: list[E.ArmResult]) -> str:
+    """battery_arm_expert.format_results as it was before format_battery (kept to compare)."""
+    lines = ["per case: group | case | named | unexplained | joint | CI covered | s | signature"]
+    for r in results:
+        s = r.signature.get("summary", "-") if r.signature else "-"
+        cov = f"{sum(c for _, c in r.covered)}/{len(r.covered)}" if r.covered else "-"
+        good = set(r.named) == set(r.truth_names) and r.unexplained == bool(r.case.extra)
+        mark = "ok " if good and not r.error else "BAD"
+        sr = E.signature_right(r)
+        lines.append(
+            f"{mark} {r.group:<12} {r.case.name:<52} {','.join(r.named) or 'none':<50} "
+            f"unexpl={r.unexplained!s:<5} joint={r.joint_steps} ci {cov:<5} "
+            f"{r.runtime_s:5.1f}s ({r.simulations} runs) "
+            f"{'' if sr is None else ('sig-ok ' if sr else 'sig-BAD ')}{s[:90]}{r.error}"
+        )
+        bad = [n for n, c in r.covered if not c]
+        if bad:
+            lines.append(f"      CI misses: {', '.join(bad)}")
+    lines += BE.rate_lines(
+        E.rates(results),
+        [r.runtime_s for r in results],
+        f" ({results[0].case.duration_s:g} s records)" if results else "",
+    )
+    return "\n".join(lines)
+
+
+def test_the_printout_is_the_one_before_it_was_shared_with_the_bench_battery() -> None:
+    results = _fake_results()
+    marks = {E.signature_right(r) for r in results}
+    assert marks == {None, True, False}  # every signature mark is printed
+    assert any(not c for r in results for _, c in r.covered)  # and CI-miss lines
+    for sel in (results, results[:3], results[-5:], []):
+        assert E.format_results(sel) == _format_results_before_sharing(sel)

@@ -4,7 +4,9 @@ signal), every fitted parameter gets a confidence interval, a near-tie gets a de
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -13,6 +15,7 @@ from fsarm_sim.discrepancy import battery as B
 from fsarm_sim.discrepancy import battery_expert as E
 from fsarm_sim.discrepancy import report, synth
 from fsarm_sim.discrepancy.bench_setup import diagnose
+from fsarm_sim.discrepancy.benchmodel import BenchModel
 from fsarm_sim.discrepancy.unexplained import Signals, characterise
 from fsarm_sim.errors import InvalidParameterError
 
@@ -143,3 +146,81 @@ def test_designed_inputs_rest_at_the_ends_and_keep_the_rate_limit() -> None:
         assert np.max(np.abs(u)) <= abs(d.bias) + d.amplitude + 1e-9
     # a wrong model leaving the noise variance on 10 000 held-out samples: 10 000 ln 2 - ln n
     assert D.expected_margin(1.0, 1.0, 1e4, 1) == pytest.approx(1e4 * np.log(2) - np.log(1e4))
+
+
+# ---- the printout (format_results, shared with the arm battery: format_battery)
+
+# signatures that make signature_right True, False and not apply, a long summary cut at 90
+FAKE_SIGNATURES: list[dict[str, Any]] = [
+    {},
+    {
+        "summary": "x" * 120,
+        "kind": "spectral_line",
+        "spectral_lines": [{"frequency_hz": B.LINE_HZ, "in_input": False}],
+    },
+    {
+        "summary": "drift of the gain",
+        "kind": "drift",
+        "trend": {"gain": {"relative_change_over_record": 0.1}},
+    },
+    {"summary": "signal", "kind": "signal", "dependence": [{"signal": "twist"}]},
+    {"summary": "q3 dep", "kind": "signal", "dependence": [{"signal": "q3"}]},
+]
+
+
+def _fake_results() -> list[E.Result]:
+    """A Result for every case of the battery, its fields varied case by case (no diagnosis)."""
+    out = []
+    for i, (group, case) in enumerate(E.cases()):
+        truth = [e for e, _ in case.effects]
+        named = truth if i % 3 else truth[:1] + (["viscous_damping"] if i % 2 else [])
+        covered = [(n, (i + j) % 3 != 0) for j, n in enumerate(["k", "c", "tau_f"][: 1 + i % 3])]
+        out.append(
+            E.Result(
+                case=case,
+                group=group,
+                truth=BenchModel(setup=case.setup, nominal={}),
+                named=list(named),
+                unexplained=[None, True, False][i % 3],
+                signature=FAKE_SIGNATURES[i % len(FAKE_SIGNATURES)],
+                covered=[] if i % 4 == 0 else covered,
+                runtime_s=math.nan if i % 7 == 0 else 0.37 * i,
+                cpu_s=math.nan if i % 5 == 0 else 0.21 * i,
+                joint_steps=i % 4,
+                error="" if i % 11 else f"failed {i}",
+                extra_truth={"relative_change_over_record": [0.1, -0.1][i % 2]},
+            )
+        )
+    return out
+
+
+def _format_results_before_sharing(results: list[E.Result]) -> str:
+    """battery_expert.format_results as it was before format_battery (kept to compare)."""
+    lines = ["per case: group | case | rate | named | unexplained | signature | CI covered | s"]
+    for r in results:
+        sig = r.signature.get("summary", "-") if r.signature else "-"
+        cov = f"{sum(c for _, c in r.covered)}/{len(r.covered)}" if r.covered else "-"
+        good = set(r.named) == set(r.truth_names) and r.unexplained == bool(r.case.extra)
+        mark = "ok " if good and not r.error else "BAD"
+        sr = E.signature_right(r)
+        lines.append(
+            f"{mark} {r.group:<6} {r.case.name:<62} {r.case.rate_hz:5.0f}Hz "
+            f"{','.join(r.named) or 'none':<46} unexpl={r.unexplained!s:<5} "
+            f"joint={r.joint_steps} ci {cov:<6} {r.runtime_s:5.1f}s  "
+            f"{'' if sr is None else ('sig-ok ' if sr else 'sig-BAD ')}{sig[:90]}{r.error}"
+        )
+    lines += E.rate_lines(E.rates(results), [r.runtime_s for r in results], "")
+    cpu = [r.cpu_s for r in results if math.isfinite(r.cpu_s)]
+    if cpu:
+        lines.append(
+            f"  process time per record: median {float(np.median(cpu)):.1f} s, max {max(cpu):.1f} s"
+        )
+    return "\n".join(lines)
+
+
+def test_the_printout_is_the_one_before_it_was_shared_with_the_arm_battery() -> None:
+    results = _fake_results()
+    marks = {E.signature_right(r) for r in results}
+    assert marks == {None, True, False}  # every signature mark is printed
+    for sel in (results, results[:3], results[-5:], []):
+        assert E.format_results(sel) == _format_results_before_sharing(sel)

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import contextvars
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 import pytest
 from scipy.optimize import lsq_linear
@@ -49,3 +52,34 @@ def test_the_triangle_keeps_the_residual_up_to_a_constant() -> None:
             d = float(np.sum((a @ x - y) ** 2) - np.sum((r @ x - qty) ** 2))
             offset = d if offset is None else offset
             assert d == pytest.approx(offset, rel=1e-7, abs=1e-6)
+
+
+def test_full_problem_solves_the_unreduced_problem_for_its_block_only() -> None:
+    rng = np.random.default_rng(9)
+    a, y = _problem("plain", rng)
+    lo, hi = np.full(a.shape[1], -0.5), np.full(a.shape[1], 0.5)  # some bounds active
+    full = lsq_linear(a, y, bounds=(lo, hi), method="bvls").x
+    r, qty = lsq.triangle(a, y)
+    reduced = lsq_linear(r, qty, bounds=(lo, hi), method="bvls").x
+    assert not np.array_equal(full, reduced)  # the two paths are told apart bit for bit
+    np.testing.assert_array_equal(lsq.bounded(a, y, lo, hi), reduced)
+    with lsq.full_problem():
+        assert not lsq.reduces()
+        np.testing.assert_array_equal(lsq.bounded(a, y, lo, hi), full)
+        with lsq.full_problem():  # nests
+            np.testing.assert_array_equal(lsq.bounded(a, y, lo, hi), full)
+        np.testing.assert_array_equal(lsq.bounded(a, y, lo, hi), full)
+    assert lsq.reduces()
+    np.testing.assert_array_equal(lsq.bounded(a, y, lo, hi), reduced)
+    with pytest.raises(RuntimeError), lsq.full_problem():
+        raise RuntimeError("left by an exception")
+    assert lsq.reduces()  # restored on the way out
+
+
+def test_full_problem_holds_in_copied_contexts_not_in_other_threads() -> None:
+    with lsq.full_problem():
+        seen_copied = contextvars.copy_context().run(lsq.reduces)
+        with ThreadPoolExecutor(1) as ex:  # a plain worker thread starts from a fresh context
+            seen_worker = ex.submit(lsq.reduces).result()
+    assert seen_copied is False
+    assert seen_worker is True

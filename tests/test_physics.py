@@ -165,3 +165,31 @@ def test_series_hysteresis_loop_in_the_arm_dissipates() -> None:
         works.append(float(np.sum(0.5 * (tau[1:] + tau[:-1]) * np.diff(twist))))
     assert works[0] > 0.05  # J per cycle
     assert abs(works[1]) < 0.1 * works[0]
+
+
+@pytest.mark.parametrize("width", [0.0, 0.02])
+def test_the_passive_kernel_bends_joint_2_as_the_torque_from_the_state(width: float) -> None:
+    """The passive kernel hands its twist (through the backlash) and bend to the bend coupling;
+    the torque on joint 2 it logs is bending_torques' from qpos, bit for bit, in the play and out
+    of it."""
+    cfg = SimConfig(effects=Effects(control=False, backlash_width_rad=width))
+    m = build_model(cfg, hold_table(0.0, 0.6, 0.4))
+    prm = m.numeric(L.PARAMS_NAME).data
+    d = mujoco.MjData(m)
+    st = read_structure(m)
+    initial_state(m, d, st)
+    seen = set()
+    for twist in (0.004, -0.03, 0.2):  # inside the play (0.02 rad), beyond it, far beyond
+        d.qpos[st.qadr[3]] = (twist + st.coef_s * d.qpos[st.qadr[2]]) / st.coef_m
+        qfrc = np.zeros(m.nv)
+        log = np.zeros(L.N_LOG)
+        physics.passive_forces(prm, d.qpos, d.qvel, d.act, qfrc, log)
+        total, conduit = physics.bending_torques(prm, d.qpos, d.qvel, d.act)
+        assert log[L.L_TAU_BEND] == total
+        assert log[L.L_TAU_CONDUIT] == conduit
+        coupling = physics.bend_coupling_torque(prm, d.qpos, d.act)
+        assert coupling == physics.bend_coupling_torque_at(
+            prm, physics.transmitted_twist_angle(prm, d.qpos), d.qpos[st.qadr[1]], d.act
+        )
+        seen.add(coupling)
+    assert len(seen) == 3  # the coupling depends on the twist these steps set

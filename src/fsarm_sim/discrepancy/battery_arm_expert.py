@@ -273,26 +273,24 @@ def rates(results: list[ArmResult]) -> dict[str, tuple[int, int]]:
     }
 
 
+PRINTOUT = BE.Printout(
+    header="per case: group | case | named | unexplained | joint | CI covered | s | signature",
+    group_width=12,
+    name_width=52,
+    named_width=50,
+    ci_width=5,
+    after_name=lambda r: "",
+    after_runtime=lambda r: f"({r.simulations} runs)",
+    ci_misses=True,
+)
+
+
 def format_results(results: list[ArmResult]) -> str:
-    lines = ["per case: group | case | named | unexplained | joint | CI covered | s | signature"]
-    for r in results:
-        s = r.signature.get("summary", "-") if r.signature else "-"
-        cov = f"{sum(c for _, c in r.covered)}/{len(r.covered)}" if r.covered else "-"
-        good = set(r.named) == set(r.truth_names) and r.unexplained == bool(r.case.extra)
-        mark = "ok " if good and not r.error else "BAD"
-        sr = signature_right(r)
-        lines.append(
-            f"{mark} {r.group:<12} {r.case.name:<52} {','.join(r.named) or 'none':<50} "
-            f"unexpl={r.unexplained!s:<5} joint={r.joint_steps} ci {cov:<5} "
-            f"{r.runtime_s:5.1f}s ({r.simulations} runs) "
-            f"{'' if sr is None else ('sig-ok ' if sr else 'sig-BAD ')}{s[:90]}{r.error}"
-        )
-        bad = [n for n, c in r.covered if not c]
-        if bad:
-            lines.append(f"      CI misses: {', '.join(bad)}")
-    lines += BE.rate_lines(
+    """The battery's printout (:func:`battery_expert.format_battery`)."""
+    return BE.format_battery(
+        results,
+        PRINTOUT,
+        signature_right,
         rates(results),
-        [r.runtime_s for r in results],
         f" ({results[0].case.duration_s:g} s records)" if results else "",
     )
-    return "\n".join(lines)

@@ -290,27 +290,78 @@ def rates(results: list[Result]) -> dict[str, tuple[int, int]]:
     }
 
 
-def format_results(results: list[Result]) -> str:
-    lines = ["per case: group | case | rate | named | unexplained | signature | CI covered | s"]
+@dataclass(frozen=True)
+class Printout:
+    """What differs between the expert batteries' per-case printouts (:func:`format_battery`).
+
+    A row reads ``MARK GROUP CASE <after_name>NAMED unexpl=.. joint=.. ci COV RUNTIMEs
+    <after_runtime> <sig-ok|sig-BAD >SIGNATURE ERROR``; the widths pad those columns.
+    """
+
+    header: str  # the line above the rows, naming the columns
+    group_width: int
+    name_width: int
+    named_width: int
+    ci_width: int
+    after_name: Callable[[Any], str]  # text between the case name and the named effects
+    after_runtime: Callable[[Any], str]  # text between the runtime and the signature
+    ci_misses: bool = False  # a line under a row naming the parameters whose CI missed the truth
+
+
+def format_battery(
+    results: Sequence[Any],
+    printout: Printout,
+    signature_ok: Callable[[Any], bool | None],
+    rates: dict[str, tuple[int, int]],
+    records: str = "",
+    tail: Sequence[str] = (),
+) -> str:
+    """A battery's printout: one row per case (``printout``; each result with ``case.name``,
+    ``case.extra``, ``group``, ``named``, ``truth_names``, ``unexplained``, ``signature``,
+    ``covered``, ``joint_steps``, ``runtime_s`` and ``error``), then the rates block
+    (:func:`rate_lines`, ``records`` says what a record is) and the ``tail`` lines."""
+    lines = [printout.header]
     for r in results:
         sig = r.signature.get("summary", "-") if r.signature else "-"
         cov = f"{sum(c for _, c in r.covered)}/{len(r.covered)}" if r.covered else "-"
         good = set(r.named) == set(r.truth_names) and r.unexplained == bool(r.case.extra)
         mark = "ok " if good and not r.error else "BAD"
-        sr = signature_right(r)
+        sr = signature_ok(r)
         lines.append(
-            f"{mark} {r.group:<6} {r.case.name:<62} {r.case.rate_hz:5.0f}Hz "
-            f"{','.join(r.named) or 'none':<46} unexpl={r.unexplained!s:<5} "
-            f"joint={r.joint_steps} ci {cov:<6} {r.runtime_s:5.1f}s  "
+            f"{mark} {r.group:<{printout.group_width}} {r.case.name:<{printout.name_width}} "
+            f"{printout.after_name(r)}{','.join(r.named) or 'none':<{printout.named_width}} "
+            f"unexpl={r.unexplained!s:<5} joint={r.joint_steps} ci {cov:<{printout.ci_width}} "
+            f"{r.runtime_s:5.1f}s {printout.after_runtime(r)} "
             f"{'' if sr is None else ('sig-ok ' if sr else 'sig-BAD ')}{sig[:90]}{r.error}"
         )
-    lines += rate_lines(rates(results), [r.runtime_s for r in results], "")
-    cpu = [r.cpu_s for r in results if math.isfinite(r.cpu_s)]
-    if cpu:
-        lines.append(
-            f"  process time per record: median {float(np.median(cpu)):.1f} s, max {max(cpu):.1f} s"
-        )
+        bad = [n for n, c in r.covered if not c]
+        if printout.ci_misses and bad:
+            lines.append(f"      CI misses: {', '.join(bad)}")
+    lines += rate_lines(rates, [r.runtime_s for r in results], records)
+    lines += tail
     return "\n".join(lines)
+
+
+PRINTOUT = Printout(
+    header="per case: group | case | rate | named | unexplained | signature | CI covered | s",
+    group_width=6,
+    name_width=62,
+    named_width=46,
+    ci_width=6,
+    after_name=lambda r: f"{r.case.rate_hz:5.0f}Hz ",
+    after_runtime=lambda r: "",
+)
+
+
+def format_results(results: list[Result]) -> str:
+    """The battery's printout (:func:`format_battery`), with the process time per record."""
+    cpu = [r.cpu_s for r in results if math.isfinite(r.cpu_s)]
+    tail = (
+        [f"  process time per record: median {float(np.median(cpu)):.1f} s, max {max(cpu):.1f} s"]
+        if cpu
+        else []
+    )
+    return format_battery(results, PRINTOUT, signature_right, rates(results), "", tail)
 
 
 def rate_lines(rates: dict[str, tuple[int, int]], runtimes: list[float], records: str) -> list[str]:

@@ -233,32 +233,54 @@ def shaft_torque(prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: Float
     return tr_torque(prm[P_TRANS], tr, x, xd, bend_angle(prm, qpos), act, a0)
 
 
-def bend_coupling_torque(prm: FloatArray, qpos: FloatArray, act: FloatArray) -> float:
+def bend_coupling_torque_at(prm: FloatArray, x: float, bend: float, act: FloatArray) -> float:
     """-dV/dphi_B on joint 2, V the transmission's stored energy (its ``potential_j``).
 
-    A transmission routed over joint 2 whose law depends on the bend stores energy that changes
-    when joint 2 moves at constant twist; this torque is its reaction, so the arm conserves energy
-    (tests/test_energy_check.py, ``fsarm check-dynamics``). Every transmission states it through
-    the interface (``bend_torque_nm``; tests check it against the derivative of ``potential_j``).
+    ``x``: the twist reaching the transmission's law (through the backlash, if one is on:
+    :func:`transmitted_twist`); ``bend``: :func:`bend_angle`. They are passed in because the
+    passive kernel has computed both already; :func:`bend_coupling_torque` computes them from
+    ``qpos``. A transmission routed over joint 2 whose law depends on the bend stores energy that
+    changes when joint 2 moves at constant twist; this torque is its reaction, so the arm conserves
+    energy (tests/test_energy_check.py, ``fsarm check-dynamics``). Every transmission states it
+    through the interface (``bend_torque_nm``; tests check it against the derivative of
+    ``potential_j``).
     """
-    x = twist_angle(prm, qpos)
-    if prm[P_BL_WIDTH] > 0.0:
-        x = backlash.transmitted_deflection_rad(x, prm[P_BL_WIDTH], prm[P_BL_CENTER])
     return tr_bend_torque(
         prm[P_TRANS],
         prm[P_TR : P_TR + N_TR],
         x,
-        bend_angle(prm, qpos),
+        bend,
         act,
         int(prm[P_ACT_SLIP1]),
     )
 
 
-def bending_torques(
-    prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray
+def transmitted_twist_angle(prm: FloatArray, qpos: FloatArray) -> float:
+    """Twist reaching the transmission's law (rad): :func:`twist_angle` through the backlash, if
+    one is switched on (the angle half of :func:`transmitted_twist`, without the rate)."""
+    x = twist_angle(prm, qpos)
+    if prm[P_BL_WIDTH] > 0.0:
+        x = backlash.transmitted_deflection_rad(x, prm[P_BL_WIDTH], prm[P_BL_CENTER])
+    return x
+
+
+def bend_coupling_torque(prm: FloatArray, qpos: FloatArray, act: FloatArray) -> float:
+    """:func:`bend_coupling_torque_at` from the state: computes the transmitted twist and the bend
+    from ``qpos`` (for callers outside the passive kernel, e.g. energy bookkeeping)."""
+    return bend_coupling_torque_at(
+        prm, transmitted_twist_angle(prm, qpos), bend_angle(prm, qpos), act
+    )
+
+
+def bending_torques_at(
+    prm: FloatArray, x: float, bend: float, act: FloatArray
 ) -> tuple[float, float]:
-    """(total, conduit part) of the torque the bent shaft puts on joint 2 (N*m)."""
-    bend = bend_angle(prm, qpos)
+    """(total, conduit part) of the torque the bent shaft puts on joint 2 (N*m).
+
+    ``x``: the transmitted twist (read only when the series transmission and its bend coupling
+    are on); ``bend``: :func:`bend_angle`. The passive kernel passes the values it has already
+    computed; :func:`bending_torques` computes them from the state.
+    """
     total = 0.0
     conduit = 0.0
     if prm[P_EN_BEND] > 0.5:
@@ -272,8 +294,16 @@ def bending_torques(
         )
         total += conduit
     if prm[P_EN_SERIES] > 0.5 and prm[P_EN_COUPLING] > 0.5:
-        total += bend_coupling_torque(prm, qpos, act)
+        total += bend_coupling_torque_at(prm, x, bend, act)
     return total, conduit
+
+
+def bending_torques(
+    prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray
+) -> tuple[float, float]:
+    """(total, conduit part) of the torque the bent shaft puts on joint 2 (N*m), from the state
+    (:func:`bending_torques_at`; ``qvel`` is unused and kept for callers' signature)."""
+    return bending_torques_at(prm, transmitted_twist_angle(prm, qpos), bend_angle(prm, qpos), act)
 
 
 def passive_forces(
@@ -290,6 +320,7 @@ def passive_forces(
     bend = bend_angle(prm, qpos)
     tau = 0.0  # joint end
     tau_m = 0.0  # motor end: the same unless the law gives its ends their own torques
+    x = twist  # the transmitted twist once the series transmission is on (read only then)
     if prm[P_EN_SERIES] > 0.5:
         kind = prm[P_TRANS]
         x, xd, tr, a0 = transmission_input(prm, twist, rate)
@@ -308,7 +339,7 @@ def passive_forces(
         prm[P_DOF_Q3],
         cs * tr_output_torque(prm[P_TRANS], prm[P_TR : P_TR + N_TR], cs * q3, cs * qd3),
     )
-    total, conduit = bending_torques(prm, qpos, qvel, act)
+    total, conduit = bending_torques_at(prm, x, bend, act)
     add_force(qfrc, prm[P_DOF_Q2], total)
     if prm[P_PAY_DM] != 0.0 and prm[P_QADR_Q2] >= 0.0:
         # an unstated payload mass: the plant feels its gravity, the controllers do not know it
@@ -362,9 +393,7 @@ def state_rate(
 
 def shaft_potential(prm: FloatArray, qpos: FloatArray, act: FloatArray) -> float:
     """Energy stored in the enabled shaft elements (J), for energy bookkeeping."""
-    twist = twist_angle(prm, qpos)
-    if prm[P_BL_WIDTH] > 0.0:
-        twist = backlash.transmitted_deflection_rad(twist, prm[P_BL_WIDTH], prm[P_BL_CENTER])
+    twist = transmitted_twist_angle(prm, qpos)
     bend = bend_angle(prm, qpos)
     v = 0.0
     if prm[P_EN_SERIES] > 0.5:
