@@ -15,11 +15,13 @@ needs the direction: both take the branch *nearer* to the measured motor angle.
 * Algorithm 2 (hand guiding): the motor is commanded to the nearer branch's value ``theta_h``,
   so a joint moved by hand drags the motor along the identified no-load relation.
 
-Pure functions of floats (Numba-compilable like the other controllers); the coefficient triples
-are ``(P, Q, M)``.
+Pure functions of floats and coefficient triples ``(P, Q, M)`` (:data:`Branch`; Numba-compilable
+like the other controllers).
 """
 
 from __future__ import annotations
+
+Branch = tuple[float, float, float]  # one direction's eq. 19 coefficients (P, Q, M)
 
 
 def branch_angle(theta2: float, p: float, q: float, m: float) -> float:
@@ -27,60 +29,37 @@ def branch_angle(theta2: float, p: float, q: float, m: float) -> float:
     return p * theta2 * theta2 + q * theta2 + m
 
 
-def nearer_branch(
-    theta1: float,
-    theta2: float,
-    pp: float,
-    qp: float,
-    mp: float,
-    pr: float,
-    qr: float,
-    mr: float,
-) -> float:
-    """Algorithms 1-2, lines 1-5: the branch value nearer to the measured motor angle."""
-    t1p = branch_angle(theta2, pp, qp, mp)
-    t1r = branch_angle(theta2, pr, qr, mr)
+def nearer_branch(theta1: float, theta2: float, up: Branch, down: Branch) -> float:
+    """Algorithms 1-2, lines 1-5: the branch value nearer to the measured motor angle (``up``:
+    the branch identified with omega_2 > 0, ``down``: omega_2 < 0)."""
+    t1p = branch_angle(theta2, up[0], up[1], up[2])
+    t1r = branch_angle(theta2, down[0], down[1], down[2])
     if abs(t1p - theta1) < abs(t1r - theta1):
         return t1p
     return t1r
 
 
 def collision_monitor(
-    theta1: float,
-    theta2: float,
-    theta1_prev: float,
-    delta_a: float,
-    pp: float,
-    qp: float,
-    mp: float,
-    pr: float,
-    qr: float,
-    mr: float,
+    theta1: float, theta2: float, theta1_prev: float, delta_a: float, up: Branch, down: Branch
 ) -> tuple[float, float, bool]:
     """Algorithm 1, one tick: ``(delta, theta_c, alarm)``.
 
     ``delta`` = nearer branch - ``theta1``; no alarm: ``theta_c`` = the nearer branch (line 7);
     alarm (``|delta| > delta_a``): ``theta_c = theta1_prev``, the motor holds (line 8).
     """
-    near = nearer_branch(theta1, theta2, pp, qp, mp, pr, qr, mr)
+    near = nearer_branch(theta1, theta2, up, down)
     delta = near - theta1
     if abs(delta) <= delta_a:
         return delta, near, False
     return delta, theta1_prev, True
 
 
-def hand_guiding_command(
-    theta1: float,
-    theta2: float,
-    pp: float,
-    qp: float,
-    mp: float,
-    pr: float,
-    qr: float,
-    mr: float,
-) -> float:
-    """Algorithm 2, one tick: the motor command ``theta_h`` (the nearer branch's value)."""
-    return nearer_branch(theta1, theta2, pp, qp, mp, pr, qr, mr)
+def hand_guiding_command(theta1: float, theta2: float, up: Branch, down: Branch) -> float:
+    """Algorithm 2, one tick, as the seed writes it: the motor command ``theta_h`` is the nearer
+    branch's value (lines 1-5 of Algorithm 1 again). On the arm's cascade the same idea runs as
+    ``studies.collision.Algorithm2Guiding`` (the controller's own no-load relation stands in for
+    eq. 19's fitted branches)."""
+    return nearer_branch(theta1, theta2, up, down)
 
 
 # Position loop of the drive motor (Fig. 13/14: "a closed-loop control of the drive motor is

@@ -20,20 +20,20 @@ def test_nearer_branch_picks_the_closer_curve() -> None:
     up = tsc.branch_angle(th2, *RC)
     down = tsc.branch_angle(th2, *RA)
     assert up == pytest.approx(-0.208 * 0.09 + 0.916 * 0.3 + 0.301)
-    assert tsc.nearer_branch(up - 0.01, th2, *RC, *RA) == up
-    assert tsc.nearer_branch(down + 0.01, th2, *RC, *RA) == down
-    assert tsc.hand_guiding_command(down + 0.01, th2, *RC, *RA) == down  # Algorithm 2
+    assert tsc.nearer_branch(up - 0.01, th2, RC, RA) == up
+    assert tsc.nearer_branch(down + 0.01, th2, RC, RA) == down
+    assert tsc.hand_guiding_command(down + 0.01, th2, RC, RA) == down  # Algorithm 2
 
 
 def test_collision_monitor_alarms_and_holds_the_motor() -> None:
     th2 = -0.2
     up = tsc.branch_angle(th2, *RC)
     # within delta_a: run normally, theta_c = the nearer branch (line 7)
-    delta, theta_c, alarm = tsc.collision_monitor(up + 0.02, th2, 0.5, 0.03, *RC, *RA)
+    delta, theta_c, alarm = tsc.collision_monitor(up + 0.02, th2, 0.5, 0.03, RC, RA)
     assert not alarm and theta_c == up and delta == pytest.approx(-0.02)
     # beyond it (between the branches but far from both): the motor holds theta_1(t-) (line 8)
     mid = 0.5 * (up + tsc.branch_angle(th2, *RA))
-    delta, theta_c, alarm = tsc.collision_monitor(mid, th2, 0.123, 0.03, *RC, *RA)
+    delta, theta_c, alarm = tsc.collision_monitor(mid, th2, 0.123, 0.03, RC, RA)
     assert alarm and theta_c == 0.123 and abs(delta) > 0.03
 
 

@@ -339,7 +339,7 @@ def algorithm1_delta(
     out = np.empty(len(th1))
     prev = float(th1[0]) if len(th1) else 0.0
     for k in range(len(th1)):
-        out[k], _, _ = collision_monitor(float(th1[k]), float(th2[k]), prev, math.inf, *up, *down)
+        out[k], _, _ = collision_monitor(float(th1[k]), float(th2[k]), prev, math.inf, up, down)
         prev = float(th1[k])
     return out
 
