@@ -13,7 +13,6 @@ from __future__ import annotations
 import argparse
 import json
 import time
-from concurrent.futures import ProcessPoolExecutor
 
 from fsarm_sim.discrepancy import battery as B
 
@@ -31,17 +30,9 @@ def main() -> None:
     ]
     print(f"{len(cases)} cases", flush=True)
     t0 = time.perf_counter()
-    outcomes = []
-    if args.jobs > 1:
-        with ProcessPoolExecutor(args.jobs) as ex:
-            for o in ex.map(B.run_case, cases):
-                outcomes.append(o)
-                print(f"  {o.case.name}: {o.named} ({o.runtime_s:.1f} s)", flush=True)
-    else:
-        for c in cases:
-            o = B.run_case(c)
-            outcomes.append(o)
-            print(f"  {o.case.name}: {o.named} ({o.runtime_s:.1f} s)", flush=True)
+    outcomes = B.run_all(
+        B.run_case, cases, args.jobs, lambda o: f"  {o.case.name}: {o.named} ({o.runtime_s:.1f} s)"
+    )
     print()
     print(B.format_tables(outcomes))
     print(f"\nwall time {time.perf_counter() - t0:.0f} s")

@@ -14,13 +14,13 @@ import argparse
 import json
 import tempfile
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_synth as S
+from fsarm_sim.discrepancy import battery as B
 from fsarm_sim.records.measured import load_dataset
 
 NOISES = (1e-5, 5e-5)  # rad
@@ -174,17 +174,9 @@ def main() -> None:
     todo = [c for c in cases(args.duration) if args.only in c.name]
     print(f"{len(todo)} cases", flush=True)
     t0 = time.perf_counter()
-    res: list[dict[str, Any]] = []
-    if args.jobs > 1:
-        with ProcessPoolExecutor(args.jobs) as ex:
-            for r in ex.map(run_case, todo):
-                res.append(r)
-                print(f"  {r['case']}: {r['named']} ({r['runtime_s']:.1f} s)", flush=True)
-    else:
-        for c in todo:
-            r = run_case(c)
-            res.append(r)
-            print(f"  {r['case']}: {r['named']} ({r['runtime_s']:.1f} s)", flush=True)
+    res = B.run_all(
+        run_case, todo, args.jobs, lambda r: f"  {r['case']}: {r['named']} ({r['runtime_s']:.1f} s)"
+    )
     print()
     print(tables(res))
     print(f"\nwall time {time.perf_counter() - t0:.0f} s")

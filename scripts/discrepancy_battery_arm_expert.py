@@ -13,11 +13,11 @@ from __future__ import annotations
 import argparse
 import json
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict
 from functools import partial
 from pathlib import Path
 
+from fsarm_sim.discrepancy import battery as B
 from fsarm_sim.discrepancy import battery_arm_expert as E
 from fsarm_sim.discrepancy.report import json_clean
 
@@ -39,17 +39,9 @@ def main() -> None:
     print(f"{len(todo)} cases", flush=True)
     t0 = time.perf_counter()
     fn = partial(E.run, joint=args.joint)
-    res: list[E.ArmResult] = []
-    if args.jobs > 1:
-        with ProcessPoolExecutor(args.jobs) as ex:
-            for r in ex.map(fn, todo):
-                res.append(r)
-                print(f"  {r.case.name}: {r.named} ({r.runtime_s:.1f} s)", flush=True)
-    else:
-        for c in todo:
-            r = fn(c)
-            res.append(r)
-            print(f"  {r.case.name}: {r.named} ({r.runtime_s:.1f} s)", flush=True)
+    res = B.run_all(
+        fn, todo, args.jobs, lambda r: f"  {r.case.name}: {r.named} ({r.runtime_s:.1f} s)"
+    )
     print()
     print(E.format_results(res))
     print(f"\nwall time {time.perf_counter() - t0:.0f} s")

@@ -12,8 +12,8 @@ from __future__ import annotations
 import argparse
 import json
 import time
-from concurrent.futures import ProcessPoolExecutor
 
+from fsarm_sim.discrepancy import battery as B
 from fsarm_sim.discrepancy import battery_expert as E
 from fsarm_sim.discrepancy.report import json_clean
 
@@ -33,25 +33,15 @@ def main() -> None:
     todo = [(g, c) for g, c in E.cases(args.duration) if args.only in f"{g}/{c.name}"]
     print(f"{len(todo)} cases", flush=True)
     t0 = time.perf_counter()
-    results: list[E.Result] = []
-    if args.jobs > 1:
-        with ProcessPoolExecutor(args.jobs) as ex:
-            for r in ex.map(_run, todo):
-                results.append(r)
-                print(
-                    f"  {r.case.name}: {r.named} unexplained={r.unexplained} "
-                    f"({r.runtime_s:.1f} s) {r.error}",
-                    flush=True,
-                )
-    else:
-        for gc in todo:
-            r = _run(gc)
-            results.append(r)
-            print(
-                f"  {r.case.name}: {r.named} unexplained={r.unexplained} "
-                f"({r.runtime_s:.1f} s) {r.error}",
-                flush=True,
-            )
+    results = B.run_all(
+        _run,
+        todo,
+        args.jobs,
+        lambda r: (
+            f"  {r.case.name}: {r.named} unexplained={r.unexplained} "
+            f"({r.runtime_s:.1f} s) {r.error}"
+        ),
+    )
     print()
     print(E.format_results(results))
     print(f"\nwall time {time.perf_counter() - t0:.0f} s")

@@ -20,8 +20,10 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 import numpy.typing as npt
@@ -39,6 +41,29 @@ from fsarm_sim.plant.effects import registry
 from fsarm_sim.records.measured import Dataset, load_dataset, stated_shaft, validate_columns
 
 FloatArray = npt.NDArray[np.float64]
+
+T = TypeVar("T")
+R_ = TypeVar("R_")
+
+
+def run_all(
+    fn: Callable[[T], R_], cases: Sequence[T], jobs: int, line: Callable[[R_], str]
+) -> list[R_]:
+    """The battery scripts' loop: ``fn`` on every case, in ``jobs`` worker processes (1: here),
+    printing ``line(result)`` as each comes; the results in the cases' order."""
+    out: list[R_] = []
+    if jobs > 1:
+        with ProcessPoolExecutor(jobs) as ex:
+            for r in ex.map(fn, cases):
+                out.append(r)
+                print(line(r), flush=True)
+    else:
+        for c in cases:
+            r = fn(c)
+            out.append(r)
+            print(line(r), flush=True)
+    return out
+
 
 SMALL = 0.03  # effect size: RMS of the unexplained clean output / its range
 LARGE = 0.08
