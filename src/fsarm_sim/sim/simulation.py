@@ -116,12 +116,16 @@ def check_run_size(
         )
 
 
-def clock_gap_steps(model: mujoco.MjModel, data: mujoco.MjData) -> float | None:
+def clock_gap_steps(
+    model: mujoco.MjModel, data: mujoco.MjData, params: Array | None = None
+) -> float | None:
     """Timesteps between ``data.time`` and the last step the control clock saw (None when the
     controllers, and so the clock, are switched off). After ``mj_step`` with the callbacks active
     it is 0 (RK4) or 1; before the first step ``U_STEP_T`` holds the start time
-    (``initial_state``, ``Simulation.start_at``)."""
-    if model.numeric(L.PARAMS_NAME).data[L.P_EN_CONTROL] < 0.5:
+    (``initial_state``, ``Simulation.start_at``). ``params``: the model's ``fsarm_params`` if
+    the caller holds them (None: looked up by name)."""
+    prm = model.numeric(L.PARAMS_NAME).data if params is None else params
+    if prm[L.P_EN_CONTROL] < 0.5:
         return None
     return (float(data.time) - float(data.userdata[L.U_STEP_T])) / float(model.opt.timestep)
 
@@ -289,8 +293,7 @@ class Simulation:
         """Raise :class:`RunHealthError` if the state is not finite, the control clock stopped,
         or a joint left its reference by more than ``DIVERGENCE_LIMIT_RAD``.
 
-        Called between chunks of every run: Python scalars on views kept per model (a few us; the
-        same tests as :func:`clock_gap_steps` and :meth:`step_index`, tests/test_simulation.py).
+        Called between chunks of every run: Python scalars on views kept per model (a few us).
         """
         m, d, st = self.model, self.data, self.structure
         prm, ref = self._views()
@@ -301,22 +304,21 @@ class Simulation:
             raise RunHealthError(
                 f"run diverged at t = {t:.4f} s: the state is not finite ({', '.join(bad) or 'rotor'})"
             )
-        if prm[L.P_EN_CONTROL] < 0.5:  # controllers off: no clock (clock_gap_steps is None)
+        steps = clock_gap_steps(m, d, prm)
+        if steps is None:
             return
         ud = d.userdata
         h = float(m.opt.timestep)
-        step_n, step_t, tick = float(ud[L.U_STEP]), float(ud[L.U_STEP_T]), float(ud[L.U_TICK])
-        if step_n < 1.0 or (t - step_t) / h > 1.5:
+        tick = float(ud[L.U_TICK])
+        if ud[L.U_STEP] < 1.0 or steps > 1.5:
             raise RunHealthError(
                 f"control clock stopped at t = {t:.6f} s: it last saw a step at "
-                f"t = {step_t:.6f} s (timestep {h:g} s), so the controllers' "
+                f"t = {ud[L.U_STEP_T]:.6f} s (timestep {h:g} s), so the controllers' "
                 "outputs are frozen"
             )
         ctrl_dt = self.config.gains.ctrl_dt_s
         per_tick = round(ctrl_dt / h)
-        # the tick the controllers should be at (step_index with step_n >= 1)
-        hp = float(prm[L.P_TIMESTEP])
-        due = (int(step_n) - 1 + round((t - step_t) / hp)) // per_tick
+        due = self.step_index() // per_tick  # the tick the controllers should be at
         ticked = int(tick) - 1
         if ticked < due - 1:
             raise RunHealthError(
