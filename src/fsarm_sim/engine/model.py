@@ -388,9 +388,10 @@ def build_model(
         config.shaft.check_bend(ref[:, 1], "joint 2's reference q2 (the shaft's bend phi_B)")
     tr = config.transmission_model()
     plant = config.transmission_blocks()[0]  # (~40 us each time: computed once here)
-    base = _compiled(config, ref, path, lean, tr.state_limits(plant))
+    limits = tr.state_limits(plant)
+    base = _compiled(config, ref, path, lean, limits)
     model = copy.copy(base.model)  # mj_copyModel: nothing shared with the cache or other runs
-    for a, lim in zip(base.slip_actuators, base.limits, strict=True):
+    for a, lim in zip(base.slip_actuators, limits, strict=True):
         if lim is not None:  # (build_spec writes these; the key holds which are limited)
             model.actuator_actrange[a] = (lim[0], lim[1])
     model.numeric(L.REF_NAME).data[:] = ref.ravel()  # (the spec sized it: build_spec)
@@ -436,7 +437,6 @@ class _Compiled:
     model: mujoco.MjModel
     structure: ArmStructure
     slip_actuators: tuple[int, ...]  # the shaft_slip actuators build_spec limits, in order
-    limits: tuple[tuple[float, float] | None, ...]  # this run's (not part of the cached entry)
     lever_arms: tuple[float, float]  # payload_lever_arms_m: kinematics at the zero pose only
     # q -> c_m^2 / I_rotor + c_s^2 / M_33 (the mass matrix depends on the structure and q only)
     _modes: dict[tuple[float, ...], float] = field(default_factory=dict)
@@ -505,7 +505,6 @@ def _compiled(
             slip_actuators=tuple(
                 _id(compiled, A, f"shaft_slip{i + 1}") for i in range(len(limits))
             ),
-            limits=limits,
             lever_arms=payload_lever_arms_m(compiled),
         )
         if keep:
@@ -513,7 +512,7 @@ def _compiled(
                 _cache[key] = hit
                 while len(_cache) > MODEL_CACHE_ENTRIES:
                     _cache.popitem(last=False)
-    return replace(hit, limits=limits)
+    return hit
 
 
 def clear_model_cache() -> None:
