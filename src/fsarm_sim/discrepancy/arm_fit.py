@@ -630,67 +630,76 @@ class ArmContext:
     # element with no stiffness - are one run (issue 15)
     config_cache: dict[str, dict[str, FloatArray] | None] = field(default_factory=dict)
 
-    def _run(self, m: ArmModel) -> dict[str, FloatArray] | None:
+    def _input(self, m: ArmModel) -> tuple[SimConfig | None, str | None]:
+        """The simulator input of ``m`` and its key (None, None: the configuration cannot be
+        built, so the run fails)."""
         try:
-            raw, _ = simulate_config(self.run, to_config(self.run, m))
+            cfg = to_config(self.run, m)
+        except InvalidParameterError:
+            return None, None
+        return cfg, repr(cfg)
+
+    def _run(self, m: ArmModel) -> dict[str, FloatArray] | None:
+        """``m``'s run, simulated now (None: it fails)."""
+        return self._run_input(self._input(m)[0])
+
+    def _run_input(self, cfg: SimConfig | None) -> dict[str, FloatArray] | None:
+        if cfg is None:
+            return None
+        try:
+            raw, _ = simulate_config(self.run, cfg)
         except (InvalidParameterError, SimulationWarningError):
             return None
         return raw if all(np.all(np.isfinite(v)) for v in raw.values()) else None
 
-    def _config_key(self, m: ArmModel) -> str | None:
-        """The simulator input of ``m`` as a key (None: the configuration cannot be built;
-        :meth:`_run` then fails and returns None)."""
-        try:
-            return repr(to_config(self.run, m))
-        except InvalidParameterError:
-            return None
-
-    def _known(self, m: ArmModel) -> bool:
-        """Is ``m``'s run in the cache - by its parameters, or by an identical simulator input
-        (then filed under its parameters too)?"""
-        key = m.physical_key()
-        if key in self.cache:
-            return True
-        ck = self._config_key(m)
+    def _shared(self, key: tuple[Any, ...], ck: str | None) -> bool:
+        """Is a run of the same simulator input ``ck`` known? Then it is filed under ``key`` too."""
         if ck is not None and ck in self.config_cache:
             self.cache[key] = self.config_cache[ck]
             return True
         return False
 
-    def _store(self, m: ArmModel, raw: dict[str, FloatArray] | None) -> None:
+    def _store(
+        self, key: tuple[Any, ...], ck: str | None, raw: dict[str, FloatArray] | None
+    ) -> None:
         self.n_sims += 1
-        self.cache[m.physical_key()] = raw
-        ck = self._config_key(m)
+        self.cache[key] = raw
         if ck is not None:
             self.config_cache.setdefault(ck, raw)
 
     def simulate(self, m: ArmModel) -> dict[str, FloatArray] | None:
-        if not self._known(m):
-            self._store(m, self._run(m))
-        return self.cache[m.physical_key()]
+        key = m.physical_key()
+        if key not in self.cache:
+            cfg, ck = self._input(m)
+            if not self._shared(key, ck):
+                self._store(key, ck, self._run_input(cfg))
+        return self.cache[key]
 
     def prefetch(self, models: Sequence[ArmModel | None]) -> None:
         """Run the models not simulated yet side by side (:data:`SIM_THREADS` threads: the
         compiled callbacks step in parallel, MuJoCo releases the GIL while stepping); later
         :meth:`simulate` calls find them in the cache. The same runs as one after the other."""
-        todo: dict[tuple[Any, ...], ArmModel] = {}
+        todo: dict[tuple[Any, ...], tuple[SimConfig | None, str | None]] = {}
         inputs: set[str] = set()
         for m in models:
-            if m is not None and not self._known(m):
-                key = m.physical_key()
-                ck = self._config_key(m)
-                if key in todo or (ck is not None and ck in inputs):
-                    continue  # the same run asked for twice: simulate() finds the first
-                todo[key] = m
-                if ck is not None:
-                    inputs.add(ck)
+            if m is None:
+                continue
+            key = m.physical_key()
+            if key in self.cache or key in todo:
+                continue
+            cfg, ck = self._input(m)
+            if self._shared(key, ck) or (ck is not None and ck in inputs):
+                continue  # known, or the same run asked for twice: simulate() finds the first
+            todo[key] = (cfg, ck)
+            if ck is not None:
+                inputs.add(ck)
         threads = min(SIM_THREADS, len(todo))
         if threads < 2:
             return  # one run (or one core): simulate() runs it when it is asked for
         with ThreadPoolExecutor(threads) as ex:
-            results = list(ex.map(self._run, todo.values()))
-        for m, raw in zip(todo.values(), results, strict=True):
-            self._store(m, raw)
+            results = list(ex.map(self._run_input, [cfg for cfg, _ in todo.values()]))
+        for (key, (_, ck)), raw in zip(todo.items(), results, strict=True):
+            self._store(key, ck, raw)
 
     def predict(self, m: ArmModel) -> tuple[dict[str, FloatArray], dict[str, FloatArray]] | None:
         """(basis, raw) recorded channels the model predicts; None if its run fails."""
