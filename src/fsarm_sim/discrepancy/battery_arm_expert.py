@@ -258,17 +258,13 @@ def signature_right(r: ArmResult) -> bool | None:
     return None
 
 
-def _frac(hits: list[bool]) -> tuple[int, int]:
-    return sum(hits), len(hits)
-
-
 def rates(results: list[ArmResult]) -> dict[str, tuple[int, int]]:
     """The issue's rates as (hits, cases) (module docstring)."""
     ok = [r for r in results if not r.error]
     tr = [r for r in ok if r.group == "transmission"]
     return {
         **BE.common_rates(ok, signature_right),
-        "transmissions_exact": _frac([sorted(r.named) == sorted(r.truth_names) for r in tr]),
+        "transmissions_exact": BE.frac([sorted(r.named) == sorted(r.truth_names) for r in tr]),
         "errors": (len(results) - len(ok), len(results)),
     }
 

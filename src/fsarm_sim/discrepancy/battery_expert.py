@@ -252,7 +252,8 @@ def signature_right(r: Result) -> bool | None:
     return None
 
 
-def _frac(hits: list[bool]) -> tuple[int, int]:
+def frac(hits: list[bool]) -> tuple[int, int]:
+    """A rate as (hits, cases)."""
     return sum(hits), len(hits)
 
 
@@ -264,17 +265,17 @@ def common_rates(
     multi = [r for r in ok if len(r.truth_names) > 1]
     sig = [s for s in (signature_ok(r) for r in ok) if s is not None]
     return {
-        "multi_all_named": _frac([set(r.named) >= set(r.truth_names) for r in multi]),
-        "pairs_all_named": _frac(
+        "multi_all_named": frac([set(r.named) >= set(r.truth_names) for r in multi]),
+        "pairs_all_named": frac(
             [set(r.named) >= set(r.truth_names) for r in multi if r.group == "pair"]
         ),
-        "triples_all_named": _frac(
+        "triples_all_named": frac(
             [set(r.named) >= set(r.truth_names) for r in multi if r.group == "triple"]
         ),
-        "no_extra_effect": _frac([set(r.named) <= set(r.truth_names) for r in ok]),
-        "unexplained_right": _frac([r.unexplained == bool(r.case.extra) for r in ok]),
-        "signature_right": _frac(sig),
-        "ci_covers_truth": _frac([c for r in ok for _, c in r.covered]),
+        "no_extra_effect": frac([set(r.named) <= set(r.truth_names) for r in ok]),
+        "unexplained_right": frac([r.unexplained == bool(r.case.extra) for r in ok]),
+        "signature_right": frac(sig),
+        "ci_covers_truth": frac([c for r in ok for _, c in r.covered]),
     }
 
 
@@ -283,7 +284,7 @@ def rates(results: list[Result]) -> dict[str, tuple[int, int]]:
     ok = [r for r in results if not r.error]
     return {
         **common_rates(ok, signature_right),
-        "near_threshold_named": _frac(
+        "near_threshold_named": frac(
             [set(r.named) >= set(r.truth_names) for r in ok if r.group == "near"]
         ),
         "errors": (len(results) - len(ok), len(results)),
