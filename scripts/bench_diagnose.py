@@ -40,14 +40,12 @@ ARM_EFFECTS: tuple[list[str], ...] = (
 @contextmanager
 def _path(old: bool) -> Iterator[None]:
     """Run the block on 0.4.0's solver path (``old``: BVLS on the full problem, the arm's
-    simulations one after the other) or today's; the thread count comes back on exit."""
-    threads = arm_fit.SIM_THREADS
-    arm_fit.SIM_THREADS = 1 if old else arm_fit.sim_threads()
-    try:
-        with lsq.full_problem() if old else nullcontext():
-            yield
-    finally:
-        arm_fit.SIM_THREADS = threads
+    simulations one after the other) or today's."""
+    with (
+        lsq.full_problem() if old else nullcontext(),
+        arm_fit.simulation_threads(1) if old else nullcontext(),
+    ):
+        yield
 
 
 def _time(job: Callable[[], Any]) -> tuple[float, Any]:

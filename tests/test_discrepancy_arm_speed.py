@@ -16,6 +16,7 @@ from fsarm_sim.discrepancy import arm_fit as F
 from fsarm_sim.discrepancy import arm_synth as S
 from fsarm_sim.discrepancy import core
 from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.records.measured import Dataset, load_dataset
 
 DURATION_S = 2.0  # s of fig14-sine: short, the runs are what is compared
@@ -113,3 +114,42 @@ def test_a_diagnosis_with_its_runs_side_by_side_is_the_same(
         assert a.model.values == b.model.values and a.cost == b.cost
     assert [s.reason for s in seq.steps] == [s.reason for s in par.steps]
     assert isinstance(seq, core.Diagnosis)
+
+
+def test_simulation_threads_limits_prefetch_in_its_block_only(
+    record: Dataset, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``simulation_threads(1)`` (the benchmark's 0.4.0 path) keeps prefetch from starting a
+    pool, nests, and gives the module's limit back on exit, also after an error."""
+    pools: list[int] = []
+
+    class Spy(F.ThreadPoolExecutor):
+        def __init__(self, n: int) -> None:
+            pools.append(n)
+            super().__init__(n)
+
+    monkeypatch.setattr(F, "ThreadPoolExecutor", Spy)
+    monkeypatch.setattr(F, "SIM_THREADS", 2)
+    models = [
+        F.with_values(F.ArmModel(), ["coulomb_friction.f_c_nm"], np.array([v]))
+        for v in (0.03, 0.07)
+    ]
+    with F.simulation_threads(1):
+        assert F.threads_now() == 1
+        with F.simulation_threads(3):
+            assert F.threads_now() == 3
+        assert F.threads_now() == 1
+        _context(record).prefetch(models)
+    assert pools == []
+    assert F.threads_now() == 2
+    with pytest.raises(RuntimeError), F.simulation_threads(1):
+        raise RuntimeError
+    assert F.threads_now() == 2
+    _context(record).prefetch(models)
+    assert pools == [2]
+    for bad in (0, -1, 1.5, True):
+        with (
+            pytest.raises(InvalidParameterError, match="simulation threads"),
+            F.simulation_threads(bad),
+        ):
+            pass

@@ -72,8 +72,10 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-from collections.abc import Generator, Mapping, Sequence
+from collections.abc import Generator, Iterator, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -134,6 +136,32 @@ def sim_threads() -> int:
 
 
 SIM_THREADS = sim_threads()
+# set inside simulation_threads(): the limit for that block, in the thread that entered it
+_THREADS: ContextVar[int | None] = ContextVar("fsarm_arm_sim_threads", default=None)
+
+
+@contextmanager
+def simulation_threads(n: int) -> Iterator[None]:
+    """For the block, a diagnosis step runs at most ``n`` simulations side by side (1: one after
+    the other, as 0.4.0 did; ``scripts/bench_diagnose.py``). Scoped like
+    :func:`lsq.full_problem`: it holds in the thread that entered it, where
+    :meth:`ArmContext.prefetch` reads it; the previous limit comes back on exit."""
+    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+        raise InvalidParameterError(f"simulation threads must be a whole number >= 1, got {n!r}")
+    token = _THREADS.set(n)
+    try:
+        yield
+    finally:
+        _THREADS.reset(token)
+
+
+def threads_now() -> int:
+    """Simulations a diagnosis step may run side by side here (:func:`simulation_threads`, else
+    :data:`SIM_THREADS`)."""
+    n = _THREADS.get()
+    return SIM_THREADS if n is None else n
+
+
 REFINE_ITER = 3  # Gauss-Newton iterations of a refinement (each: free parameters + 1 runs)
 NOMINAL_ITER = 5
 REFINE_SECANT = 0.1  # secant step of the refinement, in units of each parameter's magnitude
@@ -676,7 +704,7 @@ class ArmContext:
         return self.cache[key]
 
     def prefetch(self, models: Sequence[ArmModel | None]) -> None:
-        """Run the models not simulated yet side by side (:data:`SIM_THREADS` threads: the
+        """Run the models not simulated yet side by side (:func:`threads_now` threads: the
         compiled callbacks step in parallel, MuJoCo releases the GIL while stepping); later
         :meth:`simulate` calls find them in the cache. The same runs as one after the other."""
         todo: dict[tuple[Any, ...], tuple[SimConfig | None, str | None]] = {}
@@ -693,7 +721,7 @@ class ArmContext:
             todo[key] = (cfg, ck)
             if ck is not None:
                 inputs.add(ck)
-        threads = min(SIM_THREADS, len(todo))
+        threads = min(threads_now(), len(todo))
         if threads < 2:
             return  # one run (or one core): simulate() runs it when it is asked for
         with ThreadPoolExecutor(threads) as ex:

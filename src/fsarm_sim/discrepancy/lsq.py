@@ -14,7 +14,7 @@ holds in the thread (and asyncio task) that entered it and in contexts copied fr
 unless they run in a copied context: ``ThreadPoolExecutor`` workers do not (Python 3.11), so
 their ``bounded`` calls solve the reduced problem. The diagnosis calls :func:`bounded` only in the
 calling thread (``arm_fit``'s worker threads run simulations only), and the benchmark's 0.4.0
-path runs its simulations one after the other (``arm_fit.SIM_THREADS = 1``) anyway.
+path runs its simulations one after the other (``arm_fit.simulation_threads(1)``) anyway.
 """
 
 from __future__ import annotations
