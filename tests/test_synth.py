@@ -135,3 +135,18 @@ def test_cli_synth_then_diagnose(tmp_path: Path) -> None:
         ["synth", str(tmp_path / "again"), "--model", str(tmp_path / "m.json"), "--duration", "3"],
     )
     assert res.exit_code == 0, res.output
+
+
+@pytest.mark.parametrize("names", [("--diameter-mm", "--length-mm"), ("--diameter", "--length")])
+def test_cli_synth_shaft_options_take_the_run_commands_names(
+    tmp_path: Path, names: tuple[str, str]
+) -> None:
+    """``--diameter-mm`` / ``--length-mm`` as in ``fsarm run``; the older names still work."""
+    from fsarm_sim.cli import app
+
+    out = tmp_path / "s"
+    args = ["synth", str(out), names[0], "8", names[1], "500", "--duration", "2"]
+    res = CliRunner().invoke(app, args)
+    assert res.exit_code == 0, res.output
+    side = json.loads((tmp_path / "s.json").read_text())
+    assert side["shaft"] == {"diameter_mm": 8.0, "length_mm": 500.0}

@@ -166,8 +166,20 @@ def register(app: typer.Typer) -> None:
         stiffness_scale: Annotated[
             float, typer.Option(help="true stiffness / catalogue stiffness")
         ] = 1.0,
-        diameter_mm: Annotated[float, typer.Option("--diameter", help="shaft D, mm")] = 9.0,
-        length_mm: Annotated[float, typer.Option("--length", help="shaft L, mm")] = 450.0,
+        diameter_mm: Annotated[
+            float,
+            typer.Option(
+                "--diameter-mm",
+                "--diameter",
+                help="shaft D, mm (--diameter: the name before 0.5.2)",
+            ),
+        ] = 9.0,
+        length_mm: Annotated[
+            float,
+            typer.Option(
+                "--length-mm", "--length", help="shaft L, mm (--length: the name before 0.5.2)"
+            ),
+        ] = 450.0,
         noise: Annotated[
             float | None,
             typer.Option(help="benches: torque noise std / torque range [default: 0.003]"),
