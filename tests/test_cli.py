@@ -45,6 +45,22 @@ def test_run_writes_timeseries_and_summary(monkeypatch: pytest.MonkeyPatch, tmp_
     assert sidecar["shaft"] == {"diameter_mm": 9.0, "length_mm": 450.0}
 
 
+@pytest.mark.parametrize("transmission", ["rtca", "tendon-sheath"])
+def test_run_shaft_size_sets_the_bending_on_joint_2_of_a_routed_transmission(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, transmission: str
+) -> None:
+    """The shaft options refused for transmissions that ignore them stay allowed where they
+    act: a routed transmission keeps the catalogue shaft's bending moment on joint 2."""
+    bend = []
+    for length in ("450", "300"):
+        out = tmp_path / length
+        args = ["run", "fig14-sine", "--duration", "0.3", "--out", str(out)]
+        args += ["--transmission", transmission, "--length-mm", length]
+        assert run_fsarm(monkeypatch, *args) == 0
+        bend.append(pd.read_csv(out / "fig14-sine.csv")["tau_bend"].to_numpy())
+    assert abs(bend[0] - bend[1]).max() > 1e-3
+
+
 def test_run_parquet(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     assert (
         run_fsarm(

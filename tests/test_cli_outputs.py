@@ -268,6 +268,47 @@ REFUSED: list[tuple[str, list[str], str]] = [
     ("bench-parallel-out-is-file", ["bench", "parallel", "--out", "{t}/afile"], "--out points"),
     ("figures-out-is-file", ["figures", "--out", "{t}/afile"], "--out points to the file"),
     ("select-shaft-nan", ["select-shaft", "--k-des", "nan"], "K_des"),
+    # shaft options a transmission would ignore (they used to change nothing, silently)
+    (
+        "run-qa-joint-diameter",
+        ["run", "fig14-sine", "--out", "{t}/o", "--transmission", "qa-joint", "--diameter-mm", "6"],
+        "--diameter-mm would change nothing with transmission 'qa-joint': it reads no catalogue",
+    ),
+    (
+        "run-magnetic-spring-shaft-file",
+        [
+            "run",
+            "fig14-sine",
+            "--out",
+            "{t}/o",
+            "--transmission",
+            "magnetic-spring",
+            "--extrapolate",
+        ],
+        "--extrapolate would change nothing with transmission 'magnetic-spring'",
+    ),
+    (
+        "run-rtca-series-hysteresis",
+        ["run", "fig14-sine", "--out", "{t}/o", "--transmission", "rtca", "--no-series-hysteresis"],
+        "--[no-]series-hysteresis would change nothing with transmission 'rtca': it keeps the "
+        "catalogue shaft only for the bending moment on joint 2",
+    ),
+    (
+        "run-tendon-sheath-compare-hysteresis",
+        [
+            "run",
+            "fig14-sine",
+            "--out",
+            "{t}/o",
+            "--transmission",
+            "tendon-sheath",
+            "--rrd",
+            "{t}/x.rrd",
+            "--rrd-compare",
+            "series-hysteresis=off",
+        ],
+        "--rrd-compare series-hysteresis would change nothing with transmission 'tendon-sheath'",
+    ),
 ]
 
 

@@ -87,6 +87,7 @@ def shafts_cmd(
 
 @app.command("run")
 def run_cmd(
+    ctx: typer.Context,
     scenario: Annotated[str, typer.Argument(help="scenario name (see `fsarm scenarios`)")],
     diameter_mm: opt.DiameterMm = 9.0,
     length_mm: opt.LengthMm = 450.0,
@@ -160,14 +161,29 @@ def run_cmd(
     from fsarm_sim.cli.review import parse_compare
 
     compare_changes = parse_compare(rrd_compare or [], rrd)
+    from fsarm_sim.cli.transmissions import check_shaft_options, parse_params
+
+    shaft_flags = {
+        "diameter_mm": "--diameter-mm",
+        "length_mm": "--length-mm",
+        "shaft_file": "--shaft-file",
+        "extrapolate": "--extrapolate",
+        "series_hysteresis": "--[no-]series-hysteresis",
+    }
+    given = [
+        flag
+        for name, flag in shaft_flags.items()
+        # (by name: typer 0.28 carries its own click, whose enum is not click's)
+        if getattr(ctx.get_parameter_source(name), "name", "") == "COMMANDLINE"
+    ]
+    compared = {"diameter-mm", "length-mm", "series-hysteresis"} & set(compare_changes)
+    check_shaft_options(transmission, given + [f"--rrd-compare {k}" for k in sorted(compared)])
     run_output_plan(
         scenario, fmt, out=out, json_file=json_file, rrd=rrd, spawn=spawn, figures=figures
     ).input("the coefficient file of --shaft-file", shaft_file).check()
     shaft = load_catalogue(shaft_file).shaft(
         diameter_mm, length_mm, extrapolate=extrapolate, series_hysteresis=series_hysteresis
     )
-    from fsarm_sim.cli.transmissions import parse_params
-
     cfg = SimConfig(
         shaft=shaft,
         gains=Gains(ctrl_dt_s=ctrl_dt),
@@ -202,10 +218,16 @@ def run_cmd(
             f"[bold yellow]interrupted[/] at t = {result.duration_s:.3f} s: metrics and time series "
             "cover the finished part only"
         )
+    tr_model = result.config.transmission_model()
     what = (
         f"D={diameter_mm:g} mm, L={length_mm:g} mm"
-        if result.config.transmission_model().takes_shaft
+        if tr_model.takes_shaft
         else f"transmission {transmission}"
+        + (
+            f" (bending on joint 2: D={diameter_mm:g} mm, L={length_mm:g} mm shaft)"
+            if tr_model.routed_over_joint2
+            else ""
+        )
     )
     table = Table(title=f"{scenario}: {what}, payload={result.config.payload_kg:g} kg")
     table.add_column("metric")
