@@ -268,6 +268,15 @@ REFUSED: list[tuple[str, list[str], str]] = [
     ("bench-parallel-out-is-file", ["bench", "parallel", "--out", "{t}/afile"], "--out points"),
     ("figures-out-is-file", ["figures", "--out", "{t}/afile"], "--out points to the file"),
     ("select-shaft-nan", ["select-shaft", "--k-des", "nan"], "K_des"),
+    # qa-throws: every input checked before the table's header is printed
+    (
+        "qa-throws-speed-zero",
+        ["qa-throws", "--speeds", "0"],
+        "--speeds must be finite and > 0 deg/s",
+    ),
+    ("qa-throws-preset", ["qa-throws", "--presets", "4"], "Table IV of seed 002 has rows"),
+    ("qa-throws-adjust", ["qa-throws", "--adjust", "x"], "--adjust must be none, drive or ideal"),
+    ("qa-throws-arm", ["qa-throws", "--lever-arms", "9"], "--lever-arms must be within"),
     # shaft options a transmission would ignore (they used to change nothing, silently)
     (
         "run-qa-joint-diameter",

@@ -7,6 +7,7 @@ Thin: options in, the studies of :mod:`fsarm_sim.studies.magnetic_spring_selecti
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import asdict
 from pathlib import Path
 from typing import Annotated, Any
@@ -97,13 +98,25 @@ def register(app: typer.Typer) -> None:
         OutputPlan().file("--json", json_file).check()
         sig = _floats("--presets", presets)
         vel = _floats("--speeds", speeds)
+        arms = _floats("--lever-arms", lever_arms)
+        # every input checked before the table starts (an error is then the only output)
+        if not sig or not vel:
+            raise qx.QaExperimentError("--presets and --speeds need at least one number each")
+        bad = [v for v in vel if not (math.isfinite(v) and v > 0.0)]
+        if bad:
+            raise qx.QaExperimentError(f"--speeds must be finite and > 0 deg/s, got {bad[0]:g}")
+        if adjust not in ("none", "drive", "ideal"):
+            raise qx.QaExperimentError(f"--adjust must be none, drive or ideal, got {adjust!r}")
+        bad = [r for r in arms if not (math.isfinite(r) and 0.05 <= r <= 2.0)]
+        if bad:
+            raise qx.QaExperimentError(f"--lever-arms must be within 0.05..2 m, got {bad[0]:g}")
+        benches = [(s, qx.bench(s)) for s in sig]  # a preset outside Table IV's range fails here
         rows = []
         typer.echo(
             f"{'σ [°]':>6} {'θd [°/s]':>9} {'ε':>6} {'q_f [°/s]':>10} {'t_s [s]':>8} "
             f"{'φmax [°]':>9} {'|τJ| [N·m]':>11}"
         )
-        for s in sig:
-            b = qx.bench(s)
+        for s, b in benches:
             for v in vel:
                 t = qx.best_throw(b, v, adjust=adjust)
                 rows.append(asdict(t))
@@ -117,7 +130,6 @@ def register(app: typer.Typer) -> None:
                     f"{t.t_switch_s:>8.3f} {t.phi_max_deg:>9.2f} {t.tau_j_max_nm:>11.1f}"
                 )
         impacts = []
-        arms = _floats("--lever-arms", lever_arms)
         if arms:
             typer.echo("impact 4.2 kg at 1.07 m/s (Sec. VII): peak |τ_J| [N·m]")
             for r in arms:
