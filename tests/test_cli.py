@@ -117,3 +117,17 @@ def test_malformed_coefficient_file(
         == 2
     )
     assert "missing key" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(("transmission", "noted"), [("magnetic-spring", True), ("rtca", False)])
+def test_transparency_says_when_the_bend_cannot_matter(
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    transmission: str,
+    noted: bool,
+) -> None:
+    """A transmission not routed over joint 2 gets a note under its bend table (its law does
+    not read the bend); a routed one does not."""
+    args = ["transparency", "--transmission", transmission, "--bend", "0"]
+    assert run_fsarm(monkeypatch, *args) == 0
+    assert ("is not routed over joint 2" in capsys.readouterr().out) is noted

@@ -268,6 +268,12 @@ REFUSED: list[tuple[str, list[str], str]] = [
     ("bench-parallel-out-is-file", ["bench", "parallel", "--out", "{t}/afile"], "--out points"),
     ("figures-out-is-file", ["figures", "--out", "{t}/afile"], "--out points to the file"),
     ("select-shaft-nan", ["select-shaft", "--k-des", "nan"], "K_des"),
+    ("diagnose-max-effects", ["diagnose", "{t}/m.csv", "--max-effects", "-1"], "--max-effects"),
+    (
+        "collision-series-hysteresis",
+        ["collision", "--transmission", "qa-joint", "--no-series-hysteresis"],
+        "--[no-]series-hysteresis would change nothing with transmission 'qa-joint'",
+    ),
     # qa-throws: every input checked before the table's header is printed
     (
         "qa-throws-speed-zero",

@@ -47,7 +47,7 @@ def register(app: typer.Typer) -> None:
         ] = None,
     ) -> None:
         """Collision detection (delay, false alarms) and hand guiding from the two encoders."""
-        from fsarm_sim.cli.transmissions import parse_params
+        from fsarm_sim.cli.transmissions import check_shaft_options, parse_params
         from fsarm_sim.engine.model import SimConfig
         from fsarm_sim.plant.shaft import load_catalogue
         from fsarm_sim.studies.collision import run_battery
@@ -55,6 +55,9 @@ def register(app: typer.Typer) -> None:
         if backend not in ("python", "native"):
             raise FsarmError(f"--backend must be 'python' or 'native', got {backend!r}")
         OutputPlan().file("--json", json_file).check()
+        check_shaft_options(
+            transmission, [] if series_hysteresis is None else ["--[no-]series-hysteresis"]
+        )
         cfg = SimConfig(
             shaft=load_catalogue().shaft(series_hysteresis=series_hysteresis),
             transmission=transmission,

@@ -46,8 +46,13 @@ def register(app: typer.Typer) -> None:
         are); columns the diagnosis does not read are listed, not refused."""
         from fsarm_sim.discrepancy import diagnose_record
         from fsarm_sim.discrepancy import report as rep
+        from fsarm_sim.errors import InvalidParameterError
         from fsarm_sim.records.measured import dataset_files, load_dataset
 
+        if max_effects < 0:
+            raise InvalidParameterError(
+                f"--max-effects must be >= 0 (0: refit the nominal model only), got {max_effects}"
+            )
         table, side = dataset_files(data)
         OutputPlan().input(f"the dataset {table}", table).input(
             f"the sidecar of the dataset {table}", side

@@ -218,6 +218,12 @@ def register(app: typer.Typer) -> None:
                 f"{p.impedance.passive_nm_per_rad:.1f}",
             )
         console.print(table)
+        if not cfg.transmission_model().routed_over_joint2:
+            console.print(
+                f"note: {transmission} is not routed over joint 2: its law does not read the "
+                "bend, so these rows differ only where joint 2's pose changes the arm",
+                markup=False,
+            )
         if json_file is not None:
             text = json.dumps(
                 [
