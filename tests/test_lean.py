@@ -48,3 +48,47 @@ def test_every_scenario_runs_the_same_on_the_twin(transmission: str) -> None:
         for key in STATE:
             err = float(np.max(np.abs(out[0][key] - out[1][key])))
             assert err <= 1e-9, (sc.name, transmission, key, err)
+
+
+def test_the_twin_switches_off_only_a_spring_stage_that_adds_nothing() -> None:
+    """idle_off disables MuJoCo's spring stage in the twin (no joint or tendon of the arm has a
+    spring), never in the full model, and keeps it where any element has a spring."""
+    import mujoco
+
+    from fsarm_sim.engine import lean as lean_mod
+
+    spring = int(mujoco.mjtDisableBit.mjDSBL_SPRING)
+    ref = np.zeros((2, L.REF_COLS))
+    full = build_model(SimConfig(), ref)
+    twin = build_model(SimConfig(), ref, lean=True)
+    assert twin.opt.disableflags & spring
+    assert not full.opt.disableflags & spring
+    assert not lean_mod.has_springs(twin)
+    for field in ("jnt_stiffness", "jnt_stiffnesspoly", "tendon_stiffness", "tendon_stiffnesspoly"):
+        m = build_model(SimConfig(), ref)
+        getattr(m, field).flat[0] = 1.0
+        assert lean_mod.has_springs(m), field
+        assert not lean_mod.idle_off(m) and not m.opt.disableflags & spring, field
+
+
+@pytest.mark.parametrize("transmission", transmissions.names())
+def test_the_spring_stage_off_changes_no_bit(
+    transmission: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """10 s of every scenario on the twin with and without idle_off: every column bit for bit."""
+    from fsarm_sim.engine import model as model_mod
+
+    for sc in scenarios.REGISTRY.values():
+        cfg = SimConfig(transmission=transmission)
+        out = []
+        for off in (True, False):
+            if not off:
+                monkeypatch.setattr(model_mod, "idle_off", lambda m: False)
+            try:
+                out.append(run_scenario(sc.name, cfg, duration_s=10.0, lean=True).columns)
+            except FsarmError as exc:
+                out.append({"failed": np.array([str(exc)])})
+        assert out[0].keys() == out[1].keys(), (sc.name, transmission)
+        for key in out[0]:
+            np.testing.assert_array_equal(out[0][key], out[1][key], err_msg=f"{sc.name} {key}")
+        monkeypatch.undo()

@@ -151,6 +151,9 @@ FOREIGN_XML = """
         '<numeric name="fsarm_params" data="1 2 3"/><numeric name="fsarm_ref" data="0"/>',
         # right size and names but no magic number
         f'<numeric name="fsarm_params" size="{L.N_PARAMS}"/><numeric name="fsarm_ref" data="0"/>',
+        # size and magic number right, name wrong (the lookup tests the name after them)
+        f'<numeric name="fsarm_ref" data="0"/>'
+        f'<numeric name="fsarm_param" size="{L.N_PARAMS}" data="{L.MAGIC}"/>',
     ],
 )
 def test_foreign_models_are_left_alone(numeric: str) -> None:

@@ -62,3 +62,12 @@ def test_a_fresh_process_runs_without_importing_numba(lib: native_lib.Library) -
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["numba", "True", "500.0"]
+
+
+def test_the_library_clock_is_the_stopped_c_clock(lib: native_lib.Library) -> None:
+    """mjcb_time from the library is the C function of its stubs file, and it returns 0."""
+    import json
+
+    symbols = json.loads((lib.path.parent / "symbols.json").read_text())
+    assert symbols["time"] == native_lib.STOPPED_CLOCK
+    assert lib.TIME() == 0.0

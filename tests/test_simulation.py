@@ -239,3 +239,49 @@ def test_scenario_table_of_an_impure_reference_is_computed_every_time() -> None:
     assert first[0, 0] == 1.0 and second[0, 0] == 2.0
     pure = scenarios.Scenario("kept", "test", 1.0, 0.0, noisy)
     assert pure.table(10, 0.001)[0, 0] == pure.table(10, 0.001)[0, 0]
+
+
+def _populate_works() -> bool:
+    """Whether this machine maps pages in with madvise(MADV_POPULATE_WRITE) (Linux >= 5.14)."""
+    from fsarm_sim.sim import simulation as sim_mod
+
+    madvise = sim_mod._madvise()
+    if madvise is None:
+        return False
+    probe = np.empty(4 * sim_mod.PAGE_BYTES)
+    start = -(-int(probe.ctypes.data) // sim_mod.PAGE_BYTES) * sim_mod.PAGE_BYTES
+    return madvise(start, sim_mod.PAGE_BYTES, sim_mod.MADV_POPULATE_WRITE) == 0
+
+
+def test_the_record_array_is_resident_before_the_run_writes_it() -> None:
+    """resident_empty maps the array's whole pages in before anything writes them (mincore)."""
+    import ctypes
+
+    from fsarm_sim.sim import simulation as sim_mod
+
+    if not _populate_works():
+        pytest.skip("no madvise(MADV_POPULATE_WRITE) here: the record stays lazily mapped")
+    page = sim_mod.PAGE_BYTES
+    # 40 MiB: above malloc's largest mmap threshold (32 MiB), so always freshly mapped memory
+    a = sim_mod.resident_empty((146_000, 36))
+    assert a.shape == (146_000, 36) and a.dtype == np.float64 and a.flags.writeable
+    start = -(-int(a.ctypes.data) // page) * page
+    n = (int(a.ctypes.data) + a.nbytes) // page * page - start
+    vec = (ctypes.c_ubyte * (n // page))()
+    libc = ctypes.CDLL(None, use_errno=True)
+    libc.mincore.argtypes = (ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p)
+    assert libc.mincore(start, n, vec) == 0, ctypes.get_errno()
+    assert all(b & 1 for b in vec)
+
+
+def test_the_resident_record_logs_the_same_values(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The record array only changes when its pages are mapped: the logged columns are the same
+    to the last bit as with a plain np.empty record."""
+    from fsarm_sim.sim import simulation as sim_mod
+
+    a = run_scenario("fig14-sine", duration_s=3.0).columns
+    monkeypatch.setattr(sim_mod, "resident_empty", np.empty)
+    b = run_scenario("fig14-sine", duration_s=3.0).columns
+    assert a.keys() == b.keys()
+    for key in a:
+        np.testing.assert_array_equal(a[key], b[key], err_msg=key)

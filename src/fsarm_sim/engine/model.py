@@ -22,7 +22,7 @@ import numpy as np
 import numpy.typing as npt
 
 from fsarm_sim.engine import callbacks
-from fsarm_sim.engine.lean import strip
+from fsarm_sim.engine.lean import idle_off, strip
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
 from fsarm_sim.kernels import layout as L
 from fsarm_sim.plant import transmissions
@@ -411,6 +411,8 @@ def build_model(
     model.dof_frictionloss[st.dof[2]] += config.effects.q3_friction_nm
     model.dof_damping[st.dof[2]] += config.effects.q3_damping_nms
     write_params(model, st, config, ref.shape[0], lever_arms=base.lever_arms)
+    if lean:
+        idle_off(model)  # MuJoCo's spring stage, where no element has a spring (engine.lean)
     omega = float(np.sqrt(tr.max_stiffness(plant) * base.mode_inertia(ref[0, :3])))
     if config.effects.series and omega * model.opt.timestep > MAX_OMEGA_DT:
         raise InvalidParameterError(

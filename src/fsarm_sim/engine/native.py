@@ -213,13 +213,22 @@ def _find(ma: int) -> tuple[int, int, int]:
     p = -1
     r = -1
     r_size = 0
+    # Names are unique per object type in a compiled model, so each is found once: the cheap size
+    # and MAGIC tests go before the name comparison, and the scan stops once both are found (a
+    # third of this lookup's time, which runs on every callback call, 7 a step).
     for i in range(n):
-        if _name_is(names, name_adr[i], PARAMS_NAME):
-            if size[i] == L.N_PARAMS and data[adr[i]] == L.MAGIC:
-                p = adr[i]
-        elif _name_is(names, name_adr[i], REF_NAME):
+        if (
+            p < 0
+            and size[i] == L.N_PARAMS
+            and data[adr[i]] == L.MAGIC
+            and _name_is(names, name_adr[i], PARAMS_NAME)
+        ):
+            p = adr[i]
+        elif r < 0 and _name_is(names, name_adr[i], REF_NAME):
             r = adr[i]
             r_size = size[i]
+        if p >= 0 and r >= 0:
+            break
     if p < 0 or r < 0 or _int(ma, M_NUSERDATA, M_NUSERDATA_SIZE) < L.N_USERDATA:
         return -1, -1, 0
     return p, r, r_size
