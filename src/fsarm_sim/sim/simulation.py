@@ -394,6 +394,11 @@ class Simulation:
     ) -> tuple[dict[str, Array], float]:
         """Step for ``duration_s``; return recorded columns and the stepping wall time (s).
 
+        The reference table has one row per control tick; a run that goes past its last row
+        repeats that row as it is (its positions, speeds and accelerations, and the recorded
+        ``*_ref`` columns with them). Build the table for the whole run (``Scenario.table``)
+        unless that hold is what you want.
+
         Ctrl-C (KeyboardInterrupt) stops the run early. ``keep_partial``: keep what was recorded
         - the columns then end at the interruption and ``self.interrupted`` is True (``fsarm
         run``: a long run is not lost). Otherwise (studies, sweeps, fits: a cut run's numbers
