@@ -365,3 +365,21 @@ def test_model_timestep_constant_is_the_models() -> None:
     from fsarm_sim.sim.simulation import DEFAULT_TIMESTEP_S
 
     assert mujoco.MjModel.from_xml_path(str(model_path())).opt.timestep == DEFAULT_TIMESTEP_S
+
+
+def test_a_linear_step_to_a_bound_lands_on_it(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A bounded step that goes to a lower bound ends exactly on it: ``v + ((a - v)/u) u`` can
+    round past it (f_c = 0.9391... N*m with a 0.1 unit gave -1.1e-16), and a slip stiffness of
+    -1e-16 made the transmission refuse the model, ending the whole diagnosis."""
+    from fsarm_sim.discrepancy import arm_fit as F
+    from fsarm_sim.discrepancy import lsq
+
+    key = "coulomb_friction.f_c_nm"
+    # (the context is read only for payload bounds)
+    lo, _, unit = F.bounds_of(None, key)
+    v = 0.9391491627785106
+    assert v + ((lo - v) / unit) * unit < lo  # the rounding this guards against
+    m = F.with_values(F.ArmModel(), [key], np.array([v]))
+    monkeypatch.setattr(lsq, "bounded", lambda a, b, lo_, hi_: np.asarray(lo_, dtype=float))
+    out = F.linear_solve(None, m, [key], np.ones((3, 1)), np.zeros(3))
+    assert out.v(key) == lo

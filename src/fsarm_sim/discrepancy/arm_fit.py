@@ -938,7 +938,12 @@ def linear_solve(
     lo = np.minimum(lo, 0.0)
     hi = np.maximum(hi, 0.0)
     dx = lsq.bounded(jac, -r0, lo, hi)
-    x = np.array([m.v(k) + dx[i] * bounds_of(ctx, k)[2] for i, k in enumerate(keys)])
+    x = np.empty(len(keys))
+    for i, k in enumerate(keys):
+        a, b, unit = bounds_of(ctx, k)
+        # a step to a bound lands on it: v + ((a - v) / unit) * unit can round past it (a slip
+        # stiffness of -1e-16 N*m/rad, which the transmission then refuses)
+        x[i] = min(max(m.v(k) + dx[i] * unit, min(a, m.v(k))), max(b, m.v(k)))
     return with_values(m, keys, x)
 
 
