@@ -25,6 +25,7 @@ known up to one common factor, the same objective the fits minimise.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Sequence
@@ -36,6 +37,7 @@ import numpy as np
 from fsarm_sim.discrepancy import arm_expert as X
 from fsarm_sim.discrepancy import arm_joint as J
 from fsarm_sim.discrepancy import arm_modelfile as MF
+from fsarm_sim.discrepancy import arm_slip as slip
 from fsarm_sim.discrepancy import core
 from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.discrepancy import variants as V
@@ -69,7 +71,8 @@ from fsarm_sim.discrepancy.arm_fit import (
 )
 from fsarm_sim.discrepancy.report import plot_channel_nrmse
 from fsarm_sim.discrepancy.residuals import nrmse, signature
-from fsarm_sim.discrepancy.selection import LOOK_ALIKES, Score
+from fsarm_sim.discrepancy.selection import LOOK_ALIKES, Judgement, Score
+from fsarm_sim.discrepancy.selection import judge as judge_rule
 from fsarm_sim.discrepancy.uncertainty import interval_lines
 from fsarm_sim.discrepancy.unexplained import plot as plot_signature
 from fsarm_sim.records.measured import Dataset
@@ -149,11 +152,15 @@ class ArmSetup:
         self.dataset = ds
         self.run = arm_run(ds)
         self.ctx = make_context(ds, self.run)
+        self._nominal: ArmFit | None = None  # the refit nominal model (the extra-effect rule)
+        self.slip_added: list[slip.Added] = []  # elements finish() added (:mod:`.arm_slip`)
 
     # ------------------------------------------------------------------ selection
 
     def nominal(self) -> tuple[ArmFit, ArmFit]:
-        return nominal_fit(self.ctx)
+        cat, nom = nominal_fit(self.ctx)
+        self._nominal = nom
+        return cat, nom
 
     def candidates(self, cur: ArmFit, named: Sequence[str]) -> list[ArmFit]:
         return step_candidates(self.ctx, cur, named)
@@ -198,7 +205,21 @@ class ArmSetup:
         return fit
 
     def finish(self, fit: ArmFit, named: Sequence[str]) -> ArmFit:
-        return fit
+        """The final model: with hysteresis named, slip elements added while one more earns its
+        place by the rule of an extra effect (:func:`.arm_slip.grow`)."""
+        nom = self._nominal
+        self.slip_added = []
+        if V.HYSTERESIS not in named or nom is None:
+            return fit
+
+        def judge(cur: ArmFit, cand: ArmFit) -> Judgement:
+            n_t, n_h = core.common_n_eff(self, [cur, cand])
+            return judge_rule(
+                self.cost(cur), self.cost(cand), n_t, n_h, self.noise_var, self.cost(nom)[1]
+            )
+
+        out, self.slip_added = slip.grow(self.ctx, fit, judge)
+        return out
 
     def conclude(
         self, nominal: ArmFit, final: ArmFit, named: Sequence[str]
@@ -232,9 +253,17 @@ class ArmSetup:
             )
         if unexp:
             verdict += f"; what remains: {sig['summary']}"
+        if self.slip_added:
+            verdict += "; " + "; ".join(
+                f"hysteresis: a slip element of {a.k_nm_per_rad:.3g} N·m/rad at "
+                f"{1000 * a.delta_rad:.3g} mrad added (BIC {a.d_bic_teach:+.0f} teaching / "
+                f"{a.d_bic_held:+.0f} held-out)"
+                for a in self.slip_added
+            )
         extras: dict[str, Any] = {
             "simulations": ctx.n_sims,
             "reference": self.run.ref_note,
+            "slip_elements_added": [dataclasses.asdict(a) for a in self.slip_added],
             "unexplained": unexp,
             "residual_signature": sig,
             "confidence_intervals": X.intervals(ctx, final),
