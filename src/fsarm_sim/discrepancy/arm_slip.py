@@ -11,15 +11,16 @@ expert battery: k = 4 N*m/rad slipping at 2 mrad plus 2 N*m/rad at 5 mrad fitted
 of 3.9 N*m/rad at 4.3 mrad, q3 left at 21x its noise floor).
 
 :func:`grow` therefore tries, while the final model holds fewer than ``N_SLIP_GRID`` elements,
-one more element: below the smallest kept deflection and above the largest, each one grid step
-away (the grid's own ratio, ``GRID_RATIO``) and started at half the stiffness of its neighbour
-(**estimate**: a start, the refinement moves it). Both are refined with every other free
-parameter (:func:`.arm_fit.refine_many`, side by side); the one that fits the held-out blocks
-better is kept only if it earns
-its place by the rule of an *extra* effect (:func:`.selection.judge` against the current model:
-BIC on the teaching and on the held-out blocks, explained part above the noise) - the bar every
-effect has to clear - and is then refined once more. Each try costs one refinement; a record
-whose loop one element describes keeps its model (the tries are refused), the same fit.
+one more element: below the smallest kept deflection and above the largest, half a grid step and
+a whole one away on each side (the screen's own grid ratio, ``GRID_RATIO``: the refinement of a
+slip deflection finds its way only from a start near the true one), started at half the
+stiffness of its neighbour (**estimate**: a start, the refinement moves it). The four are refined
+with every other free parameter (:func:`.arm_fit.refine_many`, side by side); the one that fits
+the held-out blocks best is kept only if it earns its place by the rule of an *extra* effect
+(:func:`.selection.judge` against the current model: BIC on the teaching and on the held-out
+blocks, explained part above the noise) - the bar every effect has to clear - and is then refined
+once more. A round costs four refinements; a record whose loop the kept elements describe keeps
+its model (the tries are refused), the same fit.
 """
 
 from __future__ import annotations
