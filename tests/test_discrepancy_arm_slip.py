@@ -53,6 +53,10 @@ def test_a_second_element_is_added_where_the_loop_needs_it(
     assert added.d_bic_teach < -selection.BIC_THRESHOLD
     assert added.d_bic_held < -selection.BIC_THRESHOLD
     assert {"hysteresis.k1", "hysteresis.d1"} <= set(grown.free)
+    assert setup._nominal is not None
+    verdict, extras = setup.conclude(setup._nominal, grown, ["hysteresis"])
+    assert "slip element" in verdict
+    assert extras["slip_elements_added"][0]["delta_rad"] == added.delta_rad
 
 
 def test_an_element_that_does_not_earn_its_place_is_not_added(
@@ -76,3 +80,14 @@ def test_new_elements_start_a_step_of_the_screens_own_grid_away(
     grid = one_element[0].ctx.slip_grid
     assert np.allclose(grid[1:] / grid[:-1], arm_slip.GRID_RATIO)
     assert (np.sqrt(arm_slip.GRID_RATIO), arm_slip.GRID_RATIO) == arm_slip.START_STEPS
+
+
+def test_the_result_json_lists_the_elements_added(tmp_path: Path) -> None:
+    """``slip_elements_added`` in an arm result: what :func:`arm_slip.grow` added (here: a
+    record without hysteresis, nothing)."""
+    from fsarm_sim.discrepancy import report
+
+    path = tmp_path / "arm.csv"
+    S.write_arm_synthetic(path, S.truth_model([]), S.ArmRecording(duration_s=2.0, seed=3))
+    res = report.result_dict(A.diagnose_arm(load_dataset(path)))
+    assert res["slip_elements_added"] == []

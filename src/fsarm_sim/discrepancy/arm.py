@@ -323,6 +323,8 @@ class ArmSetup:
             tail={
                 "simulations": diag.extras.get("simulations"),
                 "reference": diag.extras.get("reference"),
+                # hysteresis elements the final step added (.arm_slip), with their BIC changes
+                "slip_elements_added": diag.extras.get("slip_elements_added", []),
             },
         )
 
