@@ -57,3 +57,32 @@ def test_without_drops_one_effect_and_refits_the_rest(diag: core.Diagnosis[A.Arm
     assert [e.name for e in sub.model.effects()] == ["payload_error"]
     assert not any(k.startswith("coulomb_friction.") for k in [*sub.model.values, *sub.free])
     assert setup.cost(sub)[1] > 2.0 * setup.cost(diag.final)[1]  # the friction was needed
+
+
+def test_an_encoder_offset_moves_to_the_other_encoder_with_the_same_twist(
+    record: Dataset,
+) -> None:
+    """twist = theta_m - i_G2 q3: a q3 offset o starts the swap as a theta_m offset -i_G2 o
+    (and back), everything else as it was; other effects give no start."""
+    import numpy as np
+
+    from fsarm_sim.discrepancy import arm_fit as F
+    from fsarm_sim.discrepancy import arm_joint as J
+
+    setup = A.ArmSetup(record)
+    ctx = setup.ctx
+    m = F.add_candidate(ctx, F.ArmModel(), "sensor_offset", "q3")
+    m = F.with_values(m, ["sensor_offset.q3", "c_scale"], np.array([-2e-4, 0.97]))
+    fit = F.evaluate(ctx, m, ["c_scale", "sensor_offset.q3"], "sensor_offset[q3]")
+    assert fit is not None
+    (alt,) = J.twist_equivalent(ctx, fit)
+    assert alt.model.labels == ["sensor_offset[theta_m]"] and alt.variant == "theta_m"
+    assert alt.model.v("sensor_offset.theta_m") == pytest.approx(2e-4 * ctx.coef_s)
+    assert "sensor_offset.q3" not in alt.model.values and alt.model.v("c_scale") == 0.97
+    assert alt.free == ["c_scale", "sensor_offset.theta_m"]
+    (back,) = J.twist_equivalent(ctx, alt)
+    assert back.model.v("sensor_offset.q3") == pytest.approx(-2e-4)
+    # the two runs see the same twist: the twist channel's prediction is the same
+    np.testing.assert_allclose(alt.pred["twist"], fit.pred["twist"], atol=1e-9)
+    f2 = F.evaluate(ctx, F.add_candidate(ctx, F.ArmModel(), "sensor_offset", "q2"), [], "q2")
+    assert f2 is not None and J.twist_equivalent(ctx, f2) == []

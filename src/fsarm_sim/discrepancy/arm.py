@@ -63,12 +63,14 @@ from fsarm_sim.discrepancy.arm_fit import (
     nominal_keys,
     parse_gains,
     reference_table,
+    refine,
     simulate_config,
     stated_transmission,
     step_candidates,
     to_basis,
     to_config,
 )
+from fsarm_sim.discrepancy.fit_label import labelled_as
 from fsarm_sim.discrepancy.report import plot_channel_nrmse
 from fsarm_sim.discrepancy.residuals import nrmse, signature
 from fsarm_sim.discrepancy.selection import LOOK_ALIKES, Judgement, Score
@@ -154,6 +156,7 @@ class ArmSetup:
         self.ctx = make_context(ds, self.run)
         self._nominal: ArmFit | None = None  # the refit nominal model (the extra-effect rule)
         self.slip_added: list[slip.Added] = []  # elements finish() added (:mod:`.arm_slip`)
+        self.offset_moved = ""  # the encoder offset finish() moved to the other encoder, if any
 
     # ------------------------------------------------------------------ selection
 
@@ -209,6 +212,7 @@ class ArmSetup:
         place by the rule of an extra effect (:func:`.arm_slip.grow`)."""
         nom = self._nominal
         self.slip_added = []
+        self.offset_moved = ""
         if V.HYSTERESIS not in named or nom is None:
             return fit
 
@@ -219,6 +223,15 @@ class ArmSetup:
             )
 
         out, self.slip_added = slip.grow(self.ctx, fit, judge)
+        # an encoder offset beside hysteresis: both bias the twist, and the offset's channel is
+        # easily the wrong one (.arm_joint.twist_equivalent); the other channel's offset with
+        # the elements grown again is kept when it fits the teaching and held-out blocks better
+        self.offset_moved = ""
+        for alt in J.twist_equivalent(self.ctx, out):
+            grown, added = slip.grow(self.ctx, refine(self.ctx, alt), judge)
+            if grown.cost < out.cost and grown.w(self.ctx) < out.w(self.ctx):
+                self.offset_moved = f"{alt.effect}[{alt.variant}]"
+                out, self.slip_added = labelled_as(grown, fit), added
         return out
 
     def conclude(
@@ -253,17 +266,29 @@ class ArmSetup:
             )
         if unexp:
             verdict += f"; what remains: {sig['summary']}"
+        if self.offset_moved:
+            verdict += (
+                f"; the encoder offset is {self.offset_moved} (its twist-equivalent on the other "
+                "encoder, with the hysteresis refit, fits better)"
+            )
         if self.slip_added:
             verdict += "; " + "; ".join(
-                f"hysteresis: a slip element of {a.k_nm_per_rad:.3g} N·m/rad at "
-                f"{1000 * a.delta_rad:.3g} mrad added (BIC {a.d_bic_teach:+.0f} teaching / "
-                f"{a.d_bic_held:+.0f} held-out)"
+                (
+                    "hysteresis: its slip elements moved (the search for one more element "
+                    f"found a better fit of the same ones, BIC {a.d_bic_teach:+.0f} teaching / "
+                    f"{a.d_bic_held:+.0f} held-out)"
+                    if a.moved_only
+                    else f"hysteresis: a slip element of {a.k_nm_per_rad:.3g} N·m/rad at "
+                    f"{1000 * a.delta_rad:.3g} mrad added (BIC {a.d_bic_teach:+.0f} teaching / "
+                    f"{a.d_bic_held:+.0f} held-out)"
+                )
                 for a in self.slip_added
             )
         extras: dict[str, Any] = {
             "simulations": ctx.n_sims,
             "reference": self.run.ref_note,
             "slip_elements_added": [dataclasses.asdict(a) for a in self.slip_added],
+            "offset_moved_to": self.offset_moved,
             "unexplained": unexp,
             "residual_signature": sig,
             "confidence_intervals": X.intervals(ctx, final),
@@ -325,6 +350,7 @@ class ArmSetup:
                 "reference": diag.extras.get("reference"),
                 # hysteresis elements the final step added (.arm_slip), with their BIC changes
                 "slip_elements_added": diag.extras.get("slip_elements_added", []),
+                "offset_moved_to": diag.extras.get("offset_moved_to") or None,
             },
         )
 

@@ -158,6 +158,36 @@ def without(ctx: ArmContext, fit: ArmFit, effect: str, refit: bool = True) -> Ar
     return f
 
 
+def twist_equivalent(ctx: ArmContext, fit: ArmFit) -> list[ArmFit]:
+    """Each offset on one of joint 3's two encoders moved to the other with the same twist
+    (``twist = theta_m - i_G2 q3``: an offset o on q3 is -i_G2 o on theta_m), the rest of ``fit``
+    as it is, re-simulated but not refined: starts for a swap of the offset's channel beside the
+    linearised one. Next to hysteresis, whose elements take up a twist bias, the linearised start
+    of the other encoder's offset begins from a model that already absorbed the bias and stays
+    there (arm expert battery: a theta_m offset of 2 mrad named as a q3 offset of -0.22 mrad);
+    from the equivalent start the refinement reaches the true channel. Empty without such an
+    offset."""
+    pair = {"q3": ("theta_m", -ctx.coef_s), "theta_m": ("q3", -1.0 / ctx.coef_s)}
+    out = []
+    for lab in fit.model.labels:
+        effect, variant = lab[:-1].split("[")
+        old_key = f"{effect}.{variant}"
+        if effect != V.OFFSET or variant not in pair or old_key not in fit.model.values:
+            continue
+        other, factor = pair[variant]
+        new_key = f"{effect}.{other}"
+        lo, hi, _ = bounds_of(ctx, new_key)
+        values = {k: v for k, v in fit.model.values.items() if k != old_key}
+        values[new_key] = min(max(factor * fit.model.values[old_key], lo), hi)
+        labels = [f"{effect}[{other}]" if x == lab else x for x in fit.model.labels]
+        free = [new_key if k == old_key else k for k in fit.free]
+        f = evaluate(ctx, ArmModel(values, labels), free, fit.label)
+        if f is not None:
+            f.effect, f.variant = effect, other
+            out.append(f)
+    return out
+
+
 def swap_variants(ctx: ArmContext, fit: ArmFit) -> tuple[ArmFit, dict[str, str]]:
     """Each named effect with other arm variants (an offset or a delay: on which recorded
     channel) refit as each of them on top of the rest: the other variant solved linearised from
@@ -178,7 +208,10 @@ def swap_variants(ctx: ArmContext, fit: ArmFit) -> tuple[ArmFit, dict[str, str]]
             [s[0] for s in (screen_solve(ctx, sj, base, e, v) for e, v in others) if s is not None]
         )
         screened = [screen(ctx, sj, base, e, v) for e, v in others]
-        # the variants' refinements side by side (each from the same model without the effect)
+        variants = {v for _, v in others}
+        screened += [f for f in twist_equivalent(ctx, best) if f.variant in variants]
+        # the variants' refinements side by side (each from the same model without the effect,
+        # or from the other encoder's twist-equivalent offset)
         for f in refine_many(ctx, [f for f in screened if f is not None]):
             if f.cost < best.cost and f.w(ctx) < best.w(ctx):
                 best = f

@@ -34,6 +34,7 @@ from fsarm_sim.discrepancy.arm_fit import (
     ArmContext,
     ArmFit,
     evaluate,
+    prune_slip,
     refine,
     refine_many,
 )
@@ -57,6 +58,9 @@ class Added:
     d_bic_teach: float  # BIC change of the model with it against the model without it
     d_bic_held: float
     explained_over_noise: float  # held-out MSE it removes, in units of the noise variance
+    # True: the tried element took no stiffness and was dropped again, but its refinement moved
+    # the kept elements to a better fit (delta_rad, k_nm_per_rad: the element that moved most)
+    moved_only: bool = False
 
 
 def _slip(fit: ArmFit) -> tuple[list[float], list[float]]:
@@ -105,9 +109,34 @@ def grow(
         j = judge(cur, best)
         if not (j.earns_place and j.explained_over_noise >= MIN_EXPLAINED_EXTRA):
             return cur, added
-        grown = refine(ctx, best)
+        grown = _without_idle(ctx, refine(ctx, best))
         k_new, d_new = _slip(grown)
+        if len(d_new) > len(ds):
+            added.append(
+                Added(d_new[-1], k_new[-1], j.d_bic_teach, j.d_bic_held, j.explained_over_noise)
+            )
+            cur = grown
+            continue
+        # no element more, the kept ones moved: report the one furthest from where any element
+        # was, then stop
+        i = max(range(len(d_new)), key=lambda n: min(abs(math.log(d_new[n] / d)) for d in ds))
         added.append(
-            Added(d_new[-1], k_new[-1], j.d_bic_teach, j.d_bic_held, j.explained_over_noise)
+            Added(d_new[i], k_new[i], j.d_bic_teach, j.d_bic_held, j.explained_over_noise, True)
         )
-        cur = grown
+        return grown, added
+
+
+def _without_idle(ctx: ArmContext, fit: ArmFit) -> ArmFit:
+    """``fit`` without the elements that took no stiffness (:func:`.arm_fit.prune_slip`),
+    re-simulated; ``fit`` itself when every element carries stiffness (or the run fails)."""
+    m, keep = prune_slip(ctx, fit.model)
+    if len(keep) == len(fit.model.slip_delta) or not keep:
+        return fit
+    free = [p for p in fit.free if not p.startswith("hysteresis.")]
+    free += [f"hysteresis.k{i}" for i in range(len(keep))]
+    free += [f"hysteresis.d{i}" for i in range(len(keep))]
+    f = evaluate(ctx, m, free, fit.label)
+    if f is None:
+        return fit
+    f.effect, f.variant = fit.effect, fit.variant
+    return f
