@@ -7,7 +7,6 @@ Thin: options in, the studies of :mod:`fsarm_sim.studies.magnetic_spring_selecti
 from __future__ import annotations
 
 import json
-import math
 from dataclasses import asdict
 from pathlib import Path
 from typing import Annotated, Any
@@ -102,14 +101,11 @@ def register(app: typer.Typer) -> None:
         # every input checked before the table starts (an error is then the only output)
         if not sig or not vel:
             raise qx.QaExperimentError("--presets and --speeds need at least one number each")
-        bad = [v for v in vel if not (math.isfinite(v) and v > 0.0)]
-        if bad:
-            raise qx.QaExperimentError(f"--speeds must be finite and > 0 deg/s, got {bad[0]:g}")
-        if adjust not in ("none", "drive", "ideal"):
-            raise qx.QaExperimentError(f"--adjust must be none, drive or ideal, got {adjust!r}")
-        bad = [r for r in arms if not (math.isfinite(r) and 0.05 <= r <= 2.0)]
-        if bad:
-            raise qx.QaExperimentError(f"--lever-arms must be within 0.05..2 m, got {bad[0]:g}")
+        for v in vel:
+            qx.check_speed_deg_s(v, "--speeds")
+        qx.check_adjust(adjust, "--adjust")
+        for r in arms:
+            qx.check_lever_arm(r, "--lever-arms")
         benches = [(s, qx.bench(s)) for s in sig]  # a preset outside Table IV's range fails here
         rows = []
         typer.echo(

@@ -71,6 +71,31 @@ class QaExperimentError(FsarmError, ValueError):
     """An experiment argument the bench cannot run (the message says the allowed range)."""
 
 
+ADJUST_MODES = ("none", "drive", "ideal")
+LEVER_ARM_RANGE_M = (0.05, 2.0)  # the impact's lever arms: a link's length scale (estimate)
+
+
+def check_speed_deg_s(v_deg_s: float, name: str = "motor speed") -> None:
+    """A throw's motor speed, deg/s: finite and > 0 (``name``: what the message calls it)."""
+    if not (math.isfinite(v_deg_s) and v_deg_s > 0.0):
+        raise QaExperimentError(f"{name} must be finite and > 0 deg/s, got {v_deg_s:g}")
+
+
+def check_adjust(adjust: str, name: str = "adjust") -> None:
+    """The stiffness adjustment of a throw: one of :data:`ADJUST_MODES`."""
+    if adjust not in ADJUST_MODES:
+        raise QaExperimentError(
+            f"{name} must be {', '.join(ADJUST_MODES[:-1])} or {ADJUST_MODES[-1]}, got {adjust!r}"
+        )
+
+
+def check_lever_arm(lever_arm_m: float, name: str = "lever arm") -> None:
+    """The impact's lever arm, m: within :data:`LEVER_ARM_RANGE_M`."""
+    lo, hi = LEVER_ARM_RANGE_M
+    if not (math.isfinite(lever_arm_m) and lo <= lever_arm_m <= hi):
+        raise QaExperimentError(f"{name} must be within {lo:g}..{hi:g} m, got {lever_arm_m:g}")
+
+
 @dataclass(frozen=True)
 class Bench:
     """Table V's two-mass model around a QA-Joint parameter block."""
@@ -169,10 +194,8 @@ def simulate_throws(
     drive, Table III rate) or ``"ideal"`` (eq. 20 with an ideal adjuster, as the paper's
     simulation).
     """
-    if not (math.isfinite(v_rad_s) and v_rad_s > 0.0):
-        raise QaExperimentError(f"motor speed must be finite and > 0 rad/s, got {v_rad_s!r}")
-    if adjust not in ("none", "drive", "ideal"):
-        raise QaExperimentError(f"adjust must be 'none', 'drive' or 'ideal', got {adjust!r}")
+    check_speed_deg_s(v_rad_s / DEG)
+    check_adjust(adjust)
     ts = np.asarray(t_switch, dtype=float)
     if ts.ndim != 1 or ts.size == 0 or np.any(ts < 0.0) or not np.all(np.isfinite(ts)):
         raise QaExperimentError("t_switch must be a non-empty 1-D array of times >= 0 s")
@@ -278,6 +301,8 @@ def best_throw(
     b: Bench, v_deg_s: float, *, t_switch_max_s: float | None = None, adjust: str = "none"
 ) -> Throw:
     """Search the switch time (grid, then a finer grid around the best) for the best throw."""
+    check_speed_deg_s(v_deg_s)
+    check_adjust(adjust)
     p = _p(b)
     if t_switch_max_s is None:
         k0 = 2.0 * (p["a_s"] + p["b_s"]) * p["b"] * math.exp(-p["b"] * p["s_cmd"])
@@ -358,8 +383,7 @@ def impact(
     the impactor then flies freely. Gravity is left out: the drop's geometry is not given, and
     over the ~3 ms contact it changes the impactor's speed by 0.03 m/s (3 %).
     """
-    if not (math.isfinite(lever_arm_m) and 0.05 <= lever_arm_m <= 2.0):
-        raise QaExperimentError(f"lever arm must be within 0.05..2 m, got {lever_arm_m!r}")
+    check_lever_arm(lever_arm_m)
     b = bench(sigma_deg)
     p = _p(b)
     m = IMPACTOR_KG
