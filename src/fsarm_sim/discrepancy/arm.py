@@ -209,7 +209,8 @@ class ArmSetup:
 
     def finish(self, fit: ArmFit, named: Sequence[str]) -> ArmFit:
         """The final model: with hysteresis named, slip elements added while one more earns its
-        place by the rule of an extra effect (:func:`.arm_slip.grow`)."""
+        place by the rule of an extra effect (:func:`.arm_slip.grow`), and an encoder offset
+        beside it tried on the other encoder with the elements grown again."""
         nom = self._nominal
         self.slip_added = []
         self.offset_moved = ""
@@ -226,7 +227,6 @@ class ArmSetup:
         # an encoder offset beside hysteresis: both bias the twist, and the offset's channel is
         # easily the wrong one (.arm_joint.twist_equivalent); the other channel's offset with
         # the elements grown again is kept when it fits the teaching and held-out blocks better
-        self.offset_moved = ""
         for alt in J.twist_equivalent(self.ctx, out):
             grown, added = slip.grow(self.ctx, refine(self.ctx, alt), judge)
             if grown.cost < out.cost and grown.w(self.ctx) < out.w(self.ctx):
@@ -272,18 +272,7 @@ class ArmSetup:
                 "encoder, with the hysteresis refit, fits better)"
             )
         if self.slip_added:
-            verdict += "; " + "; ".join(
-                (
-                    "hysteresis: its slip elements moved (the search for one more element "
-                    f"found a better fit of the same ones, BIC {a.d_bic_teach:+.0f} teaching / "
-                    f"{a.d_bic_held:+.0f} held-out)"
-                    if a.moved_only
-                    else f"hysteresis: a slip element of {a.k_nm_per_rad:.3g} N·m/rad at "
-                    f"{1000 * a.delta_rad:.3g} mrad added (BIC {a.d_bic_teach:+.0f} teaching / "
-                    f"{a.d_bic_held:+.0f} held-out)"
-                )
-                for a in self.slip_added
-            )
+            verdict += "; " + "; ".join(a.text() for a in self.slip_added)
         extras: dict[str, Any] = {
             "simulations": ctx.n_sims,
             "reference": self.run.ref_note,

@@ -62,10 +62,29 @@ class Added:
     # the kept elements to a better fit (delta_rad, k_nm_per_rad: the element that moved most)
     moved_only: bool = False
 
+    def text(self) -> str:
+        """The verdict's words for it."""
+        bic = f"BIC {self.d_bic_teach:+.0f} teaching / {self.d_bic_held:+.0f} held-out"
+        if self.moved_only:
+            return (
+                "hysteresis: its slip elements moved (the search for one more element found a "
+                f"better fit of the same ones, {bic})"
+            )
+        return (
+            f"hysteresis: a slip element of {self.k_nm_per_rad:.3g} N·m/rad at "
+            f"{1000 * self.delta_rad:.3g} mrad added ({bic})"
+        )
+
 
 def _slip(fit: ArmFit) -> tuple[list[float], list[float]]:
     deltas = list(fit.model.slip_delta)
     return [fit.model.v(f"hysteresis.k{i}") for i in range(len(deltas))], deltas
+
+
+def _free(fit: ArmFit, n: int) -> list[str]:
+    """``fit``'s free parameters with the stiffness and deflection of ``n`` elements."""
+    free = [p for p in fit.free if not p.startswith("hysteresis.")]
+    return free + [f"hysteresis.k{i}" for i in range(n)] + [f"hysteresis.d{i}" for i in range(n)]
 
 
 def _with_element(ctx: ArmContext, fit: ArmFit, k_new: float, d_new: float) -> ArmFit | None:
@@ -73,10 +92,7 @@ def _with_element(ctx: ArmContext, fit: ArmFit, k_new: float, d_new: float) -> A
     ks, ds = _slip(fit)
     m = fit.model.copy()
     m.set_slip([*ks, k_new], [*ds, d_new])
-    n = len(ds) + 1
-    free = [p for p in fit.free if not p.startswith("hysteresis.")]
-    free += [f"hysteresis.k{i}" for i in range(n)] + [f"hysteresis.d{i}" for i in range(n)]
-    f = evaluate(ctx, m, free, fit.label)
+    f = evaluate(ctx, m, _free(fit, len(ds) + 1), fit.label)
     if f is not None:
         f.effect, f.variant = fit.effect, fit.variant
     return f
@@ -132,10 +148,7 @@ def _without_idle(ctx: ArmContext, fit: ArmFit) -> ArmFit:
     m, keep = prune_slip(ctx, fit.model)
     if len(keep) == len(fit.model.slip_delta) or not keep:
         return fit
-    free = [p for p in fit.free if not p.startswith("hysteresis.")]
-    free += [f"hysteresis.k{i}" for i in range(len(keep))]
-    free += [f"hysteresis.d{i}" for i in range(len(keep))]
-    f = evaluate(ctx, m, free, fit.label)
+    f = evaluate(ctx, m, _free(fit, len(keep)), fit.label)
     if f is None:
         return fit
     f.effect, f.variant = fit.effect, fit.variant
