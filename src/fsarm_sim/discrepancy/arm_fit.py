@@ -930,21 +930,14 @@ def linear_solve(
     ctx: ArmContext, m: ArmModel, keys: list[str], jac: FloatArray, r0: FloatArray
 ) -> ArmModel:
     """Bounded linear least squares for the parameter changes (normalised units)."""
-    lo = np.empty(len(keys))
-    hi = np.empty(len(keys))
-    for i, k in enumerate(keys):
-        a, b, unit = bounds_of(ctx, k)
-        lo[i], hi[i] = (a - m.v(k)) / unit, (b - m.v(k)) / unit
-    lo = np.minimum(lo, 0.0)
-    hi = np.maximum(hi, 0.0)
-    dx = lsq.bounded(jac, -r0, lo, hi)
-    x = np.empty(len(keys))
-    for i, k in enumerate(keys):
-        a, b, unit = bounds_of(ctx, k)
-        # a step to a bound lands on it: v + ((a - v) / unit) * unit can round past it (a slip
-        # stiffness of -1e-16 N*m/rad, which the transmission then refuses)
-        x[i] = min(max(m.v(k) + dx[i] * unit, min(a, m.v(k))), max(b, m.v(k)))
-    return with_values(m, keys, x)
+    v = np.array([m.v(k) for k in keys])
+    a, b, unit = np.array([bounds_of(ctx, k) for k in keys], dtype=float).reshape(-1, 3).T
+    # a value already outside its bounds may stay where it is
+    a, b = np.minimum(a, v), np.maximum(b, v)
+    dx = lsq.bounded(jac, -r0, (a - v) / unit, (b - v) / unit)
+    # a step to a bound lands on it: v + ((a - v) / unit) * unit can round past it (a slip
+    # stiffness of -1e-16 N*m/rad, which the transmission then refuses)
+    return with_values(m, keys, np.clip(v + dx * unit, a, b))
 
 
 def refine(ctx: ArmContext, fit: ArmFit, max_iter: int = REFINE_ITER) -> ArmFit:

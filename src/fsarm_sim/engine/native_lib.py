@@ -93,8 +93,8 @@ def library_dir() -> Path:
     every kernel source and checks the struct offsets)."""
     key = source_key(struct_offsets())
     # the CPU, and this module: how the library is built (its C code, the link) names it too
-    cpu = hashlib.sha256(_cpu().encode() + Path(__file__).read_bytes()).hexdigest()[:8]
-    return cache_dir() / f"lib-{key}-{cpu}"
+    build = hashlib.sha256(_cpu().encode() + Path(__file__).read_bytes()).hexdigest()[:8]
+    return cache_dir() / f"lib-{key}-{build}"
 
 
 @dataclass(frozen=True)
