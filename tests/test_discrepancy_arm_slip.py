@@ -79,7 +79,6 @@ def test_new_elements_start_a_step_of_the_screens_own_grid_away(
     """GRID_RATIO is the ratio of the screen's slip-deflection grid (arm_fit.make_context)."""
     grid = one_element[0].ctx.slip_grid
     assert np.allclose(grid[1:] / grid[:-1], arm_slip.GRID_RATIO)
-    assert (np.sqrt(arm_slip.GRID_RATIO), arm_slip.GRID_RATIO) == arm_slip.START_STEPS
 
 
 def test_the_result_json_lists_the_elements_added(tmp_path: Path) -> None:
