@@ -38,3 +38,33 @@ def hold_table(q1: float, q2: float, q3: float, n: int = 1) -> np.ndarray:
     row = np.zeros((n, 9))
     row[:, 0], row[:, 1], row[:, 2] = q1, q2, q3
     return row
+
+
+def check_battery_printout(
+    text: str, results: list, signature_ok: object, rates: dict, ci_misses: bool
+) -> None:
+    """What an expert battery's printout (``battery_expert.format_battery``) must say about
+    ``results``: one row per case in order, marked ``ok`` exactly when the named effects and the
+    unexplained flag are right and the case did not fail, its signature mark, the summary cut at
+    90 characters, the error; the CI-miss lines where asked for; every rate as ``a/b (p %)``; a
+    runtime line only when a runtime is known."""
+    lines = text.split("\n")
+    rows = [ln for ln in lines[1:] if ln.startswith(("ok ", "BAD"))]
+    assert len(rows) == len(results)
+    misses = [ln for ln in lines if ln.startswith("      CI misses: ")]
+    for row, r in zip(rows, results, strict=True):
+        good = set(r.named) == set(r.truth_names) and r.unexplained == bool(r.case.extra)
+        assert row.startswith("ok " if good and not r.error else "BAD"), row
+        assert f" {r.case.name} " in row and f"unexpl={r.unexplained}" in row
+        assert f"joint={r.joint_steps} " in row and (",".join(r.named) or "none") in row
+        sr = signature_ok(r)  # type: ignore[operator]
+        mark = "" if sr is None else ("sig-ok " if sr else "sig-BAD ")
+        summary = r.signature.get("summary", "-") if r.signature else "-"
+        assert row.endswith(f"{mark}{summary[:90]}{r.error}"), row
+    wrong = [[n for n, c in r.covered if not c] for r in results]
+    expected = [f"      CI misses: {', '.join(w)}" for w in wrong if w] if ci_misses else []
+    assert misses == expected
+    for key, (a, b) in rates.items():
+        assert f"  {key:<24} {a}/{b} ({100 * a / max(b, 1):.0f} %)" in lines, key
+    known = any(np.isfinite(r.runtime_s) for r in results)
+    assert any(ln.startswith("  runtime per record") for ln in lines) == known

@@ -13,10 +13,11 @@ import pytest
 from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_synth as S
 from fsarm_sim.discrepancy import battery_arm_expert as E
-from fsarm_sim.discrepancy import battery_expert as BE
 from fsarm_sim.discrepancy import report
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.records.measured import load_dataset
+
+from conftest import check_battery_printout
 
 DURATION_S = 3.0
 
@@ -120,36 +121,13 @@ def _fake_results() -> list[E.ArmResult]:
     return out
 
 
-def _format_results_before_sharing(results: list[E.ArmResult]) -> str:
-    """battery_arm_expert.format_results as it was before format_battery (kept to compare)."""
-    lines = ["per case: group | case | named | unexplained | joint | CI covered | s | signature"]
-    for r in results:
-        s = r.signature.get("summary", "-") if r.signature else "-"
-        cov = f"{sum(c for _, c in r.covered)}/{len(r.covered)}" if r.covered else "-"
-        good = set(r.named) == set(r.truth_names) and r.unexplained == bool(r.case.extra)
-        mark = "ok " if good and not r.error else "BAD"
-        sr = E.signature_right(r)
-        lines.append(
-            f"{mark} {r.group:<12} {r.case.name:<52} {','.join(r.named) or 'none':<50} "
-            f"unexpl={r.unexplained!s:<5} joint={r.joint_steps} ci {cov:<5} "
-            f"{r.runtime_s:5.1f}s ({r.simulations} runs) "
-            f"{'' if sr is None else ('sig-ok ' if sr else 'sig-BAD ')}{s[:90]}{r.error}"
-        )
-        bad = [n for n, c in r.covered if not c]
-        if bad:
-            lines.append(f"      CI misses: {', '.join(bad)}")
-    lines += BE.rate_lines(
-        E.rates(results),
-        [r.runtime_s for r in results],
-        f" ({results[0].case.duration_s:g} s records)" if results else "",
-    )
-    return "\n".join(lines)
-
-
-def test_the_printout_is_the_one_before_it_was_shared_with_the_bench_battery() -> None:
+def test_the_printout_reports_every_case_mark_and_rate() -> None:
     results = _fake_results()
     marks = {E.signature_right(r) for r in results}
     assert marks == {None, True, False}  # every signature mark is printed
     assert any(not c for r in results for _, c in r.covered)  # and CI-miss lines
     for sel in (results, results[:3], results[-5:], []):
-        assert E.format_results(sel) == _format_results_before_sharing(sel)
+        text = E.format_results(sel)
+        check_battery_printout(text, sel, E.signature_right, E.rates(sel), ci_misses=True)
+        if sel:
+            assert f"({sel[0].case.duration_s:g} s records)" in text

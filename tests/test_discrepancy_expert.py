@@ -19,6 +19,8 @@ from fsarm_sim.discrepancy.benchmodel import BenchModel
 from fsarm_sim.discrepancy.unexplained import Signals, characterise
 from fsarm_sim.errors import InvalidParameterError
 
+from conftest import check_battery_printout
+
 
 def _signals(extra: np.ndarray, t: np.ndarray, twist: np.ndarray, y: np.ndarray) -> Signals:
     rng = np.random.default_rng(0)
@@ -194,33 +196,14 @@ def _fake_results() -> list[E.Result]:
     return out
 
 
-def _format_results_before_sharing(results: list[E.Result]) -> str:
-    """battery_expert.format_results as it was before format_battery (kept to compare)."""
-    lines = ["per case: group | case | rate | named | unexplained | signature | CI covered | s"]
-    for r in results:
-        sig = r.signature.get("summary", "-") if r.signature else "-"
-        cov = f"{sum(c for _, c in r.covered)}/{len(r.covered)}" if r.covered else "-"
-        good = set(r.named) == set(r.truth_names) and r.unexplained == bool(r.case.extra)
-        mark = "ok " if good and not r.error else "BAD"
-        sr = E.signature_right(r)
-        lines.append(
-            f"{mark} {r.group:<6} {r.case.name:<62} {r.case.rate_hz:5.0f}Hz "
-            f"{','.join(r.named) or 'none':<46} unexpl={r.unexplained!s:<5} "
-            f"joint={r.joint_steps} ci {cov:<6} {r.runtime_s:5.1f}s  "
-            f"{'' if sr is None else ('sig-ok ' if sr else 'sig-BAD ')}{sig[:90]}{r.error}"
-        )
-    lines += E.rate_lines(E.rates(results), [r.runtime_s for r in results], "")
-    cpu = [r.cpu_s for r in results if math.isfinite(r.cpu_s)]
-    if cpu:
-        lines.append(
-            f"  process time per record: median {float(np.median(cpu)):.1f} s, max {max(cpu):.1f} s"
-        )
-    return "\n".join(lines)
-
-
-def test_the_printout_is_the_one_before_it_was_shared_with_the_arm_battery() -> None:
+def test_the_printout_reports_every_case_mark_and_rate() -> None:
     results = _fake_results()
     marks = {E.signature_right(r) for r in results}
     assert marks == {None, True, False}  # every signature mark is printed
     for sel in (results, results[:3], results[-5:], []):
-        assert E.format_results(sel) == _format_results_before_sharing(sel)
+        text = E.format_results(sel)
+        check_battery_printout(text, sel, E.signature_right, E.rates(sel), ci_misses=False)
+        for r in sel:  # the rate of each case's record, after its name
+            assert f"{r.case.rate_hz:5.0f}Hz " in text
+        cpu = [r.cpu_s for r in sel if math.isfinite(r.cpu_s)]
+        assert ("process time per record" in text) == bool(cpu)

@@ -92,3 +92,23 @@ def test_the_spring_stage_off_changes_no_bit(
         for key in out[0]:
             np.testing.assert_array_equal(out[0][key], out[1][key], err_msg=f"{sc.name} {key}")
         monkeypatch.undo()
+
+
+@pytest.mark.parametrize("field", ["jnt_stiffness", "tendon_stiffness"])
+def test_a_spring_written_into_the_twin_later_is_refused_not_ignored(field: str) -> None:
+    """A stiffness written into the lean twin after it was built would be inert (its spring
+    stage is off): run() and step() refuse it with a named error instead of ignoring it."""
+    from fsarm_sim.errors import ModelStructureError
+    from fsarm_sim.sim.simulation import Simulation
+
+    ref = np.zeros((20, L.REF_COLS))
+    sim = Simulation(SimConfig(), ref, lean=True)
+    sim.run(0.005)  # fine before the write
+    getattr(sim.model, field).flat[0] = 50.0
+    with pytest.raises(ModelStructureError, match="lean=False"):
+        sim.run(0.005)
+    with pytest.raises(ModelStructureError, match="lean=False"):
+        sim.step()
+    full = Simulation(SimConfig(), ref, lean=False)  # the full model keeps its spring stage
+    getattr(full.model, field).flat[0] = 50.0
+    full.run(0.005)

@@ -28,6 +28,8 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from fsarm_sim.errors import ModelStructureError
+
 
 def strip(spec: mujoco.MjSpec) -> tuple[int, int]:
     """Delete the non-colliding geoms of bodies with explicit inertia, and every sensor, from
@@ -65,3 +67,15 @@ def idle_off(model: mujoco.MjModel) -> bool:
         return False
     model.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_SPRING)
     return True
+
+
+def check_springs_off(model: mujoco.MjModel) -> None:
+    """Raise :class:`ModelStructureError` if MuJoCo's spring stage is off in ``model`` although a
+    spring was written into it since (a joint or tendon stiffness set on the lean twin after it
+    was built, which :func:`idle_off` made inert: it would be ignored without a word)."""
+    if model.opt.disableflags & int(mujoco.mjtDisableBit.mjDSBL_SPRING) and has_springs(model):
+        raise ModelStructureError(
+            "a joint or tendon stiffness was written into the lean twin after it was built, where "
+            "MuJoCo's spring stage is off (engine.lean.idle_off), so it would not act: put the "
+            "spring in the MJCF, or build the model with lean=False (Simulation(..., lean=False))"
+        )

@@ -17,6 +17,7 @@ import numpy as np
 import numpy.typing as npt
 
 from fsarm_sim.engine import callbacks
+from fsarm_sim.engine.lean import check_springs_off
 from fsarm_sim.engine.model import ArmStructure, SimConfig, build_model, read_structure
 from fsarm_sim.errors import (
     CallbackBypassError,
@@ -307,6 +308,7 @@ class Simulation:
     def step(self, n: int = 1) -> None:
         """``n`` physics steps with fsarm's callbacks active."""
         check_clock(self.model, self.data)
+        check_springs_off(self.model)
         with callbacks.active(self.backend):
             mujoco.mj_step(self.model, self.data, nstep=n)
 
@@ -428,6 +430,7 @@ class Simulation:
             m.nq + m.nv + m.na + L.N_USERDATA_LOGGED,
         )
         check_clock(m, d)
+        check_springs_off(m)
         steps_per_tick = round(self.config.gains.ctrl_dt_s / m.opt.timestep)
         n_steps = round(duration_s / m.opt.timestep)
         stride = steps_per_tick * log_every_ticks if log_every_ticks > 0 else n_steps + 1

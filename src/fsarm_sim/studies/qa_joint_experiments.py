@@ -72,7 +72,10 @@ class QaExperimentError(FsarmError, ValueError):
 
 
 ADJUST_MODES = ("none", "drive", "ideal")
-LEVER_ARM_RANGE_M = (0.05, 2.0)  # the impact's lever arms: a link's length scale (estimate)
+# The impact's lever arm (where the impactor meets the link), an input the user chooses: Sec. VII
+# gives no link length or impact point. Accepted from 5 cm (a short flange) to 2 m (a long
+# manipulator link; seed 002's is far shorter): an input range, not a physical value (estimate).
+LEVER_ARM_RANGE_M = (0.05, 2.0)
 
 
 def check_speed_deg_s(v_deg_s: float, name: str = "motor speed") -> None:
