@@ -32,9 +32,9 @@ Stiffness drive (state slot 0): ``sigma`` follows the commanded preset ``sigma_c
 the preset range 3...15 deg, Table III/IV: a command outside ``[sigma_min, sigma_max]`` is refused
 when the block is built, see :func:`validate`; the kernels still clamp to the range) through a
 first-order lag with time constant
-``sigma_tau_s`` (estimate, the paper gives none) limited to ``sigma_rate`` = full range in 0.12 s
-(Table III "maximum stiffness adjustment time 0.12 s", Sec. IV-A "~120 ms for full stiffness
-range")::
+``sigma_tau_s`` (estimate, the paper gives none) limited to ``sigma_rate``, the speed with which
+a full-range move settles in 0.12 s (Table III "maximum stiffness adjustment time 0.12 s", Sec.
+IV-A "~120 ms for full stiffness range"; :data:`SIGMA_RATE_TABLE_III`)::
 
     dsigma/dt = clamp((sigma_cmd - sigma) / sigma_tau_s, -sigma_rate, +sigma_rate)
 
@@ -83,6 +83,14 @@ DESIGN_A_NM = 40.0  # eq. 12-13: a = 40 N*m
 DESIGN_B_PER_RAD = 15.0  # eq. 12-13: b = 15 1/rad
 DEFAULT_SIGMA_DEG = 15.0  # softest preset: closest to the flexible shaft's ~10 N*m/rad it replaces
 _ROW = TABLE_IV[DEFAULT_SIGMA_DEG]
+# The stiffness drive's speed (rad/s): Table III's "maximum stiffness adjustment time 0.12 s" is
+# the time of a full-range move (3...15 deg) settled to 1 % of the range, which under
+# dsigma/dt = clamp((cmd - sigma) / tau, +-rate) with tau = 20 ms (sigma_tau_s) takes
+# (R - rate tau) / rate + tau ln(rate tau / (0.01 R)) = 0.12 s: rate = 2.827 rad/s (162 deg/s).
+# (R / 0.12 s, 100 deg/s, would settle in 0.156 s: the rate limit alone is not the whole move.)
+SIGMA_RATE_TABLE_III = 2.8269530
+
+
 _PRESET_WHY = (
     "a preset is the deflection limit |phi| <= sigma (eq. 11): > 0, <= 90 deg (6x Table III's "
     "largest preset, 15 deg)"
@@ -176,7 +184,7 @@ PARAMS: tuple[Param, ...] = (
         0.02,
         "s",
         "estimate: stiffness-drive lag; seed 002 gives none (Fig. 12: 'slightly too little "
-        "dynamics'); 20 ms is well inside the 0.12 s full-range time",
+        "dynamics'); 20 ms is well inside the 0.12 s full-range time (sigma_rate is set with it)",
         positive(
             "a time constant: > 0 (the drive's rate divides by it; 0 is a division by zero), "
             "<= 10 s (Table III: full range in 0.12 s)",
@@ -185,9 +193,10 @@ PARAMS: tuple[Param, ...] = (
     ),
     Param(
         "sigma_rate",
-        math.radians(12.0) / 0.12,
+        SIGMA_RATE_TABLE_III,
         "rad/s",
-        "Table III: full preset range (3...15 deg) in 0.12 s",
+        "Table III: a full-range move (3...15 deg) settles to 1 % of the range in 0.12 s with the "
+        "20 ms lag (SIGMA_RATE_TABLE_III: 162 deg/s)",
         positive("a rate limit: > 0 (0 freezes the preset drive, < 0 inverts the limit's clamp)"),
     ),
     Param(
