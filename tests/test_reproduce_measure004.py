@@ -54,3 +54,22 @@ def test_steel_tendon_on_the_arm_defaults_has_a_far_smaller_gap(run_pi: dict) ->
         },
     )
     assert 0.0 < steel["gap"] < 0.1 * run_pi["gap"]
+
+
+def test_the_bench_meets_both_tables_branch_gaps(run_pi: dict) -> None:
+    """SEED004_BENCH is fitted to the six branch gaps of Tables 1-2 (largest relative error
+    8.2 %): each gap within 10 % of its table, and the shared point (bend pi, 0.06 rad/s) is the
+    one run of both tables."""
+    gaps_bend = [
+        run_pi["gap"] if w == math.pi else m.position_transmission(w, m.DEFAULT_SPEED)["gap"]
+        for w in m.WRAPS_RAD
+    ]
+    gaps_speed = [
+        run_pi["gap"] if v == m.DEFAULT_SPEED else m.position_transmission(math.pi, v)["gap"]
+        for v in m.SPEEDS_RAD_S
+    ]
+    for ours, table in (
+        *zip(gaps_bend, m.TABLE2_GAPS, strict=True),
+        *zip(gaps_speed, m.TABLE1_GAPS, strict=True),
+    ):
+        assert abs(ours / table - 1.0) <= 0.10, (ours, table)
