@@ -152,3 +152,16 @@ def test_estimate_based_impedance_does_not_see_the_shaft_friction_the_load_feels
     off = rb.output_impedance(rb.with_(ACT, residual_friction=False), pid, **kw)
     assert on.level == pytest.approx(off.level, rel=0.01)
     assert on.interaction_rms_nm > 1.1 * off.interaction_rms_nm
+
+
+def test_on_slow_motion_the_load_feels_the_bend_friction_the_estimate_does_not() -> None:
+    """Sec. 4.2.2: 'as the bend radius was reduced, the interaction torques increased' (the
+    torque sensor); on a slow stand-in motion the felt torque rises with bend, T̂ does not."""
+    pid = rb.Pid(8.5, 0.0, 0.0)
+    straight = rb.interaction(ACT, pid, periods=2)
+    bent = rb.interaction(ACT, pid, radius_m=0.2, periods=2)
+    assert bent.felt_rms_nm > 1.05 * straight.felt_rms_nm
+    assert bent.estimate_rms_nm <= straight.estimate_rms_nm
+    for bad in ({"amplitude_rad": 0.0}, {"period_s": math.nan}, {"periods": 1}):
+        with pytest.raises(rb.BenchError):
+            rb.interaction(ACT, pid, **bad)

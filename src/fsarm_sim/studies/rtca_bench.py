@@ -635,3 +635,38 @@ def output_impedance(
         interaction_rms_nm=float(np.sqrt(np.mean(r.tau_sensor[sel] ** 2))),
         saturated=r.saturated,
     )
+
+
+@dataclass(frozen=True)
+class Interaction:
+    felt_rms_nm: float  # RMS of the torque sensor: what the load feels
+    estimate_rms_nm: float  # RMS of T̂_s: what the loop (and Z = T̂/θ̇_s) sees
+
+
+def interaction(
+    act: Rtca001,
+    pid: Pid,
+    *,
+    radius_m: float = math.inf,
+    amplitude_rad: float = math.radians(20.0),
+    period_s: float = 1.2,
+    periods: int = 4,
+) -> Interaction:
+    """The torque between load and actuator in transparent mode (set-point 0) while the load
+    moves the output through a sine of ``period_s`` (Sec. 4.2.2 imposes human joint profiles at
+    1.2 s per stride; the profiles are only in a figure, so this is a stand-in of the stride's
+    period and the chirp's 20°, **not** the paper's motion). The first period is faded in and
+    not analysed."""
+    if not (math.isfinite(amplitude_rad) and 0.0 < amplitude_rad <= math.pi):
+        raise BenchError(f"amplitude must be in (0, pi] rad, got {amplitude_rad!r}")
+    if not (math.isfinite(period_s) and 0.1 <= period_s <= 100.0) or periods < 2:
+        raise BenchError("period must be in [0.1, 100] s, and at least two periods run")
+    dt = act.ctrl_dt_s
+    t: Array = np.arange(round(periods * period_s / dt), dtype=np.float64) * dt
+    ths = amplitude_rad * np.clip(t / period_s, 0.0, 1.0) * np.sin(2.0 * math.pi * t / period_s)
+    r = run(act, pid, np.zeros_like(t), radius_m=radius_m, theta_s=ths)
+    sel = t >= period_s
+    return Interaction(
+        felt_rms_nm=float(np.sqrt(np.mean(r.tau_sensor[sel] ** 2))),
+        estimate_rms_nm=float(np.sqrt(np.mean(r.tau_est[sel] ** 2))),
+    )
