@@ -24,6 +24,21 @@ typical magnitude; measurement parameters analytically), ``sigma^2`` the weighte
 residual's mean square (1 at the noise floor), covariance ``sigma^2 tau (J^T J)^-1`` inflated by
 the residual's integrated autocorrelation time; 95 % normal intervals clipped to the bounds.
 One closed-loop run per plant parameter.
+
+A quantised channel that dwells on few counts (joint 2 held at a pose, say) does not average its
+rounding away. Rounding a value u of a cell plus Gaussian noise sigma errs on average by
+``b(u) = (q / pi) sum_k (-1)^(k+1) / k exp(-2 pi^2 k^2 sigma^2 / q^2) sin(2 pi k u / q)`` (the
+sawtooth, damped by the noise's characteristic function: Widrow's quantisation theory); over an
+unknown u its RMS is ``q / (pi sqrt 2) sqrt(sum_k exp(-4 pi^2 k^2 sigma^2 / q^2) / k^2)``,
+``q / sqrt 12`` without noise (:func:`rounding_bias_rms`). A signal that spans m counts (its span
+beyond the noise's +-3 sigma) averages m such errors: a common offset of that RMS / sqrt(m). It is
+not in ``sigma^2`` (it is not noise) and biases the fit (seen as ``kb_scale`` 5 SD off on a
+tendon-sheath record with nothing hidden); each recorded channel's offset (q2 on q2; q3 on q3
+and, times -i_G2, on the twist; theta_m on the twist) is carried through the least-squares
+solution, ``(J^T J)^-1 J^T e``, and added to the covariance (:func:`rounding_offsets`; q from
+:func:`.arm_fit.quantum`; sigma^2 the fit's teaching residual's mean square on the channel less
+the rounding's own q^2 / 12 - a difference-based noise floor reads a quantised slow channel's
+mostly-zero changes as little noise - and without a residual of its own, the noise floor's).
 """
 
 from __future__ import annotations
@@ -38,11 +53,13 @@ from fsarm_sim.discrepancy.arm_fit import (
     BASIS,
     ArmContext,
     ArmFit,
+    FloatArray,
     bounds_of,
     jacobian_column,
+    quantum,
     secant_model,
 )
-from fsarm_sim.discrepancy.residuals import tau_int
+from fsarm_sim.discrepancy.residuals import noise_floor, tau_int
 from fsarm_sim.discrepancy.uncertainty import LEVEL, Z
 from fsarm_sim.discrepancy.unexplained import Signals, characterise
 
@@ -52,8 +69,45 @@ METHOD = (
     "Fisher information: Jacobian of the noise-weighted replayed channels (q3, twist, q2) by "
     "secants of the closed-loop replay (measurement parameters analytically), sigma^2 from the "
     "weighted teaching residual, covariance sigma^2 tau (J^T J)^-1 inflated by the residual's "
-    "integrated autocorrelation time tau; 95 % normal intervals"
+    "integrated autocorrelation time tau, plus the common offset the encoders' rounding leaves on "
+    "channels that dwell on few counts, carried through the least-squares solution; 95 % "
+    "normal intervals"
 )
+
+
+def rounding_bias_rms(q: float, sigma: float, terms: int = 8) -> float:
+    """RMS over the cell of the mean rounding error of a quantiser of step ``q`` whose input
+    carries Gaussian noise ``sigma`` (module docstring); ``q / sqrt(12)`` at ``sigma = 0``."""
+    k = np.arange(1, terms + 1, dtype=np.float64)
+    damp = np.exp(-4.0 * math.pi**2 * k * k * (sigma / q) ** 2)
+    if sigma == 0.0:
+        return q / math.sqrt(12.0)
+    return q / (math.pi * math.sqrt(2.0)) * math.sqrt(float(np.sum(damp / (k * k))))
+
+
+def rounding_offsets(ctx: ArmContext, fit: ArmFit) -> list[FloatArray]:
+    """Per quantised recorded channel, its rounding's common offset as a vector of the weighted
+    teaching residual (the basis channels end to end, as :meth:`.arm_fit.ArmContext.wresid`):
+    :func:`rounding_bias_rms` over the square root of the counts it spans (module docstring)."""
+    n = int(np.count_nonzero(ctx.teach))
+    enters = {"q2": {"q2": 1.0}, "q3": {"q3": 1.0, "twist": -ctx.coef_s}, "theta_m": {"twist": 1.0}}
+    out = []
+    for ch, weights in enters.items():
+        y = ctx.raw[ch]
+        q = quantum(y)
+        if q <= 0.0:
+            continue
+        x = y[ctx.teach]
+        spread = noise_floor(y) ** 2
+        if ch in fit.pred:  # q2, q3: the fit's own residual on the channel
+            spread = max(spread, float(np.mean((x - fit.pred[ch][ctx.teach]) ** 2)))
+        sigma = math.sqrt(max(spread - q * q / 12.0, 0.0))
+        counts = 1.0 + max(float(np.ptp(x)) - 6.0 * sigma, 0.0) / q
+        sd = rounding_bias_rms(q, sigma) / math.sqrt(counts)
+        out.append(
+            np.concatenate([np.full(n, sd * weights.get(c, 0.0) / ctx.sigma[c]) for c in BASIS])
+        )
+    return out
 
 
 def over_noise(ctx: ArmContext, fit: ArmFit) -> dict[str, float]:
@@ -148,7 +202,10 @@ def intervals(ctx: ArmContext, fit: ArmFit) -> dict[str, Any]:
         j = np.column_stack([cols[i] for i in good])
         scale = np.sqrt(np.sum(j * j, axis=0))
         inv = np.linalg.pinv((j / scale).T @ (j / scale)) / np.outer(scale, scale)
-        cov[np.ix_(good, good)] = inv * sigma2 * tau
+        shifts = [inv @ (j.T @ e) for e in rounding_offsets(ctx, fit)]
+        cov[np.ix_(good, good)] = inv * sigma2 * tau + sum(
+            (np.outer(d, d) for d in shifts), np.zeros_like(inv)
+        )
     for i, k in enumerate(keys):
         lo, hi, unit = bounds_of(ctx, k)
         v = fit.model.v(k)
