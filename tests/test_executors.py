@@ -188,6 +188,8 @@ def test_pool_workers_end_when_the_sweep_is_killed(tmp_path: Path, start: str) -
         "tracking",
         "--workers",
         "2",
+        "--executor",
+        "local",  # (tracking points default to threads: sweep.pick_executor)
         "--no-progress",
     ]
     env = {**os.environ, "MUJOCO_GL": "disable", START_METHOD_ENV: start}

@@ -354,3 +354,19 @@ def test_ctrl_c_in_a_point_stores_no_cut_point(
     with ResultStore(store) as st:
         rows = list(st.rows())
     assert [r.inputs["payload_kg"] for r in rows] == [0.0]
+
+
+def test_auto_executor_threads_native_simulations_and_pools_python_fits() -> None:
+    """The default executor: threads where every point is a native simulation, the process pool
+    where points fit benches in Python or step the Python callbacks, inline for one worker."""
+    tracking = sw.build_spec(grid=["diameter_mm=8,9"], outputs=["tracking"], name="t")
+    assert sw.pick_executor(tracking) == "threads"
+    assert sw.pick_executor(tracking, workers=2) == "threads"
+    assert sw.pick_executor(tracking, workers=1) == "local"
+    assert sw.pick_executor(tracking, "dask") == "dask"  # a named executor is kept
+    bench = sw.build_spec(grid=["diameter_mm=8,9"], outputs=["bench", "tracking"], name="b")
+    assert sw.pick_executor(bench) == "local"
+    python = sw.build_spec(
+        grid=["diameter_mm=8,9"], backend="python", outputs=["tracking"], name="p"
+    )
+    assert python.backend == "python" and sw.pick_executor(python) == "local"

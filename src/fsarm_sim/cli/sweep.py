@@ -223,12 +223,11 @@ def register(app: typer.Typer) -> None:
         executor: Annotated[
             str,
             typer.Option(
-                help="local (process pool), threads (this process; best for many short runs) or dask"
+                help="auto (threads when every point is a native simulation, else the process "
+                "pool), local (process pool), threads (this process) or dask"
             ),
-        ] = "local",
-        workers: Annotated[
-            int | None, typer.Option(help="worker processes (default: all cores)")
-        ] = None,
+        ] = "auto",
+        workers: Annotated[int | None, typer.Option(help="workers (default: all cores)")] = None,
         scheduler: Annotated[
             str | None, typer.Option(help="Dask scheduler address, e.g. tcp://host:8786")
         ] = None,
