@@ -17,6 +17,7 @@ import pytest
 from fsarm_sim import cli
 from fsarm_sim.engine.model import Gains, SimConfig
 from fsarm_sim.errors import InvalidParameterError
+from fsarm_sim.executors import ExecutorError
 from fsarm_sim.plant.shaft import load_catalogue
 from fsarm_sim.records.store import ResultStore, point_key
 from fsarm_sim.studies import arm_metrics
@@ -364,6 +365,8 @@ def test_auto_executor_threads_native_simulations_and_pools_python_fits() -> Non
     assert sw.pick_executor(tracking, workers=2) == "threads"
     assert sw.pick_executor(tracking, workers=1) == "local"
     assert sw.pick_executor(tracking, "dask") == "dask"  # a named executor is kept
+    with pytest.raises(ExecutorError, match="auto, local, threads or dask"):
+        sw.pick_executor(tracking, "foo")
     bench = sw.build_spec(grid=["diameter_mm=8,9"], outputs=["bench", "tracking"], name="b")
     assert sw.pick_executor(bench) == "local"
     python = sw.build_spec(

@@ -62,7 +62,7 @@ import numpy as np
 from fsarm_sim import __version__
 from fsarm_sim.engine.model import Gains, SimConfig
 from fsarm_sim.errors import FsarmError, ShaftRangeError
-from fsarm_sim.executors import Outcome, run_tasks
+from fsarm_sim.executors import EXECUTORS, ExecutorError, Outcome, run_tasks
 from fsarm_sim.plant.shaft import Catalogue, load_catalogue, parse_catalogue
 from fsarm_sim.records.store import ResultStore, canonical_json, point_key
 from fsarm_sim.sim import scenarios
@@ -673,6 +673,11 @@ def pick_executor(spec: SweepSpec, executor: str = AUTO, workers: int | None = N
     (``bench``) or step through the Python callbacks, and one worker runs the points here one
     after the other (the local executor's inline path)."""
     if executor != AUTO:
+        if executor not in EXECUTORS:
+            raise ExecutorError(
+                f"executor must be {AUTO}, {', '.join(EXECUTORS[:-1])} or {EXECUTORS[-1]}, "
+                f"got {executor!r}"
+            )
         return executor
     if workers != 1 and spec.backend == "native" and set(spec.outputs) <= THREADED_OUTPUTS:
         return "threads"
