@@ -293,3 +293,27 @@ def test_algorithm2_hand_guiding_follows_the_push_and_holds() -> None:
         assert abs(p["travel_rad"]) > math.radians(1.0)  # the joint yields to a 9 N*m push
         assert abs(p["drift_after_release_rad"]) < math.radians(0.5)  # and stays where left
         assert abs(p["speed_after_release_rad_s"]) < 0.05
+
+
+def test_guiding_report_says_whether_the_joint_followed_and_held() -> None:
+    """The hand-guiding claim's criterion (seed 004 Sec. V-B), as GuidingReport reads it."""
+
+    def push(travel: float, speed: float, drift: float, sign: float = 1.0) -> dict[str, float]:
+        return {
+            "start_s": 0.5,
+            "end_s": 1.5,
+            "mean_push_nm": 9.0 * sign,
+            "travel_rad": travel * sign,
+            "speed_after_release_rad_s": speed,
+            "drift_after_release_rad": drift,
+        }
+
+    def report(*pushes: dict[str, float]) -> C.GuidingReport:
+        return C.GuidingReport(pushes, 1.0, 0.0, (0.0, 1.0))
+
+    good = report(push(0.5, 0.001, 0.001), push(0.5, 0.002, -0.001, -1.0))
+    assert good.follows() and good.holds() and good.stays()
+    creeping = report(push(0.5, C.HOLD_SPEED_RAD_S * 1.5, 0.2), push(0.5, 0.0, 0.0, -1.0))
+    assert creeping.follows() and not creeping.holds() and not creeping.stays()
+    wrong_way = report(push(-0.5, 0.0, 0.0))
+    assert not wrong_way.follows()

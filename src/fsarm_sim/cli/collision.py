@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 from rich.console import Console
@@ -23,6 +23,9 @@ from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.outputs import OutputPlan, safe_write, write_text
+
+if TYPE_CHECKING:
+    from fsarm_sim.studies.collision import GuidingReport
 
 
 def _fmt(x: float | None, scale: float = 1.0, digits: int = 3) -> str:
@@ -111,53 +114,73 @@ def register(app: typer.Typer) -> None:
             console.print(f"hand-guide skipped: {bat.guiding_skipped}", markup=False)
             _write_json(json_file, bat.as_dict(), console)
             return
-        gt = Table(title="hand guiding (observer + admittance on joint 3)")
-        for col in (
-            "push [s]",
-            "mean tau_ext [N·m]",
-            "travel [deg]",
-            "drift after release [deg]",
-            "max speed after release [deg/s]",
-        ):
-            gt.add_column(escape(col), justify="right")
-        for p in g.pushes:
-            gt.add_row(
-                f"{p['start_s']:g}-{p['end_s']:g}",
-                f"{p['mean_push_nm']:.3g}",
-                f"{math.degrees(p['travel_rad']):.3g}",
-                f"{math.degrees(p['drift_after_release_rad']):.3g}",
-                f"{math.degrees(p['speed_after_release_rad_s']):.3g}",
-            )
-        console.print(gt)
+        console.print(_guiding_table("hand guiding (observer + admittance on joint 3)", g))
+        console.print(
+            f"{_holds_line(g)}; work of the hand on joint 3: {g.human_work_j:.3g} J; final "
+            f"joint-3 speed {math.degrees(g.final_speed_rad_s):.3g} deg/s",
+            markup=False,
+        )
         if bat.guiding_alg2_failed is not None:
             console.print(
                 f"hand guiding by Algorithm 2 failed: {bat.guiding_alg2_failed}", markup=False
             )
-        if bat.guiding_alg2 is not None:
-            g2 = Table(title="hand guiding (seed 004 Algorithm 2: the motor follows the joint)")
-            for col in (
-                "push [s]",
-                "mean tau_ext [N·m]",
-                "travel [deg]",
-                "drift after release [deg]",
-                "max speed after release [deg/s]",
-            ):
-                g2.add_column(escape(col), justify="right")
-            for p in bat.guiding_alg2.pushes:
-                g2.add_row(
-                    f"{p['start_s']:g}-{p['end_s']:g}",
-                    f"{p['mean_push_nm']:.3g}",
-                    f"{math.degrees(p['travel_rad']):.3g}",
-                    f"{math.degrees(p['drift_after_release_rad']):.3g}",
-                    f"{math.degrees(p['speed_after_release_rad_s']):.3g}",
+        g2 = bat.guiding_alg2
+        if g2 is not None:
+            console.print(
+                _guiding_table(
+                    "hand guiding (seed 004 Algorithm 2: the motor follows the joint)", g2
                 )
-            console.print(g2)
-        console.print(
-            f"work of the hand on joint 3: {g.human_work_j:.3g} J; final joint-3 speed "
-            f"{math.degrees(g.final_speed_rad_s):.3g} deg/s",
-            markup=False,
-        )
+            )
+            line = _holds_line(g2)
+            if not (g2.holds() and g2.stays()):
+                line += (
+                    " - Algorithm 2 has no position to return to (the joint's reference is its "
+                    "own reading), so whatever the transmission's torque estimate does not see "
+                    "(hysteresis, friction) acts on after release as a push would"
+                )
+            console.print(line, markup=False)
         _write_json(json_file, bat.as_dict(), console)
+
+
+def _guiding_table(title: str, g: GuidingReport) -> Table:
+    """One hand-guiding run: per push its travel, then the drift and speed after release."""
+    t = Table(title=title)
+    for col in (
+        "push [s]",
+        "mean tau_ext [N·m]",
+        "travel [deg]",
+        "drift after release [deg]",
+        "max speed after release [deg/s]",
+    ):
+        t.add_column(escape(col), justify="right")
+    for p in g.pushes:
+        t.add_row(
+            f"{p['start_s']:g}-{p['end_s']:g}",
+            f"{p['mean_push_nm']:.3g}",
+            f"{math.degrees(p['travel_rad']):.3g}",
+            f"{math.degrees(p['drift_after_release_rad']):.3g}",
+            f"{math.degrees(p['speed_after_release_rad_s']):.3g}",
+        )
+    return t
+
+
+def _holds_line(g: GuidingReport) -> str:
+    """Whether the joint followed the hand and stayed where it was left (the hand-guiding
+    claim's criterion, :data:`fsarm_sim.studies.collision.HOLD_SPEED_RAD_S` / ``HOLD_DRIFT_RAD``)."""
+    from fsarm_sim.studies.collision import HOLD_DRIFT_RAD, HOLD_SPEED_RAD_S
+
+    if not g.follows():
+        return "the joint did not follow every push"
+    if g.holds() and g.stays():
+        return (
+            f"the joint follows the hand and holds after release (< "
+            f"{math.degrees(HOLD_SPEED_RAD_S):.3g} deg/s, drift < "
+            f"{math.degrees(HOLD_DRIFT_RAD):.3g} deg)"
+        )
+    return (
+        f"the joint does NOT hold after release (limits {math.degrees(HOLD_SPEED_RAD_S):.3g} "
+        f"deg/s, drift {math.degrees(HOLD_DRIFT_RAD):.3g} deg)"
+    )
 
 
 def _print_algorithm1(console: Console, bat: Any) -> None:

@@ -243,6 +243,13 @@ def evaluate_detection(
     )
 
 
+# "stays where it is left" (seed 004 Sec. V-B, the 004-hand-guiding claim): after each release
+# joint 3 moves slower than this and drifts less than this until the next push or the end
+# (estimate: the seed gives no number; 0.05 rad is 2.9 deg, a hand's placing accuracy)
+HOLD_SPEED_RAD_S = 0.05
+HOLD_DRIFT_RAD = 0.05
+
+
 @dataclass(frozen=True)
 class GuidingReport:
     """Hand guiding over the hand-guide scenario: motion during each push, drift after it."""
@@ -251,6 +258,21 @@ class GuidingReport:
     human_work_j: float  # integral of tau_ext qd3: > 0 when the joint yields to the hand
     final_speed_rad_s: float
     q3_range_rad: tuple[float, float]
+
+    def follows(self) -> bool:
+        """Every push moved the joint its way."""
+        return all(
+            math.copysign(1.0, p["travel_rad"]) == math.copysign(1.0, p["mean_push_nm"])
+            for p in self.pushes
+        )
+
+    def holds(self) -> bool:
+        """After every release the joint stays (:data:`HOLD_SPEED_RAD_S`)."""
+        return all(abs(p["speed_after_release_rad_s"]) < HOLD_SPEED_RAD_S for p in self.pushes)
+
+    def stays(self) -> bool:
+        """After every release the joint drifts less than :data:`HOLD_DRIFT_RAD`."""
+        return all(abs(p["drift_after_release_rad"]) < HOLD_DRIFT_RAD for p in self.pushes)
 
     def as_dict(self) -> dict[str, object]:
         return {

@@ -379,12 +379,7 @@ def hand_guiding(ctx: Context) -> Measured:
     g = b.guiding_alg2
     if g is None:
         return Measured(ours=[False, False, False], text=f"not run: {b.guiding_skipped}")
-    follows = all(
-        math.copysign(1.0, p["travel_rad"]) == math.copysign(1.0, p["mean_push_nm"])
-        for p in g.pushes
-    )
-    holds = all(abs(p["speed_after_release_rad_s"]) < 0.05 for p in g.pushes)
-    drift = all(abs(p["drift_after_release_rad"]) < 0.05 for p in g.pushes)
+    follows, holds, drift = g.follows(), g.holds(), g.stays()
     text = "Algorithm 2: " + "; ".join(
         f"push {p['mean_push_nm']:+.3g} N·m → {p['travel_rad']:+.3g} rad, then "
         f"{p['speed_after_release_rad_s']:.3g} rad/s, drift {p['drift_after_release_rad']:+.3g} rad"
