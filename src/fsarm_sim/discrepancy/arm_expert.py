@@ -78,10 +78,10 @@ METHOD = (
 def rounding_bias_rms(q: float, sigma: float, terms: int = 8) -> float:
     """RMS over the cell of the mean rounding error of a quantiser of step ``q`` whose input
     carries Gaussian noise ``sigma`` (module docstring); ``q / sqrt(12)`` at ``sigma = 0``."""
-    k = np.arange(1, terms + 1, dtype=np.float64)
-    damp = np.exp(-4.0 * math.pi**2 * k * k * (sigma / q) ** 2)
     if sigma == 0.0:
         return q / math.sqrt(12.0)
+    k = np.arange(1, terms + 1, dtype=np.float64)
+    damp = np.exp(-4.0 * math.pi**2 * k * k * (sigma / q) ** 2)
     return q / (math.pi * math.sqrt(2.0)) * math.sqrt(float(np.sum(damp / (k * k))))
 
 
