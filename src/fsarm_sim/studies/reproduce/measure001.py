@@ -261,6 +261,10 @@ def bend_neglected_error(ctx: Context) -> Measured:
         ours=wo,
         text=f"max |error| {wo:.3g} N·m (straight law applied at every bend)",
         details={"rows": rows},
+        note="neglecting the bend errs by T (1/μ - 1): at Sec. 5.1's 4 N·m and the smallest μ the "
+        "text prints (0.705, TOL at R = 250 mm; the rtca law holds it to R = 162 mm, φ = 90° on "
+        "L = 255 mm) that is 1.67 N·m at most; the paper's 2.8 N·m needs μ ≈ 4/(4 + 2.8) = 0.59 "
+        "somewhere in 0-90°, lower than any μ in the text (its μ(φ) table is only in Fig. 17-18)",
     )
 
 
