@@ -357,7 +357,7 @@ def test_ctrl_c_in_a_point_stores_no_cut_point(
     assert [r.inputs["payload_kg"] for r in rows] == [0.0]
 
 
-def test_auto_executor_threads_native_simulations_and_pools_python_fits() -> None:
+def test_auto_executor_threads_native_simulations_and_pools_python_fits(tmp_path: Path) -> None:
     """The default executor: threads where every point is a native simulation, the process pool
     where points fit benches in Python or step the Python callbacks, inline for one worker."""
     tracking = sw.build_spec(grid=["diameter_mm=8,9"], outputs=["tracking"], name="t")
@@ -365,6 +365,12 @@ def test_auto_executor_threads_native_simulations_and_pools_python_fits() -> Non
     assert sw.pick_executor(tracking, workers=2) == "threads"
     assert sw.pick_executor(tracking, workers=1) == "local"
     assert sw.pick_executor(tracking, "dask") == "dask"  # a named executor is kept
+    # the report names the executor the points ran on
+    store = tmp_path / "s.sqlite"
+    short = sw.build_spec(
+        grid=["diameter_mm=8,9"], fixed=["duration_s=0.2"], outputs=["tracking"], name="s"
+    )
+    assert sw.run_sweep(short, store, workers=2).executor == "threads"
     with pytest.raises(ExecutorError, match="auto, local, threads or dask"):
         sw.pick_executor(tracking, "foo")
     bench = sw.build_spec(grid=["diameter_mm=8,9"], outputs=["bench", "tracking"], name="b")

@@ -300,7 +300,7 @@ def register(app: typer.Typer) -> None:
         console.print(
             f"{report.name}: {report.total} points, {report.already} already stored, "
             f"{report.computed} computed, {report.failed} failed in {report.wall_s:.1f} s "
-            f"({report.points_per_s:.3g} points/s) -> {store}",
+            f"({report.points_per_s:.3g} points/s; executor {report.executor}) -> {store}",
             markup=False,
         )
         if report.failed_before:

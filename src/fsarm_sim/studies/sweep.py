@@ -653,6 +653,7 @@ class SweepReport:
     wall_s: float
     errors: list[str] = field(default_factory=list)
     failed_before: int = 0  # points of this sweep stored as failed by an earlier run (not rerun)
+    executor: str = ""  # the executor the points ran on (pick_executor's choice)
 
     @property
     def points_per_s(self) -> float:
@@ -708,7 +709,9 @@ def run_sweep(
         store.set_meta(f"spec:{spec.name}", json.dumps(dataclasses.asdict(spec), sort_keys=True))
         done = store.keys()
         todo = [p for p in pts if point_key(p) not in done]
-        report = SweepReport(spec.name, len(pts), len(pts) - len(todo), 0, 0, 0.0)
+        report = SweepReport(
+            spec.name, len(pts), len(pts) - len(todo), 0, 0, 0.0, executor=executor
+        )
         stored_errors = store.errors()
         for p in pts:
             err = stored_errors.get(point_key(p))
