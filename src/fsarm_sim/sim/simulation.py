@@ -17,7 +17,7 @@ import numpy as np
 import numpy.typing as npt
 
 from fsarm_sim.engine import callbacks
-from fsarm_sim.engine.lean import check_springs_off
+from fsarm_sim.engine.lean import check_springs_off, stiffness_views
 from fsarm_sim.engine.model import ArmStructure, SimConfig, build_model, read_structure
 from fsarm_sim.errors import (
     CallbackBypassError,
@@ -288,18 +288,26 @@ class Simulation:
         self._views_of: mujoco.MjModel | None = None
         self._prm: Array = np.empty(0)
         self._ref: Array = np.empty((0, L.REF_COLS))
+        self._stiffness: tuple[Array, ...] = ()
         initial_state(self.model, self.data, self.structure)
 
     def _views(self) -> tuple[Array, Array]:
         """(``fsarm_params``, reference table as rows) of ``self.model``: views into the model,
         so they see every write; looked up again only if ``self.model`` was replaced (a lookup by
-        name took a few us of every health check)."""
+        name took a few us of every health check). The stiffness views of
+        :func:`.lean.check_springs_off` are kept with them."""
         m = self.model
         if self._views_of is not m:
             self._prm = m.numeric(L.PARAMS_NAME).data
             self._ref = m.numeric(L.REF_NAME).data.reshape(-1, L.REF_COLS)
+            self._stiffness = stiffness_views(m)
             self._views_of = m
         return self._prm, self._ref
+
+    def _check_springs(self) -> None:
+        """:func:`.lean.check_springs_off` on the kept views (it runs on every ``step``)."""
+        self._views()
+        check_springs_off(self.model, self._stiffness)
 
     @property
     def params(self) -> Array:
@@ -308,7 +316,7 @@ class Simulation:
     def step(self, n: int = 1) -> None:
         """``n`` physics steps with fsarm's callbacks active."""
         check_clock(self.model, self.data)
-        check_springs_off(self.model)
+        self._check_springs()
         with callbacks.active(self.backend):
             mujoco.mj_step(self.model, self.data, nstep=n)
 
@@ -430,7 +438,7 @@ class Simulation:
             m.nq + m.nv + m.na + L.N_USERDATA_LOGGED,
         )
         check_clock(m, d)
-        check_springs_off(m)
+        self._check_springs()
         steps_per_tick = round(self.config.gains.ctrl_dt_s / m.opt.timestep)
         n_steps = round(duration_s / m.opt.timestep)
         stride = steps_per_tick * log_every_ticks if log_every_ticks > 0 else n_steps + 1

@@ -583,6 +583,12 @@ def _peak_hz(f: Array, mag: Array) -> float:
     return float(math.exp(-c1 / (2.0 * c2))) if c2 < 0.0 else float(f[i])
 
 
+def _check_output_amplitude(amplitude_rad: float, name: str) -> None:
+    """The load's motion imposed on the output: finite, in (0, pi] rad."""
+    if not (math.isfinite(amplitude_rad) and 0.0 < amplitude_rad <= math.pi):
+        raise BenchError(f"{name} must be in (0, pi] rad, got {amplitude_rad!r}")
+
+
 @dataclass(frozen=True)
 class OutputImpedance:
     freq_hz: Array
@@ -608,8 +614,7 @@ def output_impedance(
     ``Z(s) = T̂_s(s) / θ̇_s(s)`` from the estimate and the output speed. The sweep is
     logarithmic over ``duration_s`` (**estimate**: the paper gives neither the sweep law nor the
     duration; a log sweep spends as long on each decade, so 0.1-1 Hz is resolved too)."""
-    if not (math.isfinite(amplitude_rad) and 0.0 < amplitude_rad <= math.pi):
-        raise BenchError(f"chirp amplitude must be in (0, pi] rad, got {amplitude_rad!r}")
+    _check_output_amplitude(amplitude_rad, "chirp amplitude")
     if not (0.0 < f_lo < f_hi) or not math.isfinite(f_hi) or duration_s < 2.0 / f_lo:
         raise BenchError("need 0 < f_lo < f_hi and a duration of at least two periods of f_lo")
     dt = act.ctrl_dt_s
@@ -657,8 +662,7 @@ def interaction(
     1.2 s per stride; the profiles are only in a figure, so this is a stand-in of the stride's
     period and the chirp's 20°, **not** the paper's motion). The first period is faded in and
     not analysed."""
-    if not (math.isfinite(amplitude_rad) and 0.0 < amplitude_rad <= math.pi):
-        raise BenchError(f"amplitude must be in (0, pi] rad, got {amplitude_rad!r}")
+    _check_output_amplitude(amplitude_rad, "amplitude")
     if not (math.isfinite(period_s) and 0.1 <= period_s <= 100.0) or periods < 2:
         raise BenchError("period must be in [0.1, 100] s, and at least two periods run")
     dt = act.ctrl_dt_s
