@@ -12,6 +12,7 @@ import pytest
 from fsarm_sim.engine.model import Gains, SimConfig, build_model, model_path, read_structure
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
 from fsarm_sim.kernels import layout as L
+from fsarm_sim.plant.shaft import load_catalogue
 
 from conftest import hold_table
 
@@ -181,3 +182,16 @@ def test_long_tables_are_not_kept() -> None:
     n = model_mod.MODEL_CACHE_MAX_REF_NUMBERS // L.REF_COLS + 1
     build_model(SimConfig(), hold_table(0.0, 0.5, 0.3, n=n), lean=True)
     assert not model_mod._cache
+
+
+def test_transmission_blocks_are_kept_per_config_and_handed_out_as_copies() -> None:
+    cfg = SimConfig()
+    plant, ctrl = cfg.transmission_blocks()
+    plant[:] = np.nan  # a caller writing into its copy
+    ctrl[:] = np.nan
+    again = cfg.transmission_blocks()
+    assert np.all(np.isfinite(again[0])) and np.all(np.isfinite(again[1]))
+    # a changed config builds its own blocks
+    other = cfg.with_(shaft=load_catalogue().shaft(cfg.shaft.diameter_mm, 335.0))
+    assert not np.array_equal(other.transmission_blocks()[0], again[0])
+    assert other == other.with_() and cfg != other  # the kept blocks are not a field

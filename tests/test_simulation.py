@@ -285,3 +285,15 @@ def test_the_resident_record_logs_the_same_values(monkeypatch: pytest.MonkeyPatc
     assert a.keys() == b.keys()
     for key in a:
         np.testing.assert_array_equal(a[key], b[key], err_msg=key)
+
+
+def test_tracking_at_the_scenarios_own_bend_matches_the_scenario_run() -> None:
+    """A sweep point that sets the bend (joint 2 held there) and one that keeps the scenario's
+    pose run the same motion, so their metrics must agree to the last bit: both from the
+    control kernel's per-step accumulators (the bend path once sampled the recorded rows)."""
+    from fsarm_sim.studies import arm_metrics
+
+    q2 = float(_fig14_table(0.01)[0, 1])
+    own = arm_metrics.tracking(SimConfig(), "fig14-sine", duration_s=2.0)
+    held = arm_metrics.tracking(SimConfig(), "fig14-sine", duration_s=2.0, bend_rad=q2)
+    assert held == own

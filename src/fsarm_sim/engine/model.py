@@ -9,6 +9,7 @@ reference table (see :mod:`fsarm_sim.kernels.layout` for where each lands).
 from __future__ import annotations
 
 import copy
+import functools
 import math
 import threading
 from collections import OrderedDict
@@ -39,6 +40,7 @@ PAYLOAD_RADIUS_M = 0.06
 PAYLOAD_HEIGHT_M = 0.10
 
 
+@functools.lru_cache(maxsize=8)
 def model_path(name: str = "fsarm") -> Path:
     """Path of a packaged MJCF (``fsarm``, ``series_bench``, ``parallel_bench``)."""
     folder = "fsarm" if name == "fsarm" else "bench"
@@ -174,14 +176,19 @@ class SimConfig:
         return self.transmission_model().rating_nm(self.transmission_blocks()[0])
 
     def transmission_blocks(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-        """(plant, controller) parameter blocks of joint 3's transmission."""
-        tr = self.transmission_model()
-        plant = tr.run_block(self.shaft, dict(self.transmission_params), self.effects.slip)
-        ctrl = tr.run_block(
-            self.controller_shaft or self.shaft,
-            dict(self.controller_transmission_params or self.transmission_params),
-        )
-        return plant, ctrl
+        """(plant, controller) parameter blocks of joint 3's transmission (copies: built once
+        per config, which is frozen, and kept; a model build asks for them several times)."""
+        kept = self.__dict__.get("_blocks")
+        if kept is None:
+            tr = self.transmission_model()
+            plant = tr.run_block(self.shaft, dict(self.transmission_params), self.effects.slip)
+            ctrl = tr.run_block(
+                self.controller_shaft or self.shaft,
+                dict(self.controller_transmission_params or self.transmission_params),
+            )
+            kept = (plant, ctrl)
+            object.__setattr__(self, "_blocks", kept)  # not a field: eq, hash, replace ignore it
+        return kept[0].copy(), kept[1].copy()
 
 
 INTEGRATORS = {

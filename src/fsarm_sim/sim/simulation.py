@@ -41,6 +41,7 @@ MAX_STEPS = 360_000_000
 # A run may use at most this share of the memory available when it starts (reference table,
 # recorded rows and the columns made from them), so that it cannot fail half-way for memory.
 MEMORY_SHARE = 0.5
+SMALL_RUN_BYTES = 64 << 20  # a run this small is not checked against the free memory
 WARNING_CHECK_EVERY = 500  # steps: MuJoCo warnings and the run's health are checked this often
 # A joint whose tracking error exceeds this has left any controlled motion (the worst seed
 # transmission, tendon-sheath hunting, stays below 15 deg): the run is reported as diverged.
@@ -156,6 +157,8 @@ def check_run_size(
     rows = n_ticks / max(log_every_ticks, 1) if log_every_ticks > 0 else 0.0
     # reference table (the model holds it twice while compiling) + recorded rows + columns
     need = 8.0 * (3.0 * n_ticks * L.REF_COLS + rows * (n_cols + 40))
+    if need <= SMALL_RUN_BYTES:
+        return  # fits anywhere: no need to ask the kernel (a sweep point asks ~0.15 ms)
     have = MEMORY_SHARE * available_memory_bytes()
     if need > have:
         raise InvalidParameterError(

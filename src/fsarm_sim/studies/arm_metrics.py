@@ -109,8 +109,12 @@ def tracking(
         table = sc.table(n, cfg.gains.ctrl_dt_s)
         table[:, 1] = bend_rad
         sim = Simulation(cfg, table, backend)
-        cols, wall = sim.run(duration)
-        metrics = compute_metrics(cols, duration, wall, sim.structure)
+        # no rows recorded: the kernel's accumulators cover every physics step, as run_scenario's
+        # metrics do (the recorded rows would sample once per control tick)
+        cols, wall = sim.run(duration, log_every_ticks=0)
+        metrics = compute_metrics(
+            cols, duration, wall, sim.structure, cfg.rating_nm(), acc=sim.data.userdata[L.U_ACC :]
+        )
     rmse, mx = metrics["rmse_deg"], metrics["max_abs_err_deg"]
     assert isinstance(rmse, dict) and isinstance(mx, dict)
     out = {f"{j}_rmse_deg": rmse[j] for j in ("q1", "q2", "q3")}
