@@ -308,3 +308,4 @@ def test_speed_benchmark_runs_and_reports() -> None:
     assert set(r.batch_scaling) == {1, 2} and r.batch_scaling[1] == 1.0
     text = format_report(r)
     assert "native/raw" in text and "real-time factor" in text and "2 workers" in text
+    assert "per point (inline)" in text

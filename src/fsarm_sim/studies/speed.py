@@ -431,6 +431,14 @@ def _load_note(cores: int) -> str:
     )
 
 
+def sweep_point_ms(r: SpeedReport) -> tuple[float, float]:
+    """(wall time of one inline sweep point, its stepping at the no-logging run's rate), ms: a
+    sweep point records no rows, so what the inline sweep spends beyond that rate is per-point
+    overhead (both measured in the same bench-speed run)."""
+    point = 1000.0 * r.sweep_duration_s / r.sweep_rtf_per_core[1]
+    return point, 1000.0 * r.sweep_duration_s / r.rtf_native
+
+
 def format_report(r: SpeedReport) -> str:
     def goal(ok: bool) -> str:
         return "met" if ok else "NOT met"
@@ -498,6 +506,12 @@ def format_report(r: SpeedReport) -> str:
                 f"auto: {'threads' if w > 1 else 'inline'})"
             )
         if 1 in r.sweep_rtf_per_core:
+            point_ms, step_ms = sweep_point_ms(r)
+            lines.append(
+                f"  per point (inline): {point_ms:.1f} ms, of which stepping ~{step_ms:.1f} ms "
+                f"(at the no-logging run's rate); the rest, {point_ms - step_ms:.1f} ms, builds "
+                "the model, computes the metrics and stores the point"
+            )
             per = r.sweep_rtf_per_core[1] / single
             default2 = r.sweep_default_scaling.get(2, 0.0)  # sweep.pick_executor: threads
             lines.append(
