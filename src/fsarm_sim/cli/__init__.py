@@ -14,7 +14,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from fsarm_sim.cli import options as opt
-from fsarm_sim.cli.console import make_console
+from fsarm_sim.cli.console import make_console, number_table
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.lazy_commands import (
     LazyTyper,
@@ -57,18 +57,10 @@ def shafts_cmd(
     from fsarm_sim.plant.shaft import load_catalogue
 
     cat = load_catalogue(shaft_file)
-    table = Table(title=f"shafts of {cat.source}")
-    for col in (
-        "name",
-        "D [mm]",
-        "L [mm]",
-        "K_sp(0)",
-        "K_sn(0)",
-        "K_sp(90°)",
-        "K_b",
-        "rating [N·m]",
-    ):
-        table.add_column(escape(col), justify="right")
+    table = number_table(
+        f"shafts of {cat.source}",
+        ("name", "D [mm]", "L [mm]", "K_sp(0)", "K_sn(0)", "K_sp(90°)", "K_b", "rating [N·m]"),
+    )
     for s in cat.shafts:
         p = cat.shaft(s.diameter_mm, s.length_mm)
         table.add_row(

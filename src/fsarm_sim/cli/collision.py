@@ -20,7 +20,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from fsarm_sim.cli import options as opt
-from fsarm_sim.cli.console import make_console
+from fsarm_sim.cli.console import make_console, number_table
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.outputs import OutputPlan, safe_write, write_text
 
@@ -144,15 +144,16 @@ def register(app: typer.Typer) -> None:
 
 def _guiding_table(title: str, g: GuidingReport) -> Table:
     """One hand-guiding run: per push its travel, then the drift and speed after release."""
-    t = Table(title=title)
-    for col in (
-        "push [s]",
-        "mean tau_ext [N·m]",
-        "travel [deg]",
-        "drift after release [deg]",
-        "max speed after release [deg/s]",
-    ):
-        t.add_column(escape(col), justify="right")
+    t = number_table(
+        title,
+        (
+            "push [s]",
+            "mean tau_ext [N·m]",
+            "travel [deg]",
+            "drift after release [deg]",
+            "max speed after release [deg/s]",
+        ),
+    )
     for p in g.pushes:
         t.add_row(
             f"{p['start_s']:g}-{p['end_s']:g}",

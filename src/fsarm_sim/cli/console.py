@@ -7,9 +7,12 @@ or truncates the wider tables; 140 keeps them readable in logs.
 from __future__ import annotations
 
 import sys
+from collections.abc import Iterable
 from typing import Any
 
 from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
 
 PIPED_WIDTH = 140
 
@@ -18,3 +21,12 @@ def make_console(stderr: bool = False, **kwargs: Any) -> Console:
     stream = sys.stderr if stderr else sys.stdout
     width = None if stream.isatty() else PIPED_WIDTH
     return Console(stderr=stderr, width=kwargs.pop("width", width), **kwargs)
+
+
+def number_table(title: str, columns: Iterable[str]) -> Table:
+    """A table of numbers: one right-justified column per name (names printed as written, not
+    read as Rich markup)."""
+    table = Table(title=title)
+    for col in columns:
+        table.add_column(escape(col), justify="right")
+    return table

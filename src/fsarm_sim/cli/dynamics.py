@@ -16,7 +16,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
-from fsarm_sim.cli.console import make_console
+from fsarm_sim.cli.console import make_console, number_table
 from fsarm_sim.outputs import OutputPlan, SafeWriter, write_text
 
 if TYPE_CHECKING:  # the simulator is imported inside the command: `fsarm` starts quickly
@@ -68,19 +68,11 @@ def convergence_table(report: DynamicsReport) -> Table | None:
     study = report.trajectory
     if study is None:
         return None
-    table = Table(
-        title=f"{study.scenario}, {study.duration_s:g} s: max |q error| (rad, q1-q3) vs "
-        f"Pinocchio RK4 reference at dt = {study.reference_dt_s:g} s"
+    table = number_table(
+        f"{study.scenario}, {study.duration_s:g} s: max |q error| (rad, q1-q3) vs "
+        f"Pinocchio RK4 reference at dt = {study.reference_dt_s:g} s",
+        ("dt [s]", "MuJoCo RK4", "order", "Pinocchio RK4", "order", "MuJoCo vs Pinocchio, same dt"),
     )
-    for col in (
-        "dt [s]",
-        "MuJoCo RK4",
-        "order",
-        "Pinocchio RK4",
-        "order",
-        "MuJoCo vs Pinocchio, same dt",
-    ):
-        table.add_column(escape(col), justify="right")
 
     def order(v: float | None) -> str:
         return "" if v is None else f"{v:.2f}"

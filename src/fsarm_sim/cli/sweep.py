@@ -13,7 +13,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from fsarm_sim.cli import options as opt
-from fsarm_sim.cli.console import make_console
+from fsarm_sim.cli.console import make_console, number_table
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.outputs import OutputPlan, SafeWriter
 
@@ -73,17 +73,18 @@ def _print_parallel_table(name: str, fits: Any) -> None:
 
 
 def _print_comparisons(comparisons: Any, fits: Any) -> None:
-    table = Table(title="re-fit vs the catalogue coefficients the simulator was given")
-    for col in (
-        "equation",
-        "n",
-        "fit RMSE",
-        "surface RMS err",
-        "surface max err",
-        "rel RMS",
-        "rel max",
-    ):
-        table.add_column(escape(col), justify="right")
+    table = number_table(
+        "re-fit vs the catalogue coefficients the simulator was given",
+        (
+            "equation",
+            "n",
+            "fit RMSE",
+            "surface RMS err",
+            "surface max err",
+            "rel RMS",
+            "rel max",
+        ),
+    )
     for eq, c in comparisons.items():
         f = fits[eq]
         table.add_row(
@@ -163,19 +164,18 @@ def register(app: typer.Typer) -> None:
             diameters_mm=_floats(diameters, "--diameters"),
         )
         alg = algorithm1(cat, req, seed=seed, tolerance=tolerance)
-        table = Table(
-            title=f"shaft for K_des = {k_des:g} N·m/rad ({kind}, bend {bend_deg:g}°, torque ≥ {torque_nm:g} N·m)"
+        table = number_table(
+            f"shaft for K_des = {k_des:g} N·m/rad ({kind}, bend {bend_deg:g}°, torque ≥ {torque_nm:g} N·m)",
+            (
+                "method",
+                "D [mm]",
+                "L [mm]",
+                "K [N·m/rad]",
+                "K − K_des",
+                "rating [N·m]",
+                "reaches K_des",
+            ),
         )
-        for col in (
-            "method",
-            "D [mm]",
-            "L [mm]",
-            "K [N·m/rad]",
-            "K − K_des",
-            "rating [N·m]",
-            "reaches K_des",
-        ):
-            table.add_column(escape(col), justify="right")
 
         def row(s: Any) -> None:
             table.add_row(

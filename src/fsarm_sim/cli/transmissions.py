@@ -11,7 +11,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
-from fsarm_sim.cli.console import make_console
+from fsarm_sim.cli.console import make_console, number_table
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.outputs import OutputPlan, SafeWriter, safe_write, write_text
 
@@ -207,9 +207,10 @@ def register(app: typer.Typer) -> None:
         cfg = SimConfig(transmission=transmission, gains=Gains(gain_schedule=not fixed_gains))
         points = versus_bend(cfg, tuple(bend) if bend else DEFAULT_BENDS_DEG)
         mode = "fixed" if fixed_gains else "scheduled"
-        table = Table(title=f"{transmission}: torque loop vs bend ({mode} gains)")
-        for col in ("bend [deg]", "bandwidth [Hz]", "|Z| low f [N·m/rad]", "passive K [N·m/rad]"):
-            table.add_column(escape(col), justify="right")
+        table = number_table(
+            f"{transmission}: torque loop vs bend ({mode} gains)",
+            ("bend [deg]", "bandwidth [Hz]", "|Z| low f [N·m/rad]", "passive K [N·m/rad]"),
+        )
         for p in points:
             table.add_row(
                 f"{p.bend_deg:g}",

@@ -405,20 +405,30 @@ def measure_speed(
         kernel_source=source,
         sweep_points=sweep_n,
         sweep_duration_s=rtf_duration_s,
-        sweep_rtf_per_core={w: statistics.median(v) for w, v in sweep.items()},
-        sweep_scaling={
-            w: statistics.median(a * w / b for a, b in zip(v, sweep[1], strict=True))
-            for w, v in sweep.items()
-        },
-        sweep_default_rtf_per_core={w: statistics.median(v) for w, v in sweep_t.items()},
-        sweep_default_scaling={
-            w: statistics.median(a * w / b for a, b in zip(v, sweep_t[1], strict=True))
-            for w, v in sweep_t.items()
-        },
-        sweep_cpu_s={w: statistics.median(v) for w, v in sweep_cpu.items()},
-        sweep_default_cpu_s={w: statistics.median(v) for w, v in sweep_t_cpu.items()},
+        sweep_rtf_per_core=_medians(sweep),
+        sweep_scaling=_scaling(sweep),
+        sweep_default_rtf_per_core=_medians(sweep_t),
+        sweep_default_scaling=_scaling(sweep_t),
+        sweep_cpu_s=_medians(sweep_cpu),
+        sweep_default_cpu_s=_medians(sweep_t_cpu),
         sweep_start_method=pool_start,
     )
+
+
+def _medians(by_workers: dict[int, list[float]]) -> dict[int, float]:
+    return {w: statistics.median(v) for w, v in by_workers.items()}
+
+
+def _scaling(rtf_per_core: dict[int, list[float]]) -> dict[int, float]:
+    """Per number of workers: the median over repetitions of its throughput against one
+    worker's in the same repetition (side by side)."""
+    if not rtf_per_core:
+        return {}  # no sweep measured (--quick)
+    one = rtf_per_core[1]
+    return {
+        w: statistics.median(a * w / b for a, b in zip(v, one, strict=True))
+        for w, v in rtf_per_core.items()
+    }
 
 
 def _load_note(cores: int) -> str:
@@ -432,9 +442,9 @@ def _load_note(cores: int) -> str:
 
 
 def sweep_point_ms(r: SpeedReport) -> tuple[float, float]:
-    """(wall time of one inline sweep point, its stepping at the no-logging run's rate), ms: a
-    sweep point records no rows, so what the inline sweep spends beyond that rate is per-point
-    overhead (both measured in the same bench-speed run)."""
+    """(wall time of one inline sweep point, its stepping at the no-logging run's rate), ms: the
+    benchmark's points (fig14-sine at a set bend) record no rows, so what the inline sweep spends
+    beyond that rate is per-point overhead (both measured in the same bench-speed run)."""
     point = 1000.0 * r.sweep_duration_s / r.sweep_rtf_per_core[1]
     return point, 1000.0 * r.sweep_duration_s / r.rtf_native
 
@@ -490,21 +500,22 @@ def format_report(r: SpeedReport) -> str:
             f"--executor local: process workers started by {r.sweep_start_method or '?'}; CPU: "
             "of the sweep's process and workers):"
         )
-        for w, v in r.sweep_rtf_per_core.items():
-            cpu = r.sweep_cpu_s.get(w, math.nan)
-            lines.append(
-                f"  {w} worker{'s' if w > 1 else ' '}  {v:6.0f}x real time per core"
-                f" ({v / single:.2f} of the single run), scaling {r.sweep_scaling[w]:.2f}x,"
-                f" CPU {cpu:.2f} s  (--executor local: {'processes' if w > 1 else 'inline'})"
-            )
-        for w, v in r.sweep_default_rtf_per_core.items():
-            cpu = r.sweep_default_cpu_s.get(w, math.nan)
-            lines.append(
-                f"  {w} worker{'s' if w > 1 else ' '}  {v:6.0f}x real time per core"
-                f" ({v / single:.2f} of the single run), scaling "
-                f"{r.sweep_default_scaling[w]:.2f}x, CPU {cpu:.2f} s  (the default, --executor "
-                f"auto: {'threads' if w > 1 else 'inline'})"
-            )
+        for rtf, scaling, cpus, how, many in (
+            (r.sweep_rtf_per_core, r.sweep_scaling, r.sweep_cpu_s, "--executor local", "processes"),
+            (
+                r.sweep_default_rtf_per_core,
+                r.sweep_default_scaling,
+                r.sweep_default_cpu_s,
+                "the default, --executor auto",
+                "threads",
+            ),
+        ):
+            for w, v in rtf.items():
+                lines.append(
+                    f"  {w} worker{'s' if w > 1 else ' '}  {v:6.0f}x real time per core"
+                    f" ({v / single:.2f} of the single run), scaling {scaling[w]:.2f}x,"
+                    f" CPU {cpus.get(w, math.nan):.2f} s  ({how}: {many if w > 1 else 'inline'})"
+                )
         if 1 in r.sweep_rtf_per_core:
             point_ms, step_ms = sweep_point_ms(r)
             lines.append(
