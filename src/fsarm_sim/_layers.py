@@ -48,7 +48,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("engine", ("engine",)),
     ("simulation", ("sim",)),
     ("records", ("records",)),
-    ("studies", ("studies",)),
+    ("studies", ("studies", "gym")),
     ("review", ("review",)),
     ("discrepancy", ("discrepancy",)),
     ("cli", ("cli",)),

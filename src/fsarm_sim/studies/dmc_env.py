@@ -30,6 +30,7 @@ import math
 from collections.abc import Callable
 from typing import Any
 
+import mujoco
 import numpy as np
 import numpy.typing as npt
 from dm_control import mujoco as dm_mujoco
@@ -72,11 +73,29 @@ class InvalidActionError(InvalidParameterError):
     """An action had the wrong shape or was NaN/infinite."""
 
 
+class InvalidStateError(InvalidParameterError):
+    """A state vector given to ``FsarmPhysics.set_state`` does not belong to the model."""
+
+
+# What ``FsarmPhysics.get_state`` saves: MuJoCo's whole integration state - time, qpos, qvel, act,
+# warm start, controls and ``userdata``, where fsarm's controllers keep their integrators,
+# filters, hysteresis states and control clock - followed by the agent's joint-3 reference offset.
+STATE_SIG = int(mujoco.mjtState.mjSTATE_INTEGRATION)
+
+
 class FsarmPhysics(dm_mujoco.Physics):
-    """dm_control Physics of an fsarm model, with named read-outs in SI units."""
+    """dm_control Physics of an fsarm model, with named read-outs in SI units.
+
+    ``get_state()`` / ``set_state()`` round-trip the *whole* simulator: MuJoCo's integration
+    state (``mjSTATE_INTEGRATION``: time, qpos, qvel, act, warm start, ctrl, userdata - the
+    controllers' integrators, filters, slip states and control clock live in ``userdata``) plus
+    the joint-3 reference offset the agent set, so an MPC or tree search that restores a state
+    continues bit-identically. The state vector is valid within the episode it was taken in."""
 
     _structure: ArmStructure | None = None
     backend: Backend = DEFAULT_BACKEND
+    _base: Array | None = None  # this episode's unmodified reference table
+    _offset: float = 0.0  # the agent's joint-3 reference offset (rad), applied from its tick on
 
     def step(self, nstep: int = 1) -> None:
         """``nstep`` physics steps with fsarm's callbacks active (shaft forces, internal states,
@@ -99,11 +118,75 @@ class FsarmPhysics(dm_mujoco.Physics):
         ``build_model`` sets after compiling (shaft inertia as tendon armature, timestep,
         integrator, the parameter vector) would have to be re-applied by hand; wrapping the
         compiled model keeps one code path and gives bit-identical trajectories."""
-        physics: FsarmPhysics = cls.from_model(wrapper.MjModel(build_model(config, ref_table)))
         if backend not in ("python", "native"):
             raise InvalidParameterError(f"backend must be 'python' or 'native', got {backend!r}")
+        physics: FsarmPhysics = cls.from_model(wrapper.MjModel(build_model(config, ref_table)))
         physics.backend = backend
+        physics.set_episode_reference(physics.reference_table().copy())
         return physics
+
+    # --- reference and agent offset --------------------------------------------------------
+    def set_episode_reference(self, table: Array) -> None:
+        """Write a new episode's (unmodified) reference table and clear the offset."""
+        ref = self.reference_table()
+        ref[:] = table
+        self._base = ref.copy()
+        self._offset = 0.0
+
+    def base_reference(self) -> Array:
+        """This episode's reference table without the agent's offset (read-only copy)."""
+        if self._base is None:
+            raise InvalidParameterError("the physics has no reference table yet")
+        return self._base
+
+    @property
+    def q3_offset(self) -> float:
+        """The joint-3 reference offset (rad) in force from the current tick on."""
+        return self._offset
+
+    def set_q3_offset(self, offset: float) -> None:
+        """Apply a joint-3 reference offset (rad) from the current control tick on."""
+        base = self.base_reference()
+        self._offset = float(offset)
+        k = self.tick()
+        self.reference_table()[k:, 2] = base[k:, 2] + self._offset
+
+    def copy(self, share_model: bool = False) -> FsarmPhysics:
+        """A copy that keeps the backend, the episode reference and the offset."""
+        new: FsarmPhysics = super().copy(share_model=share_model)
+        new.backend = self.backend
+        new._base = None if self._base is None else self._base.copy()
+        new._offset = self._offset
+        return new
+
+    # --- whole-simulator state -------------------------------------------------------------
+    def get_state(self, sig: int | None = None) -> Array:
+        """The simulator's state; ``sig=None`` (default) is the whole state described in the
+        class docstring, an explicit ``sig`` is MuJoCo's ``mj_getState`` with that signature."""
+        if sig is not None:
+            return np.asarray(super().get_state(sig), dtype=np.float64)
+        state = np.empty(mujoco.mj_stateSize(self.model.ptr, STATE_SIG) + 1, np.float64)
+        mujoco.mj_getState(self.model.ptr, self.data.ptr, state[:-1], STATE_SIG)
+        state[-1] = self._offset
+        return state
+
+    def set_state(self, physics_state: Any, sig: int | None = None) -> None:
+        """Restore a state from :meth:`get_state` (same ``sig``); a vector of the wrong size or
+        with non-finite values raises :class:`InvalidStateError`."""
+        if sig is not None:
+            super().set_state(physics_state, sig)
+            return
+        state = np.asarray(physics_state, dtype=np.float64)
+        n = mujoco.mj_stateSize(self.model.ptr, STATE_SIG) + 1
+        if state.shape != (n,):
+            raise InvalidStateError(
+                f"state must be a vector of {n} values from FsarmPhysics.get_state() of this "
+                f"model, got shape {state.shape}"
+            )
+        if not np.all(np.isfinite(state)):
+            raise InvalidStateError("state holds NaN or infinite values")
+        mujoco.mj_setState(self.model.ptr, self.data.ptr, state[:-1], STATE_SIG)
+        self.set_q3_offset(float(state[-1]))
 
     @property
     def structure(self) -> ArmStructure:
@@ -165,8 +248,6 @@ class Joint3Tracking(base.Task):
         self._ctrl_dt = ctrl_dt_s
         self._randomize = randomize_reference
         self._max_offset = max_offset_rad
-        self._base: Array | None = None  # this episode's unmodified reference table
-        self._offset = 0.0
         super().__init__(random=random)
 
     # --- episode -------------------------------------------------------------------------
@@ -182,10 +263,7 @@ class Joint3Tracking(base.Task):
         return table
 
     def initialize_episode(self, physics: FsarmPhysics) -> None:
-        ref = physics.reference_table()
-        self._base = self.episode_reference(ref.shape[0])
-        ref[:] = self._base
-        self._offset = 0.0
+        physics.set_episode_reference(self.episode_reference(physics.reference_table().shape[0]))
         initial_state(physics.model.ptr, physics.data.ptr, physics.structure)
         super().initialize_episode(physics)
 
@@ -215,19 +293,11 @@ class Joint3Tracking(base.Task):
                 f"action (joint-3 reference offset) must be a finite number of radians in "
                 f"[{-self._max_offset:.4g}, {self._max_offset:.4g}], got {value!r}"
             )
-        self._offset = min(max(value, -self._max_offset), self._max_offset)
-        base_ref = self._base_table()
-        k = physics.tick()
-        physics.reference_table()[k:, 2] = base_ref[k:, 2] + self._offset
+        physics.set_q3_offset(min(max(value, -self._max_offset), self._max_offset))
 
     # --- observation / reward ------------------------------------------------------------
-    def _base_table(self) -> Array:
-        if self._base is None:
-            raise InvalidParameterError("the environment must be reset before it is stepped")
-        return self._base
-
     def get_observation(self, physics: FsarmPhysics) -> collections.OrderedDict[str, Array]:
-        row = self._base_table()[physics.tick()]
+        row = physics.base_reference()[physics.tick()]
         q = physics.joint_angles()
         obs: collections.OrderedDict[str, Array] = collections.OrderedDict()
         obs["joint_angles"] = q
@@ -237,11 +307,11 @@ class Joint3Tracking(base.Task):
         obs["reference"] = np.array([row[2], row[5]])  # q3_ref, qd3_ref (unmodified)
         obs["tracking_error"] = np.array([q[2] - row[2]])
         obs["torque_estimate"] = np.array([physics.torque_estimate()])
-        obs["offset"] = np.array([self._offset])
+        obs["offset"] = np.array([physics.q3_offset])
         return obs
 
     def get_reward(self, physics: FsarmPhysics) -> float:
-        err = float(physics.joint_angles()[2] - self._base_table()[physics.tick(), 2])
+        err = float(physics.joint_angles()[2] - physics.base_reference()[physics.tick(), 2])
         return float(
             rewards.tolerance(
                 err,
