@@ -195,3 +195,32 @@ def test_transmission_blocks_are_kept_per_config_and_handed_out_as_copies() -> N
     other = cfg.with_(shaft=load_catalogue().shaft(cfg.shaft.diameter_mm, 335.0))
     assert not np.array_equal(other.transmission_blocks()[0], again[0])
     assert other == other.with_() and cfg != other  # the kept blocks are not a field
+
+
+SCENES = sorted(MODELS.parent.glob("*/scene*.xml"))
+
+
+@pytest.mark.parametrize("path", SCENES, ids=[f"{p.parent.name}/{p.name}" for p in SCENES])
+def test_scenes_survive_noisy_controls_without_warnings(path: Path) -> None:
+    """Menagerie's model test: 3000 steps of random controls within the control ranges, plain
+    MuJoCo (no fsarm callbacks), no warning and a finite state."""
+    m = mujoco.MjModel.from_xml_path(str(path))
+    d = mujoco.MjData(m)
+    rng = np.random.default_rng(0)
+    lo = np.where(m.actuator_ctrllimited, m.actuator_ctrlrange[:, 0], -1.0)
+    hi = np.where(m.actuator_ctrllimited, m.actuator_ctrlrange[:, 1], 1.0)
+    for _ in range(3000):
+        d.ctrl[:] = rng.uniform(lo, hi)
+        mujoco.mj_step(m, d)
+    assert all(w.number == 0 for w in d.warning)
+    assert np.all(np.isfinite(d.qpos))
+
+
+@pytest.mark.parametrize("folder", ["fsarm", "bench"])
+def test_model_folders_are_complete(folder: str) -> None:
+    """Each model folder stands alone as in Menagerie: a licence, a changelog, a README with the
+    sources, and at least one scene."""
+    here = MODELS.parent / folder
+    for name in ("LICENSE", "CHANGELOG.md", "README.md"):
+        assert (here / name).is_file(), name
+    assert list(here.glob("scene*.xml"))

@@ -52,11 +52,27 @@ def scenarios_cmd() -> None:
 @app.command("shafts")
 def shafts_cmd(
     shaft_file: opt.ShaftFile = None,
+    export: Annotated[
+        Path | None,
+        typer.Option(
+            help="write the coefficient file (with every comment: a template for your own "
+            "bench) to this path instead of listing it"
+        ),
+    ] = None,
 ) -> None:
     """List the catalogue's bench shafts with their eq. 3/4 stiffnesses."""
-    from fsarm_sim.plant.shaft import load_catalogue
+    from fsarm_sim.outputs import check_file_path, safe_write, write_text
+    from fsarm_sim.plant.shaft import catalogue_text, load_catalogue
 
     cat = load_catalogue(shaft_file)
+    if export is not None:
+        path = check_file_path("--export", export)
+        text = catalogue_text(shaft_file)
+        safe_write(path, lambda p: write_text(p, text), "the coefficient template")
+        console.print(
+            f"wrote {path}: edit its numbers, then `fsarm run SCENARIO --shaft-file {path}`"
+        )
+        return
     table = number_table(
         f"shafts of {cat.source}",
         ("name", "D [mm]", "L [mm]", "K_sp(0)", "K_sn(0)", "K_sp(90°)", "K_b", "rating [N·m]"),
@@ -306,6 +322,7 @@ def _register_extensions() -> None:
     importlib.import_module("fsarm_sim.cli.collision").register(app)
     importlib.import_module("fsarm_sim.cli.reproduce").register(app)
     importlib.import_module("fsarm_sim.cli.seed_experiments").register(app)
+    importlib.import_module("fsarm_sim.cli.model_export").register(app)
 
 
 app.ready()

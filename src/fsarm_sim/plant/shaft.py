@@ -716,6 +716,15 @@ def _eq2_test(bending_table: dict[str, Any], source: str) -> tuple[float, float]
     return amp, period
 
 
+def catalogue_text(path: str | Path | None = None) -> str:
+    """The coefficient file's text with its comments (None: the default catalogue), checked to
+    load: ``fsarm shafts --export`` writes it as the template of a user's own file."""
+    load_catalogue(path)
+    if path is None:
+        return resources.files("fsarm_sim.data").joinpath(DEFAULT_CATALOGUE).read_text("utf-8")
+    return Path(path).read_text("utf-8")
+
+
 def load_catalogue(path: str | Path | None = None) -> Catalogue:
     """Load and validate a coefficient file; None loads the default (estimated) catalogue."""
     if path is None:
