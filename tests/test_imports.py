@@ -240,3 +240,20 @@ def test_cli_modules_define_no_types(module: str) -> None:
     tree = ast.parse(MODULES[module].read_text("utf-8"))
     classes = [n.name for n in tree.body if isinstance(n, ast.ClassDef)]
     assert not classes, f"{module} defines {classes}: move them into the library"
+
+
+def test_top_level_api_is_lazy_and_complete() -> None:
+    """``from fsarm_sim import ...`` gives the first script's names; importing the package alone
+    imports none of them (the ``fsarm`` command's start-up)."""
+    import subprocess
+    import sys
+
+    import fsarm_sim
+    from fsarm_sim import api
+
+    assert set(fsarm_sim.__all__) == {"__version__", *api.__all__}
+    for name in api.__all__:
+        assert getattr(fsarm_sim, name) is getattr(api, name)
+    code = "import sys, fsarm_sim; print('fsarm_sim.api' in sys.modules, 'mujoco' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["False", "False"]

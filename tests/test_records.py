@@ -57,6 +57,24 @@ def test_run_sidecar_reads_back_equal(tmp_path: Path) -> None:
     assert set(ds.unused_columns) == set(rec.RUN_COLUMNS) - set(rec.READ["arm"])
 
 
+def test_parquet_carries_units_and_sidecar(tmp_path: Path) -> None:
+    """A run Parquet file describes itself: each column's unit as field metadata, the sidecar as
+    schema metadata (equal to the JSON sidecar beside it)."""
+    import pyarrow.parquet as pq
+
+    result = run_scenario("step-q3", SimConfig(), duration_s=0.05, backend="native")
+    path = timeseries.write_timeseries(result, tmp_path, "parquet")
+    schema = pq.read_schema(path)
+    for name in result.columns:
+        field = schema.field(name)
+        assert field.metadata is not None
+        assert field.metadata[b"unit"].decode() == rec.UNITS[name]
+    assert schema.metadata is not None
+    embedded = json.loads(schema.metadata[timeseries.PARQUET_SIDECAR_KEY.encode()])
+    assert embedded == json.loads(path.with_suffix(".json").read_text())
+    assert schema.field("q3").metadata[b"unit"] == b"rad"
+
+
 def test_synthetic_sidecars_read_back_equal(tmp_path: Path) -> None:
     for setup in ("series_bench", "parallel_bench"):
         truth = synth.truth_model(

@@ -23,7 +23,8 @@ Read top-down, the layers are the package's folders (since 0.3.0):
   the seed papers' claims judged;
 * review - recordings and figures;
 * discrepancy - naming what a record shows that the model lacks (and synthetic records for it);
-* cli - the ``fsarm`` command: parse, call the library, print.
+* cli - the ``fsarm`` command: parse, call the library, print;
+* api - the package's own names (``from fsarm_sim import run_scenario``), imported lazily.
 """
 
 from __future__ import annotations
@@ -32,8 +33,8 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     (
         "base",
         (
-            "__init__",
             "_layers",
+            "_version",
             "data",
             "errors",
             "executors",
@@ -52,4 +53,5 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("review", ("review",)),
     ("discrepancy", ("discrepancy",)),
     ("cli", ("cli",)),
+    ("api", ("__init__", "api")),
 )

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from fsarm_sim import __version__
+from fsarm_sim._version import __version__
 from fsarm_sim.errors import FsarmError
 
 SCHEMA_VERSION = 1

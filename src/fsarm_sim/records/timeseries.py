@@ -15,12 +15,13 @@ from typing import Any
 
 import numpy as np
 
-from fsarm_sim import __version__
+from fsarm_sim._version import __version__
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.records import sidecar as rec
 from fsarm_sim.sim.simulation import RunResult
 
 FORMATS = ("csv", "parquet")
+PARQUET_SIDECAR_KEY = "fsarm.sidecar"  # schema metadata key of a run Parquet file: the sidecar JSON
 
 
 def _clean(x: Any) -> Any:
@@ -89,8 +90,19 @@ def write_timeseries(result: RunResult, out_dir: Path, fmt: str = "csv") -> Path
         # straight from the buffer: pa.array() would import pandas (0.4 s) to check its types
         arrays.append(pa.Array.from_buffers(pa.float64(), len(x), [None, pa.py_buffer(x)]))
         names.append(k)
-    table = pa.Table.from_arrays(arrays, names=names)
+    record = run_record(result)
     path = out_dir / f"{result.scenario}.{fmt}"
+    if fmt == "parquet":
+        # Parquet carries what the sidecar says: each column's unit as field metadata and the
+        # whole sidecar as schema metadata, so the table alone is self-describing
+        fields = [
+            pa.field(k, pa.float64(), metadata={"unit": (record.columns or {}).get(k, "")})
+            for k in names
+        ]
+        schema = pa.schema(fields, metadata={PARQUET_SIDECAR_KEY: json.dumps(record.to_json())})
+        table = pa.Table.from_arrays(arrays, schema=schema)
+    else:
+        table = pa.Table.from_arrays(arrays, names=names)
     if fmt == "csv":
         import pyarrow.csv as pa_csv
 
@@ -101,7 +113,7 @@ def write_timeseries(result: RunResult, out_dir: Path, fmt: str = "csv") -> Path
         import pyarrow.parquet as pq
 
         pq.write_table(table, path)
-    rec.write_sidecar(path.with_suffix(".json"), run_record(result))
+    rec.write_sidecar(path.with_suffix(".json"), record)
     return path
 
 

@@ -41,7 +41,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim import __version__
+from fsarm_sim._version import __version__
 from fsarm_sim.engine import callbacks
 from fsarm_sim.engine.model import build_spec, read_structure
 from fsarm_sim.errors import InvalidParameterError

@@ -59,7 +59,7 @@ from typing import Any
 
 import numpy as np
 
-from fsarm_sim import __version__
+from fsarm_sim._version import __version__
 from fsarm_sim.engine.model import Gains, SimConfig
 from fsarm_sim.errors import FsarmError, ShaftRangeError
 from fsarm_sim.executors import EXECUTORS, ExecutorError, Outcome, run_tasks
