@@ -1,7 +1,11 @@
 #!/usr/bin/env bash
 # Create .venv (Python 3.11) and install fsarm-sim with the pinned, known-good versions.
 # Idempotent: re-installs only when pyproject.toml or requirements.lock changed.
+# --no-browser: skip Debian's chromium, which only the viewer check of the test suite needs (the
+# demo passes it).
 set -euo pipefail
+browser=1
+[ "${1:-}" = "--no-browser" ] && browser=0
 cd "$(dirname "$0")/.."
 PY="${PYTHON:-python3.11}"
 command -v "$PY" >/dev/null 2>&1 || PY=python3
@@ -27,7 +31,7 @@ fi
 # The viewer check (tests/test_viewer_check.py) opens recordings in Rerun's web viewer in headless
 # Chromium (Playwright drives the system's browser; it cannot download its own). Install Debian's
 # package when it is missing and we may (root, apt-get); otherwise that test fails and says how.
-if [ -z "${FSARM_CHROMIUM:-}" ] && [ ! -x /usr/bin/chromium ] && [ "$(id -u)" = 0 ] \
+if [ "$browser" = 1 ] && [ -z "${FSARM_CHROMIUM:-}" ] && [ ! -x /usr/bin/chromium ] && [ "$(id -u)" = 0 ] \
    && command -v apt-get >/dev/null 2>&1; then
   echo "Installing Debian's chromium for the viewer check (log: .venv/setup.log) ..."
   if ! { apt-get install -y chromium || { apt-get update && apt-get install -y chromium; }; } \
