@@ -120,8 +120,9 @@ def test_named_errors() -> None:
 
 
 def test_figures_command_covers_every_scenario(
-    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
+    """Every scenario's every figure is written, or left out with its reason printed."""
     monkeypatch.setattr(
         sys,
         "argv",
@@ -144,7 +145,22 @@ def test_figures_command_covers_every_scenario(
         cli.main()
     except SystemExit as exc:
         assert not exc.code
-    want = {f"{s}_{k}.png" for s in scenarios.REGISTRY for k in figures.FIGURE_KINDS}
-    assert {p.name for p in tmp_path.iterdir()} == want
-    for name in want:
+    every = {f"{s}_{k}" for s in scenarios.REGISTRY for k in figures.FIGURE_KINDS}
+    written = {p.stem for p in tmp_path.iterdir()}
+    out = capsys.readouterr().out
+    left_out = {line.split()[1] for line in out.splitlines() if line.startswith("no ")}
+    assert written | left_out == every and not written & left_out
+    assert "fig14-sine_bending" in left_out and "fig14-sine_tracking" in written
+    for name in (f"{w}.png" for w in written):
         assert _png_size(tmp_path / name) == (round(SMALL[0] * DPI), round(SMALL[1] * DPI))
+
+
+def test_figures_without_information_are_left_out_with_a_reason(tmp_path: Path) -> None:
+    """fig14-sine holds the bend at 45°: its bending 'loop' would be a dot, so no file, and the
+    reason says so; p2p-payload moves joint 2, so its bending figure is written."""
+    fig14 = run_scenario("fig14-sine", duration_s=0.5)
+    skipped: dict[str, str] = {}
+    paths = figures.run_figures(fig14, tmp_path, dpi=DPI, size_in=SMALL, skipped=skipped)
+    assert [p.name for p in paths] == ["fig14-sine_tracking.png", "fig14-sine_torque_twist.png"]
+    assert set(skipped) == {"bending"} and "held at 45.0°" in skipped["bending"]
+    assert figures.skip_reason("bending", {"phi_b": np.linspace(0.0, 0.5, 20)}) == ""

@@ -151,11 +151,17 @@ def review_outputs(
     if figures_dir is not None:
         from fsarm_sim.review.figures import run_figures
 
+        skipped: dict[str, str] = {}
         paths = w.write(
-            figures_dir, lambda d: run_figures(result, d), "the figures (--figures)", folder=True
+            figures_dir,
+            lambda d: run_figures(result, d, skipped=skipped),
+            "the figures (--figures)",
+            folder=True,
         )
         if paths is not None:
             console.print(f"figures: {', '.join(str(p) for p in paths)}", markup=False)
+        for kind, why in skipped.items():
+            console.print(f"no {kind} figure: {why}", markup=False)
     if writes is None:
         w.finish()
 
@@ -210,6 +216,7 @@ def register(app: typer.Typer) -> None:
         console = make_console()
         err = make_console(stderr=True)
         writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
+        skipped: dict[str, str] = {}
         written = writes.write(
             out,
             lambda d: all_scenario_figures(
@@ -220,12 +227,15 @@ def register(app: typer.Typer) -> None:
                 formats=formats,
                 dpi=dpi,
                 size_in=(width, height),
+                skipped=skipped,
             ),
             "the figures (--out)",
             folder=True,
         )
         for name, paths in (written or {}).items():
             console.print(f"{name}: {', '.join(str(p) for p in paths)}", markup=False)
+        for fig, why in skipped.items():
+            console.print(f"no {fig} figure: {why}", markup=False)
         writes.finish()
 
 

@@ -13,7 +13,7 @@ and drawn in degrees.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -249,6 +249,24 @@ def save_figure(
 
 
 FIGURE_KINDS = ("tracking", "torque_twist", "bending")
+# below these ranges a loop figure is a dot: nothing to read from it (the bend held, or a twist
+# of a few encoder counts)
+MIN_BEND_RANGE_DEG = 0.5
+MIN_TWIST_RANGE_DEG = 0.01
+
+
+def skip_reason(kind: str, cols: Columns) -> str:
+    """Why the ``kind`` figure of a run would carry no information ("" when it would)."""
+    if kind == "bending" and "phi_b" in cols:
+        b = _col(cols, "phi_b") * RAD2DEG
+        if len(b) == 0 or np.ptp(b) < MIN_BEND_RANGE_DEG:
+            held = f" at {b.mean():.1f}°" if len(b) else ""
+            return f"the bend is held{held} in this run: no bending loop to draw"
+    if kind == "torque_twist" and "twist" in cols:
+        x = _col(cols, "twist") * RAD2DEG
+        if len(x) == 0 or np.ptp(x) < MIN_TWIST_RANGE_DEG:
+            return "the shaft barely twists in this run: no torque-twist loop to draw"
+    return ""
 
 
 def run_figures(
@@ -258,29 +276,37 @@ def run_figures(
     formats: Sequence[str] = ("png",),
     dpi: int = DEFAULT_DPI,
     size_in: tuple[float, float] = DEFAULT_SIZE_IN,
+    skipped: dict[str, str] | None = None,
 ) -> list[Path]:
-    """The three figures of one arm run: ``<out_dir>/<scenario>_<kind>.<fmt>``."""
+    """The figures of one arm run that carry information: ``<out_dir>/<scenario>_<kind>.<fmt>``
+    for each of :data:`FIGURE_KINDS` whose :func:`skip_reason` is empty; ``skipped`` (if given)
+    receives the reasons of the others by kind."""
     cols, name = result.columns, result.scenario
     sh = result.config.shaft
     tag = (
         f"{name} (D={sh.diameter_mm:g} mm, L={sh.length_mm:g} mm, {result.config.payload_kg:g} kg)"
     )
-    figs = {
-        "tracking": tracking_figure(
+    makers: dict[str, Callable[[], Figure]] = {
+        "tracking": lambda: tracking_figure(
             cols, size_in=size_in, title=f"position tracking (cf. Fig. 14)\n{tag}"
         ),
-        "torque_twist": torque_twist_figure(
+        "torque_twist": lambda: torque_twist_figure(
             cols,
             size_in=size_in,
             title=f"shaft torque vs twist (cf. Fig. 6/7){_bend_note(cols)}\n{tag}",
         ),
-        "bending": bending_figure(
+        "bending": lambda: bending_figure(
             cols, size_in=size_in, title=f"bending moment vs bend (cf. Fig. 9)\n{tag}"
         ),
     }
     paths: list[Path] = []
     for kind in FIGURE_KINDS:
-        paths += save_figure(figs[kind], Path(out_dir) / f"{name}_{kind}", formats, dpi)
+        reason = skip_reason(kind, cols)
+        if reason:
+            if skipped is not None:
+                skipped[kind] = reason
+            continue
+        paths += save_figure(makers[kind](), Path(out_dir) / f"{name}_{kind}", formats, dpi)
     return paths
 
 
@@ -293,8 +319,10 @@ def all_scenario_figures(
     formats: Sequence[str] = ("png",),
     dpi: int = DEFAULT_DPI,
     size_in: tuple[float, float] = DEFAULT_SIZE_IN,
+    skipped: dict[str, str] | None = None,
 ) -> dict[str, list[Path]]:
-    """Run every registered scenario (or ``scenarios``) and write its figures."""
+    """Run every registered scenario (or ``scenarios``) and write its figures; ``skipped``
+    receives ``{"<scenario>_<kind>": reason}`` for the figures left out (:func:`skip_reason`)."""
     from fsarm_sim.sim import scenarios as registry
     from fsarm_sim.sim.simulation import run_scenario
 
@@ -303,5 +331,10 @@ def all_scenario_figures(
     out: dict[str, list[Path]] = {}
     for name in names:
         result = run_scenario(name, config, duration_s=duration_s)
-        out[name] = run_figures(result, out_dir, formats=formats, dpi=dpi, size_in=size_in)
+        notes: dict[str, str] = {}
+        out[name] = run_figures(
+            result, out_dir, formats=formats, dpi=dpi, size_in=size_in, skipped=notes
+        )
+        if skipped is not None:
+            skipped.update({f"{name}_{kind}": why for kind, why in notes.items()})
     return out
