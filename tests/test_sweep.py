@@ -324,6 +324,19 @@ def test_analysis_recovers_the_catalogue_surfaces(tmp_path: Path) -> None:
         "fig10_eq4_surface.png",
     } <= names
     assert "map_static_relief_nm.png" in names
+    # the tidy table beside the store: one row per point, a column per field, units in the schema
+    import pyarrow.parquet as pq
+
+    assert report.table == store.with_suffix(".parquet")
+    table = pq.read_table(report.table)
+    assert table.num_rows == 16
+    assert {"diameter_mm", "length_mm", "bend_deg", "static_relief_nm", "kb"} <= set(
+        table.column_names
+    )
+    assert table.schema.field("diameter_mm").metadata[b"unit"] == b"mm"
+    assert table.schema.field("static_relief_nm").metadata[b"unit"] == b"N*m"
+    assert table.schema.field("kb").metadata[b"unit"] == b"N*m/rad"
+    assert sorted(set(table.column("diameter_mm").to_pylist())) == [4.0, 6.0, 9.0, 13.0]
 
 
 def test_ctrl_c_in_a_point_stores_no_cut_point(

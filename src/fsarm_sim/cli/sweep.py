@@ -303,6 +303,8 @@ def register(app: typer.Typer) -> None:
             f"({report.points_per_s:.3g} points/s; executor {report.executor}) -> {store}",
             markup=False,
         )
+        if report.table is not None:
+            console.print(f"tidy table (units in its schema): {report.table}", markup=False)
         if report.failed_before:
             console.print(
                 f"{report.failed_before} of the {report.already} stored point(s) had failed in an "

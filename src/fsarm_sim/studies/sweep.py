@@ -66,6 +66,7 @@ from fsarm_sim.executors import EXECUTORS, ExecutorError, Outcome, run_tasks
 from fsarm_sim.plant.shaft import Catalogue, load_catalogue, parse_catalogue
 from fsarm_sim.records.store import ResultStore, canonical_json, point_key
 from fsarm_sim.sim import scenarios
+from fsarm_sim.studies import sweep_table
 
 POINT_SCHEMA = 1  # bump when the meaning of a point's inputs or outputs changes
 MAX_POINTS = 100_000
@@ -654,6 +655,7 @@ class SweepReport:
     errors: list[str] = field(default_factory=list)
     failed_before: int = 0  # points of this sweep stored as failed by an earlier run (not rerun)
     executor: str = ""  # the executor the points ran on (pick_executor's choice)
+    table: Path | None = None  # the store's tidy Parquet table (sweep_table.write_tidy)
 
     @property
     def points_per_s(self) -> float:
@@ -770,6 +772,7 @@ def run_sweep(
             if bar is not None:
                 bar[0].stop()
             report.wall_s = time.perf_counter() - start
+    report.table = sweep_table.write_tidy(store_path)
     return report
 
 
@@ -950,19 +953,20 @@ def _plots(df: Any, res: SweepAnalysis, catalogue: Catalogue | None, out: Path) 
             if z.size <= 100:
                 for (r, c), v in np.ndenumerate(z):
                     ax.text(c, r, f"{v:.3g}", ha="center", va="center", fontsize=7, color="w")
-            fig.colorbar(im, ax=ax, label=metric)
-            ax.set_xlabel(x)
-            ax.set_ylabel(y)
-            others = [a for a in axes[2:]]
+            fig.colorbar(im, ax=ax, label=sweep_table.label(metric))
+            ax.set_xlabel(sweep_table.label(x))
+            ax.set_ylabel(sweep_table.label(y))
+            others = [sweep_table.label(a) for a in axes[2:]]
             ax.set_title(
-                f"{metric}" + (f" (mean over {', '.join(others)})" if others else ""), fontsize=9
+                sweep_table.label(metric) + (f" (mean over {', '.join(others)})" if others else ""),
+                fontsize=9,
             )
         elif len(axes) == 1:
             x = axes[0]
             g = df.groupby(x)[metric].mean()
             ax.plot(g.index.to_numpy(float), g.to_numpy(float), "o-")
-            ax.set_xlabel(x)
-            ax.set_ylabel(metric)
+            ax.set_xlabel(sweep_table.label(x))
+            ax.set_ylabel(sweep_table.label(metric))
             ax.grid(True, alpha=0.3)
         else:
             continue
