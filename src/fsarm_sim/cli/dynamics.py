@@ -114,15 +114,18 @@ def register(app: typer.Typer) -> None:
         ] = True,
     ) -> None:
         """Check MuJoCo's dynamics against Pinocchio; exit 1 if any check fails."""
+        from fsarm_sim.cli.progress import steps
         from fsarm_sim.studies.dynamics_check import run_checks
 
         OutputPlan().file("--json", json_file).check()
-        report = run_checks(
-            samples=samples,
-            duration_s=duration,
-            shaft_inertia_kgm2=shaft_inertia,
-            trajectory=trajectory,
-        )
+        with steps("check-dynamics") as progress:
+            report = run_checks(
+                samples=samples,
+                duration_s=duration,
+                shaft_inertia_kgm2=shaft_inertia,
+                trajectory=trajectory,
+                progress=progress,
+            )
         console.print(checks_table(report))
         console.print(structure_table(report))
         conv = convergence_table(report)

@@ -189,6 +189,7 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Run every scenario and write its figures: tracking (Fig. 14 style), torque vs twist
         (Fig. 6/7) and bending moment vs bend (Fig. 9), as <out>/<scenario>_<kind>.<format>."""
+        from fsarm_sim.cli.progress import steps
         from fsarm_sim.engine.model import SimConfig
         from fsarm_sim.plant.shaft import load_catalogue
         from fsarm_sim.review.figures import FIGURE_KINDS, all_scenario_figures, check_output
@@ -217,21 +218,23 @@ def register(app: typer.Typer) -> None:
         err = make_console(stderr=True)
         writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
         skipped: dict[str, str] = {}
-        written = writes.write(
-            out,
-            lambda d: all_scenario_figures(
-                d,
-                cfg,
-                scenarios=names,
-                duration_s=duration,
-                formats=formats,
-                dpi=dpi,
-                size_in=(width, height),
-                skipped=skipped,
-            ),
-            "the figures (--out)",
-            folder=True,
-        )
+        with steps("figures") as progress:
+            written = writes.write(
+                out,
+                lambda d: all_scenario_figures(
+                    d,
+                    cfg,
+                    scenarios=names,
+                    duration_s=duration,
+                    formats=formats,
+                    dpi=dpi,
+                    size_in=(width, height),
+                    skipped=skipped,
+                    progress=progress,
+                ),
+                "the figures (--out)",
+                folder=True,
+            )
         for name, paths in (written or {}).items():
             console.print(f"{name}: {', '.join(str(p) for p in paths)}", markup=False)
         for fig, why in skipped.items():

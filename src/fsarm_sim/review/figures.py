@@ -320,16 +320,20 @@ def all_scenario_figures(
     dpi: int = DEFAULT_DPI,
     size_in: tuple[float, float] = DEFAULT_SIZE_IN,
     skipped: dict[str, str] | None = None,
+    progress: Callable[[str, int, int], None] | None = None,
 ) -> dict[str, list[Path]]:
     """Run every registered scenario (or ``scenarios``) and write its figures; ``skipped``
-    receives ``{"<scenario>_<kind>": reason}`` for the figures left out (:func:`skip_reason`)."""
+    receives ``{"<scenario>_<kind>": reason}`` for the figures left out (:func:`skip_reason`);
+    ``progress(scenario, done, total)`` is called before each scenario."""
     from fsarm_sim.sim import scenarios as registry
     from fsarm_sim.sim.simulation import run_scenario
 
     check_output(formats, dpi)
     names = list(scenarios) if scenarios is not None else list(registry.REGISTRY)
     out: dict[str, list[Path]] = {}
-    for name in names:
+    for i, name in enumerate(names):
+        if progress is not None:
+            progress(name, i, len(names))
         result = run_scenario(name, config, duration_s=duration_s)
         notes: dict[str, str] = {}
         out[name] = run_figures(

@@ -1076,8 +1076,10 @@ def run_checks(
     shaft_inertia_kgm2: float = 0.0,
     trajectory: bool = True,
     energy: bool = True,
+    progress: Callable[[str, int, int], None] | None = None,
 ) -> DynamicsReport:
-    """Every check of this module at the given size."""
+    """Every check of this module at the given size; ``progress(step, done, total)`` is called
+    before each step (the CLI's progress bar)."""
     if samples < 1:
         raise InvalidParameterError(f"samples must be >= 1, got {samples}")
     if trajectory and check_duration(duration_s) > MAX_TRAJECTORY_S:
@@ -1090,21 +1092,36 @@ def run_checks(
             f"shaft inertia must be a finite number of kg*m^2 >= 0 (0: skip), "
             f"got {shaft_inertia_kgm2!r}"
         )
+    names = ["models", "mass matrix", "bias forces", "accelerations", "controller inputs"]
+    names += ["trajectory (MuJoCo vs Pinocchio)"] * trajectory + ["energy"] * energy
+    done = iter(range(len(names)))
+
+    def step(name: str) -> None:
+        if progress is not None:
+            progress(name, next(done), len(names))
+
+    step("models")
     models = check_models(shaft_inertia_kgm2)
     pairs = [make_pair(cfg, hold_table(), name) for name, cfg in models]
     structure = elastic_structure(pairs[0])
-    checks = [
-        check_mass_matrix(pairs, samples),
-        check_bias(pairs, samples),
-        check_qacc(pairs, samples),
-        check_structure(structure),
-        check_controller_inputs(pairs, samples),
-    ]
-    study = trajectory_study(duration_s, dts) if trajectory else None
-    if study is not None:
+    step("mass matrix")
+    checks = [check_mass_matrix(pairs, samples)]
+    step("bias forces")
+    checks.append(check_bias(pairs, samples))
+    step("accelerations")
+    checks += [check_qacc(pairs, samples), check_structure(structure)]
+    step("controller inputs")
+    checks.append(check_controller_inputs(pairs, samples))
+    study = None
+    if trajectory:
+        step("trajectory (MuJoCo vs Pinocchio)")
+        study = trajectory_study(duration_s, dts)
         checks += check_trajectory(study)
     if energy:
+        step("energy")
         checks.append(check_energy())
+    if progress is not None:
+        progress("done", len(names), len(names))
     return DynamicsReport(tuple(checks), structure, study, samples, tuple(n for n, _ in models))
 
 
