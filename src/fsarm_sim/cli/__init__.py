@@ -267,6 +267,8 @@ def run_cmd(
             f"[bold yellow]warning:[/] peak transmission torque is {over:.1f}x the nominal "
             f"rating ({result.config.rating_nm():.2f} N·m {advice}"
         )
+    for warning in result.warnings:
+        err_console.print(f"[bold yellow]warning:[/] {escape(warning)}")
     writes = SafeWriter(lambda msg: err_console.print(f"[bold yellow]warning:[/] {escape(msg)}"))
     path = writes.write(
         out, lambda d: write_timeseries(result, d, fmt), "the time series (--out)", folder=True

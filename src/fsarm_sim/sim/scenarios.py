@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -59,6 +59,24 @@ class Scenario:
     # is (fsarm_sim.sim.references): its table may be kept and reused. False for one that draws
     # new random numbers per call, say: its table is computed at every run.
     pure_reference: bool = True
+    # per-joint tracking RMSE (deg, q1..q3) beyond which a run is far from what the scenario is
+    # built for: run_scenario then adds a named warning (RunResult.warnings); None: no check
+    rmse_warn_deg: tuple[float, float, float] | None = None
+
+    def tracking_warnings(self, rmse_deg: Mapping[str, float]) -> tuple[str, ...]:
+        """Named warnings for joints whose RMSE exceeds :attr:`rmse_warn_deg`."""
+        if self.rmse_warn_deg is None:
+            return ()
+        out = []
+        for j, limit in enumerate(self.rmse_warn_deg, start=1):
+            got = rmse_deg.get(f"q{j}", math.nan)
+            if math.isfinite(got) and got > limit:
+                out.append(
+                    f"TrackingWarning: joint {j} tracks {self.name} with {got:.3g}° RMSE, "
+                    f"beyond the {limit:g}° this scenario is built for: check the gains and the "
+                    "transmission's parameters"
+                )
+        return tuple(out)
 
     def table(self, n_ticks: int, ctrl_dt_s: float) -> Array:
         """The reference table of ticks ``0, ctrl_dt_s, ..., (n_ticks - 1) ctrl_dt_s``: the
@@ -100,10 +118,19 @@ def register(
     disturbance: Disturbance | None = None,
     outer_loop: OuterLoop | None = None,
     pure_reference: bool = True,
+    rmse_warn_deg: tuple[float, float, float] | None = None,
 ) -> Callable[[Callable[[Array], Array]], Callable[[Array], Array]]:
     def wrap(fn: Callable[[Array], Array]) -> Callable[[Array], Array]:
         REGISTRY[name] = Scenario(
-            name, description, duration_s, payload_kg, fn, disturbance, outer_loop, pure_reference
+            name,
+            description,
+            duration_s,
+            payload_kg,
+            fn,
+            disturbance,
+            outer_loop,
+            pure_reference,
+            rmse_warn_deg,
         )
         return fn
 
@@ -119,6 +146,13 @@ def get(name: str) -> Scenario:
         ) from None
 
 
+# rmse_warn_deg of the built-in scenarios (estimates): about 5x what the default configuration
+# gives on each joint (fig14-sine q3 0.41°, p2p-payload 0.065°, step-q3 1.55°, step-q2 q2 1.77°,
+# collision-hit 1.24°, hand-guide 2.56°), at least 0.5°: far beyond what any catalogue shaft or
+# transmission gives with the default gains (fig14-sine q3 0.001-0.49°), so a warning means a
+# configuration that does not do what the scenario is for (e.g. a QA-Joint at sigma_cmd = 0.1:
+# 8.0°).
+
 FIG14_POSE_Q2 = (
     45.0 * DEG
 )  # joint 2 holds 45 deg: the shaft is bent by phi_B = 45 deg (Fig. 7's bend)
@@ -129,6 +163,7 @@ FIG14_POSE_Q2 = (
     "Seed 000 Fig. 14: joint 3 follows 0-90 deg, period 4 s (peak 71 deg/s ~ nominal 75 deg/s); "
     "joints 1, 2 hold a pose that bends the shaft 45 deg",
     duration_s=10.0,
+    rmse_warn_deg=(0.5, 0.5, 2.0),
 )
 def _fig14(t: Array) -> Array:
     return R.stack(
@@ -142,6 +177,7 @@ def _fig14(t: Array) -> Array:
     "(2.5 s each) between a folded and a reaching pose",
     duration_s=7.0,
     payload_kg=15.0,
+    rmse_warn_deg=(0.5, 0.5, 1.0),
 )
 def _p2p(t: Array) -> Array:
     a = (0.0, 15.0 * DEG, 60.0 * DEG)
@@ -158,6 +194,7 @@ def _p2p(t: Array) -> Array:
     "step-q3",
     "Joint-3 position step of 10 deg at t = 0.5 s (shaft bent 45 deg): torque and position loop response",
     duration_s=2.0,
+    rmse_warn_deg=(0.5, 0.5, 6.0),
 )
 def _step_q3(t: Array) -> Array:
     return R.stack(
@@ -169,6 +206,7 @@ def _step_q3(t: Array) -> Array:
     "step-q2",
     "Joint-2 position step of 10 deg at t = 0.5 s: bending torque and its hysteresis seen by joint 2",
     duration_s=2.0,
+    rmse_warn_deg=(0.5, 6.0, 2.0),
 )
 def _step_q2(t: Array) -> Array:
     return R.stack((R.hold(t, 0.0), R.step(t, 30.0 * DEG, 40.0 * DEG, 0.5), R.hold(t, 30.0 * DEG)))
@@ -209,6 +247,7 @@ def _hit_force(t: float) -> tuple[float, float, float]:
     duration_s=3.0,
     disturbance=Disturbance("flange", _hit_force, (HIT_START_S, HIT_START_S + HIT_DURATION_S)),
     outer_loop=reaction_loop,
+    rmse_warn_deg=(0.5, 0.5, 5.0),
 )
 def _collision_hit(t: Array) -> Array:
     return _fig14(t)
@@ -233,6 +272,7 @@ def _hand_force(t: float) -> tuple[float, float, float]:
     duration_s=4.5,
     disturbance=Disturbance("flange", _hand_force, (HAND_PUSHES[0][0], HAND_PUSHES[-1][1])),
     outer_loop=hand_guiding_loop,
+    rmse_warn_deg=(0.5, 2.0, 10.0),
 )
 def _hand_guide(t: Array) -> Array:
     return R.stack((R.hold(t, 0.0), R.hold(t, FIG14_POSE_Q2), R.hold(t, 30.0 * DEG)))

@@ -63,6 +63,8 @@ class RunResult:
     # internal states at the recorded rows (data.act): the transmission's own (its STATES, e.g.
     # the shaft's slip elements) and the conduit branches; for review, not written to the table
     states: dict[str, Array] = field(default_factory=dict)
+    # named warnings about the run (e.g. tracking far from what the scenario is built for)
+    warnings: tuple[str, ...] = ()
 
 
 def check_duration(duration_s: float) -> float:
@@ -790,4 +792,5 @@ def run_scenario(
         metrics=metrics,
         interrupted=sim.interrupted,
         states=sim.states,
+        warnings=sc.tracking_warnings(metrics["rmse_deg"]),  # type: ignore[arg-type]
     )
