@@ -11,6 +11,7 @@ import pytest
 from fsarm_sim.studies.reproduce import runner
 from fsarm_sim.studies.reproduce.claims import (
     PAPERS,
+    ROLES,
     VERDICTS,
     Abs,
     AllOf,
@@ -66,6 +67,7 @@ def test_a_malformed_claim_is_refused() -> None:
         "tolerance": Rel(0.1),
         "paper_value": 1.0,
         "measure": "m",
+        "role": "prediction",
     }
     Claim(**good).validate()  # type: ignore[arg-type]
     for change in (
@@ -75,6 +77,11 @@ def test_a_malformed_claim_is_refused() -> None:
         {"paper_value": None},
         {"not_implemented": "why"},  # two ways at once
         {"measure": None},  # none
+        {"role": ""},  # no role
+        {"role": "guess"},
+        {"role": "calibration"},  # names no parameter
+        {"role": "calibration", "calibrates": ("",)},
+        {"calibrates": ("k",)},  # a prediction names no calibrated parameter
     ):
         with pytest.raises(ClaimError):
             Claim(**{**good, **change}).validate()  # type: ignore[arg-type]
@@ -169,6 +176,7 @@ def _claim(cid: str, measure: str) -> Claim:
         tolerance=Rel(0.1),
         paper_value=1.0,
         measure=measure,
+        role="prediction",
     )
 
 
@@ -242,9 +250,18 @@ def test_reproduce_paper_000_quick_writes_json(
             assert c["ours_text"]
     summary = data["summary"]["000"]
     assert summary["total"] == len(data["claims"])
-    assert sum(summary[v] for v in VERDICTS) == summary["total"]
+    assert sum(summary["roles"].values()) == summary["total"]
+    for role in ROLES:
+        assert sum(summary[role][v] for v in VERDICTS) == summary[role]["total"]
+        assert summary[role]["total"] == sum(c["role"] == role for c in data["claims"])
+    for c in data["claims"]:
+        assert c["role"] in ROLES
+        assert c["evidence"] == (c["role"] == "prediction" and c["verdict"] == "reproduced")
+        assert bool(c["calibrates"]) == (c["role"] == "calibration")
+        for name in c["calibrates"]:
+            assert c["id"] in data["calibrated_parameters"][name]
     shown = capsys.readouterr().out
-    assert "summary by paper and verdict" in shown and "000-length-lever" in shown
+    assert "predictions by paper" in shown and "000-length-lever" in shown
 
 
 def test_bad_paper_is_one_line_exit_2(

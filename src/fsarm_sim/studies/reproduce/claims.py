@@ -19,6 +19,17 @@ Verdicts (:data:`VERDICTS`):
 * ``uncheckable``  - the paper's statement cannot be checked without guessing (garbled text,
   figures only, the text contradicting its own table).
 
+Roles (:data:`ROLES`): every claim says what it is to the model, so that fitting and checking stay
+apart (issue 27):
+
+* ``prediction``   - nothing in the model was chosen from it: the only evidence of fidelity;
+* ``calibration``  - a parameter was chosen or fitted from it (``calibrates`` names which); its
+  verdict says the calibration holds, not that the model predicts it;
+* ``consistency``  - a number transcribed into the model, a formula checked against itself, a
+  structural identity: a check of the code against the paper, never counted as reproduced.
+
+``role_why`` says why a claim has its role (which parameter, which transcription).
+
 Tolerance kinds (each has :meth:`judge` and :meth:`text`): :class:`Rel`, :class:`Abs`,
 :class:`Factor` (numbers), :class:`Between` (a published range), :class:`AtLeast`,
 :class:`AtMost` (inequalities), :class:`Trend` (a direction over ordered conditions, with
@@ -34,6 +45,8 @@ from dataclasses import dataclass, field
 from typing import Any, Literal, TypeVar
 
 T = TypeVar("T")
+Role = Literal["prediction", "calibration", "consistency"]
+ROLES: tuple[Role, ...] = ("prediction", "calibration", "consistency")
 Verdict = Literal["reproduced", "partly", "contradicted", "not_implemented", "uncheckable"]
 VERDICTS: tuple[Verdict, ...] = (
     "reproduced",
@@ -367,8 +380,44 @@ class Claim:
     uncheckable: str | None = None  # why the statement cannot be checked
     issue_item: int | None = None  # issue 12's "what the simulator contradicts" item
     quick: bool = True  # part of ``--quick``
+    role: str = ""  # one of ROLES (module docstring); required
+    calibrates: tuple[str, ...] = ()  # calibration: the parameter(s) chosen/fitted from it
+    role_why: str = ""  # why this role: which parameter, transcription or identity
+
+    def __post_init__(self) -> None:
+        self.check_role()
+
+    def check_role(self) -> None:
+        """The role is declared and fits (a claim without one cannot be built)."""
+        if self.role not in ROLES:
+            raise ClaimError(
+                f"{self.id}: role must be one of {', '.join(ROLES)}, got {self.role!r}"
+            )
+        if not isinstance(self.calibrates, tuple) or not all(
+            isinstance(p, str) and p.strip() for p in self.calibrates
+        ):
+            raise ClaimError(
+                f"{self.id}: calibrates must be a tuple of parameter names, got {self.calibrates!r}"
+            )
+        if self.role == "calibration" and not self.calibrates:
+            raise ClaimError(
+                f"{self.id}: a calibration claim must name the parameter(s) chosen from it "
+                "(calibrates=...)"
+            )
+        if self.role != "calibration" and self.calibrates:
+            raise ClaimError(
+                f"{self.id}: only a calibration claim names calibrated parameters "
+                f"(role {self.role!r}, calibrates {self.calibrates!r})"
+            )
+
+    @property
+    def counts_as_reproduced(self) -> bool:
+        """Only a prediction's verdict is evidence (a calibration or consistency claim that
+        holds says the model was built from it)."""
+        return self.role == "prediction"
 
     def validate(self) -> None:
+        self.check_role()
         if self.paper not in PAPERS:
             raise ClaimError(
                 f"{self.id}: paper must be one of {sorted(PAPERS)}, got {self.paper!r}"
@@ -435,6 +484,10 @@ class Result:
             "why": self.why,
             "note": self.note,
             "issue_item": c.issue_item,
+            "role": c.role,
+            "calibrates": list(c.calibrates),
+            "role_why": c.role_why,
+            "evidence": c.counts_as_reproduced and self.verdict == "reproduced",
             "failed": self.failed,
             "seconds": round(self.seconds, 3),
             "details": _jsonable(self.details),

@@ -57,6 +57,9 @@ CLAIMS: tuple[Claim, ...] = (
         tolerance=Abs(0.5, partly=1.0),
         measure="rating_6nm",
         issue_item=5,
+        role="calibration",
+        calibrates=("shafts.rating.coefficient_nm_per_mm3",),
+        role_why="c = 6/512 is anchored on this 6 N·m (and the rtca transmission transcribes it)",
     ),
     Claim(
         id="001-table1-transcribed",
@@ -68,6 +71,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="-",
         tolerance=AllOf(("RTCA law = Table 1", "nonlinear_stiffness effect = Table 1")),
         measure="table1_transcribed",
+        role="consistency",
+        role_why="transcription",
     ),
     Claim(
         id="001-table1-through-origin",
@@ -80,6 +85,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="N·m",
         tolerance=AtMost(0.005),
         measure="through_origin",
+        role="consistency",
+        role_why="a property of the printed coefficients, evaluated",
     ),
     Claim(
         id="001-fit-range",
@@ -92,6 +99,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="deg",
         tolerance=AllOf(("TOL end within 0.5° of 51.9°", "LOL end within 0.5° of −76.0°")),
         measure="fit_range",
+        role="consistency",
+        role_why="Table 1's own law evaluated at ±5 N·m",
     ),
     Claim(
         id="001-capacity-falls-with-bend",
@@ -106,6 +115,8 @@ CLAIMS: tuple[Claim, ...] = (
         not_implemented="the statement is the manufacturers' (Sec. 3.1) and the paper gives no "
         "number for it (no rating at any bend radius), so no derating law can be built from it; "
         "the simulator's rating depends on the diameter only (catalogue D³ rule, rtca 6 N·m)",
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="001-tol-stiffer",
@@ -117,6 +128,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="-",
         tolerance=AtLeast(1.05, partly=1.0),
         measure="tol_stiffer",
+        role="consistency",
+        role_why="Table 1's two branches, transcribed",
     ),
     Claim(
         id="001-bend-needs-more-twist",
@@ -129,6 +142,10 @@ CLAIMS: tuple[Claim, ...] = (
         unit="rad",
         tolerance=Trend("increasing", min_change=0.05, tie=0.005),
         measure="bend_needs_more_twist",
+        role="calibration",
+        calibrates=("rtca.mu",),
+        role_why="μ < 1 is transcribed at R = 250 mm and interpolated linearly in 1/R (our "
+        "choice): more twist for the same torque follows",
     ),
     Claim(
         id="001-mu-tol-250",
@@ -142,6 +159,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="-",
         tolerance=Abs(0.01, partly=0.05),
         measure="mu_tol_250",
+        role="consistency",
+        role_why="μ = 0.705 transcribed",
     ),
     Claim(
         id="001-mu-lol-250",
@@ -154,6 +173,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="-",
         tolerance=Abs(0.01, partly=0.05),
         measure="mu_lol_250",
+        role="consistency",
+        role_why="μ = 0.82 transcribed",
     ),
     Claim(
         id="001-mu-150-less-loss",
@@ -169,6 +190,8 @@ CLAIMS: tuple[Claim, ...] = (
         "R = 150 mm values are in Fig. 7 only, so the rise back cannot be built without reading "
         "numbers off a figure. The rtca law holds μ at its 250 mm values for tighter bends (the "
         "paper calls its 150 mm fit the least accurate, 'other effects ... not captured')",
+        role="prediction",
+        role_why="nothing in the model was chosen from it (μ is held below R = 250 mm)",
     ),
     Claim(
         id="001-model-accuracy-falls-with-bend",
@@ -182,6 +205,11 @@ CLAIMS: tuple[Claim, ...] = (
         unit="%",
         tolerance=Trend("increasing", min_change=1.0, tie=0.01, floor=0.01),
         measure="model_accuracy_vs_bend",
+        role="calibration",
+        calibrates=("rtca.slip_f", "rtca.mu_b"),
+        role_why="the rtca's bend friction is sized from this NRMSE 0.32 % → 2.3 % (measured "
+        "today on seed 000's shaft, whose growth comes from "
+        "000-series-hysteresis-grows-with-bend)",
     ),
     Claim(
         id="001-torque-tracking-rmse",
@@ -195,6 +223,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="N·m",
         tolerance=Rel(0.2, partly=0.5),
         measure="bench_tracking_rmse",
+        role="prediction",
+        role_why="the P gain is calibrated on the 25 ms offset, not on the RMSE",
     ),
     Claim(
         id="001-torque-tracking-offset",
@@ -207,6 +237,9 @@ CLAIMS: tuple[Claim, ...] = (
         unit="ms",
         tolerance=Rel(0.2, partly=0.5),
         uncheckable=CALIBRATED,
+        role="calibration",
+        calibrates=("rtca_bench.kp",),
+        role_why="calibrate_kp sets the P gain so that this offset is 25 ms",
     ),
     Claim(
         id="001-estimate-error-1hz",
@@ -219,6 +252,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="N·m",
         tolerance=Factor(2.0, partly=5.0),
         measure="bench_estimate_error",
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="001-symmetric-response",
@@ -231,6 +266,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="-",
         tolerance=AtMost(0.2, partly=0.5),
         measure="bench_symmetric",
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="001-deadzone",
@@ -243,6 +280,9 @@ CLAIMS: tuple[Claim, ...] = (
         unit="-",
         tolerance=AllOf(("torque stays 0 over a twist interval next to zero",)),
         measure="deadzone",
+        role="consistency",
+        role_why="the printed x < 0 branch runs the wrong way near 0; the law holds it at 0 "
+        "there: the dead zone is the transcription's",
     ),
     Claim(
         id="001-bandwidth-straight",
@@ -256,6 +296,8 @@ CLAIMS: tuple[Claim, ...] = (
         tolerance=Rel(0.10, partly=0.25),
         measure="bench_bandwidth_straight",
         issue_item=2,
+        role="prediction",
+        role_why="nothing in the bench was chosen from the bandwidths",
     ),
     Claim(
         id="001-bandwidth-r450",
@@ -270,6 +312,8 @@ CLAIMS: tuple[Claim, ...] = (
         tolerance=Rel(0.10, partly=0.25),
         measure="bench_bandwidth_r450",
         issue_item=2,
+        role="prediction",
+        role_why="nothing in the bench was chosen from the bandwidths",
     ),
     Claim(
         id="001-bandwidth-r300",
@@ -283,6 +327,8 @@ CLAIMS: tuple[Claim, ...] = (
         tolerance=Rel(0.10, partly=0.25),
         measure="bench_bandwidth_r300",
         issue_item=2,
+        role="prediction",
+        role_why="nothing in the bench was chosen from the bandwidths",
     ),
     Claim(
         id="001-bandwidth-r150",
@@ -296,6 +342,8 @@ CLAIMS: tuple[Claim, ...] = (
         tolerance=Rel(0.10, partly=0.25),
         measure="bench_bandwidth_r150",
         issue_item=2,
+        role="prediction",
+        role_why="nothing in the bench was chosen from the bandwidths",
     ),
     Claim(
         id="001-bandwidth-falls-rtca",
@@ -309,6 +357,8 @@ CLAIMS: tuple[Claim, ...] = (
         tolerance=Trend("decreasing", min_change=0.10, tie=0.01),
         measure="bandwidth_rtca",
         issue_item=2,
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="001-bandwidth-falls-flexible-shaft",
@@ -321,6 +371,8 @@ CLAIMS: tuple[Claim, ...] = (
         tolerance=Trend("decreasing", min_change=0.10, tie=0.01),
         measure="bandwidth_flexible_shaft",
         issue_item=2,
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="001-impedance-rises-rtca",
@@ -334,6 +386,8 @@ CLAIMS: tuple[Claim, ...] = (
         tolerance=Trend("increasing", min_change=0.10, tie=0.01),
         measure="bench_impedance",
         issue_item=2,
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="001-impedance-rises-flexible-shaft",
@@ -346,6 +400,8 @@ CLAIMS: tuple[Claim, ...] = (
         tolerance=Trend("increasing", min_change=0.10, tie=0.01),
         measure="impedance_flexible_shaft",
         issue_item=2,
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="001-transparent-low-frequency",
@@ -358,6 +414,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="-",
         tolerance=AtMost(0.10, partly=0.3),
         measure="transparent_low_f",
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="001-impedance-rises-with-frequency",
@@ -370,6 +428,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="-",
         tolerance=AtLeast(2.0, partly=1.1),
         measure="impedance_vs_frequency",
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="001-impedance-peak-lower-frequency",
@@ -389,6 +449,8 @@ CLAIMS: tuple[Claim, ...] = (
         "with I = 0 (one published number, one unknown), where T̂/θ̇_s has no peak; fixing Ki "
         "as well would consume the RMSE claim. The load motor's dynamics (DCX35L, 113:1, "
         "position gains not given, Sec. 4.2) are taken as ideal",
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="001-walking-transparency",
@@ -402,6 +464,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="N·m",
         tolerance=Factor(2.0, partly=5.0),
         not_implemented=NO_GAIT,
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="001-walking-bend-increase",
@@ -413,6 +477,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="N·m",
         tolerance=Trend("increasing", tie=0.01),
         not_implemented=NO_GAIT,
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="001-bend-compensated-error",
@@ -425,6 +491,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="N·m",
         tolerance=AtMost(0.35, partly=0.7),
         measure="bend_compensated_error",
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="001-bend-neglected-error",
@@ -438,6 +506,9 @@ CLAIMS: tuple[Claim, ...] = (
         unit="N·m",
         tolerance=Rel(0.3, partly=0.6),
         measure="bend_neglected_error",
+        role="prediction",
+        role_why="nothing in the model was chosen from it (μ at R = 250 mm is transcribed, its "
+        "course with bend is our interpolation)",
     ),
     Claim(
         id="001-bend-compensation-gain",
@@ -451,6 +522,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="%",
         tolerance=Abs(10.0, partly=20.0),
         measure="bend_compensation_gain",
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="001-exo-hip-reduction",
@@ -463,6 +536,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="%",
         tolerance=Abs(5.0, partly=15.0),
         not_implemented=NO_EXO,
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="001-exo-knee-reduction",
@@ -475,6 +550,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="%",
         tolerance=Abs(5.0, partly=15.0),
         not_implemented=NO_EXO,
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="001-masterflex08-eq3-tol",
@@ -488,6 +565,9 @@ CLAIMS: tuple[Claim, ...] = (
         tolerance=Rel(0.2, partly=0.4),
         measure="masterflex08_eq3_tol",
         issue_item=3,
+        role="calibration",
+        calibrates=("shafts.series.p0-p3",),
+        role_why="the K(D) cubic is anchored on the MasterFlex08's measured secant stiffness",
     ),
     Claim(
         id="001-masterflex08-eq3-lol",
@@ -501,6 +581,9 @@ CLAIMS: tuple[Claim, ...] = (
         tolerance=Rel(0.2, partly=0.4),
         measure="masterflex08_eq3_lol",
         issue_item=3,
+        role="calibration",
+        calibrates=("shafts.series.p0-p3",),
+        role_why="the K(D) cubic is anchored on the MasterFlex08's measured secant stiffness",
     ),
     Claim(
         id="001-one-table1-curve",
@@ -513,6 +596,8 @@ CLAIMS: tuple[Claim, ...] = (
         tolerance=AtMost(0.02, partly=0.10),
         measure="one_table1_curve",
         issue_item=5,
+        role="consistency",
+        role_why="every implementation carries the same transcribed Table 1",
     ),
     Claim(
         id="001-shaft-length",
@@ -526,5 +611,7 @@ CLAIMS: tuple[Claim, ...] = (
         paper_value=865.0,
         uncheckable="the text gives two lengths for the same shaft (0.80 m in Sec. 2.2, 865 mm "
         "in Table 1); which one the model belongs to cannot be read without guessing",
+        role="consistency",
+        role_why="transcription",
     ),
 )
