@@ -479,10 +479,10 @@ CLAIMS: tuple[Claim, ...] = (
         locator="Sec. 4.2.2, Fig. 14",
         quote="The controller behaved almost completely transparent ... with maximum interaction "
         "torques in the range ±0.05 Nm for most conditions",
-        paper_text="±0.05 N·m",
+        paper_text="within ±0.05 N·m",
         paper_value=0.05,
         unit="N·m",
-        tolerance=Factor(2.0, partly=5.0),
+        tolerance=AtMost(0.05, partly=0.1),
         not_implemented=NO_GAIT,
         role="prediction",
         role_why="nothing in the model was chosen from it",
