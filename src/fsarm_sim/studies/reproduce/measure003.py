@@ -166,6 +166,47 @@ def three_equilibria(ctx: Context) -> Measured:
     return Measured(ours=[worst < 1e-9], text=f"max |τ(φ+120°) − τ(φ)| = {worst:.2g} N·m")
 
 
+def _linearised(ctx: Context) -> dict[str, dict[str, float]]:
+    st = _study(ctx)
+    out: dict[str, dict[str, float]] = {}
+    for lin, full in (("AL", "A"), ("FL", "F")):
+        rl, rf = st.rows[lin], st.rows[full]
+        out[lin] = {
+            "teach": rl.teaching.mse / rf.teaching.mse,
+            "verify": rl.verifying.mse / rf.verifying.mse,
+        }
+    return out
+
+
+def linearised_worse(ctx: Context) -> Measured:
+    r = _linearised(ctx)
+    return Measured(
+        ours=[
+            r["AL"]["teach"] > 1.0,
+            r["FL"]["teach"] > 1.0,
+            r["AL"]["verify"] > 1.0,
+            r["FL"]["verify"] > 1.0,
+        ],
+        text="MSE ratio linearised/full: "
+        + "; ".join(
+            f"{m[0]}_L/{m[0]} teaching ×{v['teach']:.3g}, verifying ×{v['verify']:.3g}"
+            for m, v in r.items()
+        ),
+        details=r,
+    )
+
+
+def linearised_verifying_factor(ctx: Context) -> Measured:
+    r = _linearised(ctx)
+    low = min(v["verify"] for v in r.values())
+    return Measured(
+        ours=low,
+        text=f"smaller verifying ratio ×{low:.3g} (A_L/A ×{r['AL']['verify']:.3g}, F_L/F "
+        f"×{r['FL']['verify']:.3g})",
+        details=r,
+    )
+
+
 def model_ranking_teaching(ctx: Context) -> Measured:
     mse = {m: r["mse_teach"] for m, r in experiment_c(ctx).items()}
     return Measured(ours=mse, text="MSE " + ", ".join(f"{m} {mse[m]:.4g}" for m in MODELS))
@@ -212,6 +253,8 @@ def fms_vs_ams_safe_range(ctx: Context) -> Measured:
 
 
 MEASURES: dict[str, MeasureFn] = {
+    "linearised_worse": linearised_worse,
+    "linearised_verifying_factor": linearised_verifying_factor,
     "fms_vs_ams_safe_range": fms_vs_ams_safe_range,
     "model_ranking_teaching": model_ranking_teaching,
     "bic_ranking": bic_ranking,

@@ -567,7 +567,9 @@ CLAIMS: tuple[Claim, ...] = (
         issue_item=3,
         role="calibration",
         calibrates=("shafts.series.p0-p3",),
-        role_why="the K(D) cubic is anchored on the MasterFlex08's measured secant stiffness",
+        role_why="the K(D) cubic was anchored on the MasterFlex08 through the 1/L law "
+        "(now the option shafts_inverse_length.toml); eq. 3 as printed (affine in L) "
+        "extrapolates it beyond the 535 mm validity",
     ),
     Claim(
         id="001-masterflex08-eq3-lol",
@@ -583,7 +585,9 @@ CLAIMS: tuple[Claim, ...] = (
         issue_item=3,
         role="calibration",
         calibrates=("shafts.series.p0-p3",),
-        role_why="the K(D) cubic is anchored on the MasterFlex08's measured secant stiffness",
+        role_why="the K(D) cubic was anchored on the MasterFlex08 through the 1/L law "
+        "(now the option shafts_inverse_length.toml); eq. 3 as printed (affine in L) "
+        "extrapolates it beyond the 535 mm validity",
     ),
     Claim(
         id="001-one-table1-curve",
