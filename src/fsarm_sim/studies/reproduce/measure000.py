@@ -627,6 +627,8 @@ def table1_rmse_rows(ctx: Context) -> Measured:
         text=f"RMSE_p {rp[0]:.3g} → {rp[-1]:.3g}, RMSE_n {rn[0]:.3g} → {rn[-1]:.3g} N·m "
         f"({bends[0]:g} → {bends[-1]:g}°)",
         details={"bend_deg": bends, "rmse_pos": rp, "rmse_neg": rn},
+        note="the slip elements' friction grows with the bend as the text says (calibrated: "
+        "000-series-hysteresis-grows-with-bend); the table, read row by row, says the opposite",
     )
 
 

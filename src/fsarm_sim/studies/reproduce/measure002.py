@@ -434,8 +434,8 @@ def efficiency_largest_where(ctx: Context) -> Measured:
         + "/".join(f"{s:g}" for s in EFF_PRESETS_DEG)
         + "°, θ'_d "
         + "/".join(f"{v:g}" for v in EFF_SPEEDS_DEG_S)
-        + " °/s (Fig. 10's axis; 3° is "
-        "infeasible at 75 °/s)",
+        + " °/s (Fig. 10's axis; 3° is infeasible at 75 °/s); where ε peaks is set by the "
+        "throw, our one-switch reconstruction of the unprinted optimal control [16]",
     )
 
 

@@ -178,33 +178,27 @@ def _linearised(ctx: Context) -> dict[str, dict[str, float]]:
     return out
 
 
-def linearised_worse(ctx: Context) -> Measured:
+def _within(x: float, paper: float, factor: float) -> bool:
+    return x > 1.0 and paper / factor <= x <= paper * factor
+
+
+def _linearised_factors(ctx: Context, half: str, paper: dict[str, float], f: float) -> Measured:
     r = _linearised(ctx)
     return Measured(
-        ours=[
-            r["AL"]["teach"] > 1.0,
-            r["FL"]["teach"] > 1.0,
-            r["AL"]["verify"] > 1.0,
-            r["FL"]["verify"] > 1.0,
-        ],
-        text="MSE ratio linearised/full: "
-        + "; ".join(
-            f"{m[0]}_L/{m[0]} teaching ×{v['teach']:.3g}, verifying ×{v['verify']:.3g}"
-            for m, v in r.items()
-        ),
+        ours=[_within(r[m][half], paper[m], f) for m in ("AL", "FL")],
+        text=f"A_L/A ×{r['AL'][half]:.3g}, F_L/F ×{r['FL'][half]:.3g} ({half} MSE)",
         details=r,
+        note="the trials' share beyond the critical angle (where the linearised spring is "
+        "wrong) sets these ratios; the paper does not give its share",
     )
 
 
-def linearised_verifying_factor(ctx: Context) -> Measured:
-    r = _linearised(ctx)
-    low = min(v["verify"] for v in r.values())
-    return Measured(
-        ours=low,
-        text=f"smaller verifying ratio ×{low:.3g} (A_L/A ×{r['AL']['verify']:.3g}, F_L/F "
-        f"×{r['FL']['verify']:.3g})",
-        details=r,
-    )
+def linearised_teaching(ctx: Context) -> Measured:
+    return _linearised_factors(ctx, "teach", {"AL": 1.23, "FL": 1.55}, 2.0)
+
+
+def linearised_verifying(ctx: Context) -> Measured:
+    return _linearised_factors(ctx, "verify", {"AL": 35.6, "FL": 76.6}, 3.0)
 
 
 def model_ranking_teaching(ctx: Context) -> Measured:
@@ -253,8 +247,8 @@ def fms_vs_ams_safe_range(ctx: Context) -> Measured:
 
 
 MEASURES: dict[str, MeasureFn] = {
-    "linearised_worse": linearised_worse,
-    "linearised_verifying_factor": linearised_verifying_factor,
+    "linearised_teaching": linearised_teaching,
+    "linearised_verifying": linearised_verifying,
     "fms_vs_ams_safe_range": fms_vs_ams_safe_range,
     "model_ranking_teaching": model_ranking_teaching,
     "bic_ranking": bic_ranking,
