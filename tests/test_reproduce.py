@@ -146,6 +146,25 @@ def test_trend_direction_monotonicity_and_size() -> None:
         t.judge(None, [1.0])
 
 
+def test_trend_judges_the_papers_size_of_change() -> None:
+    """A trend with the paper's own change (seed 001: 6.22 -> 4.30 Hz, 31 %) is judged by size:
+    a 1 % fall the right way is no longer enough."""
+    t = Trend("decreasing", tie=0.01, paper_change=0.309)
+    assert t.judge(None, [6.22, 5.87, 4.32, 4.30]) == "reproduced"  # the paper's own numbers
+    assert t.judge(None, [6.0, 5.0, 4.6]) == "reproduced"  # 23 %: within x2 of 31 %
+    assert t.judge(None, [6.0, 5.7, 5.5]) == "partly"  # 8 %: within x4
+    assert t.judge(None, [6.0, 5.95, 5.9]) == "contradicted"  # 1.7 %: the right way, too small
+    assert t.judge(None, [6.0, 1.0, 0.1]) == "partly"  # 98 %: too large for x2, within x4
+    assert t.judge(None, [6.0, 7.0, 3.5]) == "partly"  # the size, but not monotone
+    assert t.judge(None, [6.0, 6.5]) == "contradicted"  # the wrong way
+    assert "30.9 %" in t.text("Hz")
+    for bad in ({"paper_change": 0.0}, {"paper_change": 0.3, "min_change": 0.1}):
+        with pytest.raises(ClaimError):
+            Trend("decreasing", **bad)  # type: ignore[arg-type]
+    with pytest.raises(ClaimError):
+        Trend("decreasing", paper_change=0.3, change_factor=1.0)
+
+
 def test_all_of_and_ranking() -> None:
     a = AllOf(("x", "y", "z"))
     assert a.judge(None, [True, True, True]) == "reproduced"

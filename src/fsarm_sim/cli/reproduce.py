@@ -139,9 +139,11 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Check the seed papers' claims on the simulator with the papers' own procedures.
 
-        Per claim: where it is in the paper, the paper's value, ours, the tolerance and a verdict
-        (reproduced, partly, contradicted, not_implemented, uncheckable); then a summary by paper
-        and verdict. Exit code 0 whatever the verdicts (it is a report), 1 if an experiment
+        Leads with the predictions (claims nothing in the model was chosen from): per paper the
+        counts of predictions, calibrations and consistency checks, and the predictions'
+        verdicts. Per claim: its role, where it is in the paper, the paper's value, ours, the
+        tolerance and a verdict (reproduced, partly, contradicted, not_implemented,
+        uncheckable). Calibration and consistency claims never count as reproduced. Exit code 0 whatever the verdicts (it is a report), 1 if an experiment
         failed to run, 2 on bad input, 130 on Ctrl-C (--json keeps every finished claim).
         """
         from fsarm_sim.studies.reproduce import runner

@@ -251,6 +251,13 @@ class Trend:
       it or the change is below ``min_change``;
     * contradicted: no change beyond ``tie``, the wrong way, or every value below ``floor`` (in
       the claim's unit: the quantity is absent, so it cannot trend).
+
+    Where the paper states the size of its change, ``paper_change`` carries it (the total
+    relative change, first to last, as a positive fraction: a fall 6.22 -> 4.30 Hz is 0.31) and
+    the size is judged too: reproduced needs the total within ``change_factor`` of the paper's
+    (``paper/f <= total <= paper*f``, and monotone), partly within ``change_factor``² (or the
+    size right but not monotone); a change the right way but outside that is contradicted (a
+    1 % fall where the paper reports 31 % is not the paper's trend). ``min_change`` is then 0.
     """
 
     direction: Literal["increasing", "decreasing"]
@@ -258,7 +265,20 @@ class Trend:
     tie: float = 0.01
     strict: bool = False
     floor: float = 0.0
+    paper_change: float | None = None
+    change_factor: float = 2.0
     needs_paper_value = False
+
+    def __post_init__(self) -> None:
+        if self.paper_change is not None:
+            if not (_finite(self.paper_change) and self.paper_change > 0.0):
+                raise ClaimError(
+                    f"a Trend's paper_change must be a positive fraction, got {self.paper_change!r}"
+                )
+            if not (_finite(self.change_factor) and self.change_factor > 1.0):
+                raise ClaimError(f"a Trend's change_factor must be > 1, got {self.change_factor!r}")
+            if self.min_change:
+                raise ClaimError("a Trend takes paper_change or min_change, not both")
 
     def _one(self, ours: Any) -> Verdict:
         if not isinstance(ours, Sequence) or len(ours) < 2:
@@ -273,6 +293,15 @@ class Trend:
         monotone = (
             all(s > self.tie for s in steps) if self.strict else all(s >= -self.tie for s in steps)
         )
+        if self.paper_change is not None:
+            if total <= self.tie:
+                return "contradicted"
+            p, f = self.paper_change, self.change_factor
+            if monotone and p / f <= total <= p * f:
+                return "reproduced"
+            if p / (f * f) <= total <= p * f * f:
+                return "partly"
+            return "contradicted"
         if monotone and total > self.tie and total >= self.min_change:
             return "reproduced"
         if total > self.tie:
@@ -289,7 +318,13 @@ class Trend:
     def text(self, unit: str) -> str:
         word = "rises" if self.direction == "increasing" else "falls"
         s = f"{word} {'strictly ' if self.strict else ''}monotonically"
-        if self.min_change > 0.0:
+        if self.paper_change is not None:
+            p, f = 100 * self.paper_change, self.change_factor
+            s += (
+                f", by the paper's {p:.3g} % within ×{f:g} ({p / f:.3g}–{p * f:.3g} %; "
+                f"partly {p / f / f:.3g}–{p * f * f:.3g} %)"
+            )
+        elif self.min_change > 0.0:
             s += f", by ≥ {100 * self.min_change:g} % in total"
         return s + f" (ties ≤ {100 * self.tie:g} %)"
 

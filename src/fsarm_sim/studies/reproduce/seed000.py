@@ -565,8 +565,8 @@ CLAIMS: tuple[Claim, ...] = (
         tolerance=AllOf(("eq. 3 falls with L (both sides, every D)", "eq. 4 falls with L")),
         measure="k_falls_with_length",
         role="calibration",
-        calibrates=("shafts.series.length_law", "shafts.bending.q"),
-        role_why="eq. 3's length term and eq. 4's coefficients were chosen to fall with L",
+        calibrates=("shafts.series.p4", "shafts.bending.q"),
+        role_why="eq. 3's p4 and eq. 4's coefficients were chosen to fall with L",
     ),
     Claim(
         id="000-k-falls-with-bend-everywhere",
@@ -584,7 +584,7 @@ CLAIMS: tuple[Claim, ...] = (
         ),
         measure="k_falls_with_bend_everywhere",
         role="calibration",
-        calibrates=("shafts.series.p5-p6",),
+        calibrates=("shafts.series.p5-p6", "shafts.series.p4"),
         role_why="p5, p6 were chosen so that every catalogue shaft falls with bend and stays > "
         "0.5 N·m/rad at 120°",
     ),
@@ -635,31 +635,36 @@ CLAIMS: tuple[Claim, ...] = (
     Claim(
         id="000-length-lever",
         paper=P,
-        title="length is the stiffness lever (torsion ∝ 1/L)",
-        locator="Sec. II-A; Sec. IV-A1; seed 001 Sec. 6.4",
-        quote="Like traditional springs, the increase in length, L ... results in decreased "
-        "torsional ... stiffness; ... vary the length, L_des ... to achieve the desired stiffness",
-        paper_text="K_s(235 mm)/K_s(535 mm) = 535/235 = 2.28 (spring ∝ 1/L)",
-        paper_value=535.0 / 235.0,
+        title="series stiffness falls linearly with length",
+        locator="Sec. V; Sec. II-A; Sec. III-B1 eq. 3",
+        quote="Torsional stiffness decreases linearly with bending angle and length; ... Like "
+        "traditional springs, the increase in length, L ... results in decreased torsional ... "
+        "stiffness",
+        paper_text="K_s falls with L, linearly (eq. 3's p4·L term), for every D and side",
         unit="-",
-        tolerance=Rel(0.25, partly=0.5),
+        tolerance=AllOf(
+            (
+                "K_s falls with L for every D and side (235-535 mm)",
+                "K_s is a straight line in L (R² ≥ 0.99) for every D and side",
+            )
+        ),
         measure="length_lever",
         issue_item=3,
         role="calibration",
-        calibrates=("shafts.series.length_law",),
-        role_why="the length law (today the 1/L torsion law) was chosen so that length is the "
-        "stiffness lever",
+        calibrates=("shafts.series.p4",),
+        role_why="eq. 3's printed p4·L term is the default law; p4 = −0.007 /mm was chosen from "
+        "this statement and the validity box's positivity (000-k-falls-with-bend-everywhere)",
     ),
     Claim(
         id="000-algorithm1-reaches-kdes",
         paper=P,
-        title="Algorithm 1: D from the rating, then L reaches K_des",
+        title="Algorithm 1 (δ re-evaluated each step): D from the rating, then L reaches K_des",
         locator="Sec. IV-A1, Algorithm 1",
         quote="one can select the diameter, D_des ... based on the nominal rating required and "
         "vary the length, L_des ... in the robot's dimensional limit range, [L_min, L_max] to "
         "achieve the desired stiffness",
         paper_text="K_des reached by L within [235, 535] mm for D = 9 mm "
-        "(K_des = K_s(9×450)·450/300, a 9×300 mm spring)",
+        "(K_des = K_s(9 mm × 300 mm), a stiffness the catalogue has)",
         unit="-",
         tolerance=AtMost(0.01, partly=0.10),
         measure="algorithm1_reaches",
@@ -667,5 +672,88 @@ CLAIMS: tuple[Claim, ...] = (
         role="consistency",
         role_why="K_des is made from the catalogue itself (its 9 × 300 mm spring) and the "
         "selector inverts the same law",
+    ),
+    Claim(
+        id="000-algorithm1-as-printed",
+        paper=P,
+        title="Algorithm 1 as printed reaches K_des inside [L_min, L_max]",
+        locator="Sec. IV-A1, Algorithm 1 (lines 5-13)",
+        quote="5: δ ← K_des − K; 6: while i = 1 ≤ N_itr do; 7: if δ > 0 then L_des = L_des + "
+        "(L_max − L_min)/N_iter ...",
+        paper_text="the printed loop ends at the L of K_des, inside [235, 535] mm",
+        unit="-",
+        tolerance=AllOf(
+            (
+                "the last L_des lies in [L_min, L_max] (seeds 0-9)",
+                "the last L_des is within 1 mm of K_des's L (seeds 0-9)",
+            )
+        ),
+        measure="algorithm1_as_printed",
+        issue_item=3,
+        role="consistency",
+        role_why="δ is computed once (line 5) before the loop and never updated, so the printed "
+        "loop walks N_itr steps one way whatever the model: a check of the paper's text",
+    ),
+    Claim(
+        id="000-table1-rmse-trend-rows",
+        paper=P,
+        title="Table I read row by row: neither fit RMSE rises with bend",
+        locator="Table I (RMSE_p, RMSE_n per φ_B row)",
+        quote="0: 0.51 0.98; 15°: 0.61 1.01; 30: 0.71 0.89; 45°: 0.72 0.78; 60: 0.62 0.69; "
+        "75°: 0.39 0.68; 90: 0.17 0.62",
+        paper_text="RMSE_p 0.51 → 0.17, RMSE_n 0.98 → 0.62 N·m (0° → 90°): both lower at 90°",
+        unit="-",
+        tolerance=AllOf(
+            (
+                "RMSE_p at 90° ≤ its 0° value (Table I: 0.51 → 0.17)",
+                "RMSE_n at 90° ≤ its 0° value (Table I: 0.98 → 0.62)",
+            )
+        ),
+        measure="table1_rmse_rows",
+        issue_item=1,
+        role="prediction",
+        role_why="the slip elements' growth with bend was chosen from the text ('hysteresis "
+        "increases with bending angle', 000-series-hysteresis-grows-with-bend), not from this "
+        "reading of the table, which the text contradicts; each row pairs the two numbers that "
+        "follow its bend label in the scrambled text",
+    ),
+    Claim(
+        id="000-eq1-identified",
+        paper=P,
+        title="eq. 1 identified on the series tests: inertia and damping negligible",
+        locator="Sec. III-B1, eq. 1",
+        quote="Using (1), the set of coefficients K_sn and K_sp are identified ... The inertial "
+        "and damping terms from (1) are identified to be negligible",
+        paper_text="J and B of eq. 1 fitted to the series loops: negligible (J ≥ 0, their "
+        "terms ≤ 5 % of the torque)",
+        unit="-",
+        tolerance=AllOf(
+            (
+                "J ≥ 0 (a physical inertia) at every bend",
+                "the J and B terms ≤ 5 % of the torque (RMS) at every bend",
+            )
+        ),
+        measure="eq1_identified",
+        role="calibration",
+        calibrates=("shafts.series.dynamic",),
+        role_why="the same statement set eq. 1's J and damping to 0 in the model "
+        "(000-eq1-terms-negligible); here the paper's own identification judges it",
+    ),
+    Claim(
+        id="000-bending-roundtrip-periods",
+        paper=P,
+        title="K_b round trip at other bending periods (2 s, 120 s)",
+        locator="Sec. II-C2 eq. 2, Sec. III-B2 Fig. 9, eq. 4",
+        quote="Empirically, the effective bending stiffness of a flexible shaft is calculated by "
+        "measuring moment, M and deflection, φ_B ... a linear fit ... is achievable",
+        paper_text="eq. 2's linear fit returns eq. 4's K_b (one stiffness per shaft)",
+        unit="-",
+        tolerance=AtMost(0.05, partly=0.15),
+        measure="bending_roundtrip_periods",
+        issue_item=4,
+        quick=False,
+        role="prediction",
+        role_why="eq. 4 / G is normalised at the declared 8 s test only (000-bending-roundtrip); "
+        "nothing was chosen at 2 s or 120 s",
     ),
 )

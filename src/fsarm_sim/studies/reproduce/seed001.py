@@ -193,13 +193,13 @@ CLAIMS: tuple[Claim, ...] = (
         "NRMSE of 2.3 % ... for R = 150 mm",
         paper_text="NRMSE 0.32 % (straight) → 2.3 % (R = 150 mm): rises ×7.2",
         unit="%",
-        tolerance=Trend("increasing", min_change=6.19, tie=0.01, floor=0.01),
+        tolerance=Trend("increasing", tie=0.01, floor=0.01, paper_change=6.19),
         measure="bench_model_accuracy",
         role="calibration",
         calibrates=("rtca.slip_f", "rtca.mu_b"),
         role_why="the rtca's bend friction is sized from this NRMSE 0.32 % → 2.3 % (rtca.slip_f "
         "from 0.32 %, its growth from 2.3 %); measured on seed 001's MasterFlex08 on its bench; "
-        "the tolerance is the paper's ×7.2 rise (min_change 6.19)",
+        "the tolerance is the paper's ×7.2 rise (paper_change 6.19)",
     ),
     Claim(
         id="001-torque-tracking-rmse",
@@ -213,9 +213,11 @@ CLAIMS: tuple[Claim, ...] = (
         unit="N·m",
         tolerance=Rel(0.2, partly=0.5),
         measure="bench_tracking_rmse",
-        role="prediction",
-        role_why="the PID gains come from the Ziegler-Nichols procedure on the bench, the set-point "
-        "delay from the 25 ms offset: nothing from the RMSE",
+        role="calibration",
+        calibrates=("rtca_bench.reference_delay_s",),
+        role_why="the set-point delay is calibrated on the 25 ms offset of this same run, and a "
+        "pure 25 ms lag on the 6 N·m 1 Hz sine alone gives 0.666 N·m RMSE (issue 27): the RMSE "
+        "mostly follows from the calibration (the ZN gains come from the procedure)",
     ),
     Claim(
         id="001-torque-tracking-offset",
@@ -346,7 +348,7 @@ CLAIMS: tuple[Claim, ...] = (
         "bandwidth decreases ... performed using the same PID gains for all spatial conditions",
         paper_text="6.22 → 5.87 → 4.32 → 4.30 Hz (R = ∞, 450, 300, 150 mm): falls 31 %",
         unit="Hz",
-        tolerance=Trend("decreasing", min_change=0.31, tie=0.01),
+        tolerance=Trend("decreasing", tie=0.01, paper_change=0.309),
         measure="bench_bandwidth_trend",
         issue_item=2,
         role="prediction",
@@ -373,9 +375,9 @@ CLAIMS: tuple[Claim, ...] = (
         title="bandwidth falls with bend (our flexible shaft in seed 001's loop)",
         locator="Sec. 4.1.2, Fig. 10",
         quote="the bandwidth decreases due to the shaft's internal friction increase",
-        paper_text="falls ≥ 10 % from straight to R = 150 mm",
+        paper_text="falls 31 % from straight to R = 150 mm",
         unit="Hz",
-        tolerance=Trend("decreasing", min_change=0.10, tie=0.01),
+        tolerance=Trend("decreasing", tie=0.01, paper_change=0.309),
         not_implemented="the paper measured one shaft, its MasterFlex08, on its own bench "
         "(001-bandwidth-falls-rtca); our flexible shaft in our arm's loop (15-33 Hz) is another "
         "system, so the paper's claim is not judged on it",
@@ -587,7 +589,9 @@ CLAIMS: tuple[Claim, ...] = (
         issue_item=3,
         role="calibration",
         calibrates=("shafts.series.p0-p3",),
-        role_why="the K(D) cubic is anchored on the MasterFlex08's measured secant stiffness",
+        role_why="the K(D) cubic was anchored on the MasterFlex08 through the 1/L law "
+        "(now the option shafts_inverse_length.toml); eq. 3 as printed (affine in L) "
+        "extrapolates it beyond the 535 mm validity",
     ),
     Claim(
         id="001-masterflex08-eq3-lol",
@@ -603,7 +607,9 @@ CLAIMS: tuple[Claim, ...] = (
         issue_item=3,
         role="calibration",
         calibrates=("shafts.series.p0-p3",),
-        role_why="the K(D) cubic is anchored on the MasterFlex08's measured secant stiffness",
+        role_why="the K(D) cubic was anchored on the MasterFlex08 through the 1/L law "
+        "(now the option shafts_inverse_length.toml); eq. 3 as printed (affine in L) "
+        "extrapolates it beyond the 535 mm validity",
     ),
     Claim(
         id="001-one-table1-curve",
