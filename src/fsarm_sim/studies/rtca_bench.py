@@ -763,12 +763,14 @@ def output_impedance(
     load: LoadServo | None = None,
     per_decade: int = 10,
 ) -> OutputImpedance:
-    """Sec. 4.2.1 / Fig. 11-12: the load motor (position mode, taken as ideal) moves the output
-    through a chirp of 20° from 0.1 to 10 Hz; the torque loop holds 0 N*m; the paper's
+    """Sec. 4.2.1 / Fig. 11-12: the load motor (position mode: ``load``, ideal if None) moves
+    the output through a chirp of 20° from 0.1 to 10 Hz; the torque loop holds 0 N*m; the paper's
     ``Z(s) = T̂_s(s) / θ̇_s(s)`` from the estimate and the output speed. The sweep is
     logarithmic over ``duration_s`` (**estimate**: the paper gives neither the sweep law nor the
     duration; a log sweep spends as long on each decade, so 0.1-1 Hz is resolved too)."""
     _check_output_amplitude(amplitude_rad, "chirp amplitude")
+    if not 2 <= per_decade <= 50:
+        raise BenchError(f"per_decade must be 2-50 bands per decade, got {per_decade!r}")
     if not (0.0 < f_lo < f_hi) or not math.isfinite(f_hi) or duration_s < 2.0 / f_lo:
         raise BenchError("need 0 < f_lo < f_hi and a duration of at least two periods of f_lo")
     dt = act.ctrl_dt_s
@@ -784,8 +786,6 @@ def output_impedance(
     # the bands start where the analysed part of the sweep starts (the fade-in is cut away, and
     # the sweep has passed f_lo by then): a band below it holds only leakage
     f_start = f_lo * math.exp(rate * t_fade)
-    if not 2 <= per_decade <= 50:
-        raise BenchError(f"per_decade must be 2-50 bands per decade, got {per_decade!r}")
     f, h = _band_response(vel[sel], r.tau_est[sel], dt, 1.2 * f_start, f_hi / 1.2, per_decade)
     mag = np.abs(h)
     # the peak from tenth-decade bands whatever the table's width (a parabola needs neighbours)
