@@ -235,3 +235,21 @@ def test_core_friction_is_felt_by_the_load_and_not_read_by_the_estimate() -> Non
     assert bent.estimate_rms_nm == pytest.approx(straight.estimate_rms_nm, rel=0.1)
     with pytest.raises(rb.BenchError, match="friction_site"):
         rb.with_(ACT, friction_site="casing")
+
+
+def test_fig12_rise_below_peak_reads_the_bands_below_every_bends_peak() -> None:
+    f = np.array([0.5, 1.0, 2.0, 4.0, 8.0])
+
+    def row(r: float, mag: list[float], peak: float) -> rb.Fig12Row:
+        return rb.Fig12Row("PID", r, f, np.array(mag), peak, 0.0)
+
+    fig = rb.Fig12(
+        (
+            row(math.inf, [1.0, 2.0, 3.0, 9.0, 4.0], 4.0),
+            row(0.2, [1.1, 2.2, 3.3, 8.0, 5.0], 3.0),
+        )
+    )
+    bands = fig.rise_below_peak("PID")
+    assert list(bands) == ["0.5 Hz", "1 Hz", "2 Hz"]  # below the lower (bent) peak only
+    assert bands["2 Hz"] == [3.0, 3.3]
+    np.testing.assert_array_equal(fig.rows[0].side(below=False), [4])
