@@ -113,7 +113,7 @@ BAD_FILES: dict[str, tuple[Callable[[str], str], tuple[str, ...]]] = {
         ("validity.diameter_mm", "finite"),
     ),
     "nan coefficient": (
-        _edit("p = [-1.816, ", "p = [nan, "),
+        _edit("p = [1.334, ", "p = [nan, "),
         ("series.positive.p", "finite"),
     ),
     "section given as a value": (

@@ -1,4 +1,4 @@
-"""``fsarm model-selection`` and ``fsarm qa-throws``."""
+"""``fsarm model-selection``, ``fsarm qa-throws`` and ``fsarm rtca-fig12``."""
 
 from __future__ import annotations
 
@@ -39,3 +39,9 @@ def test_qa_throws_refuses_a_preset_outside_table_iv(
 def test_qa_throws_refuses_text_for_numbers(monkeypatch: pytest.MonkeyPatch) -> None:
     assert run_fsarm(monkeypatch, "qa-throws", "--presets", "soft") == 2
     assert run_fsarm(monkeypatch, "model-selection", "--unbalance", "-1") == 2
+
+
+def test_rtca_fig12_refuses_bad_input_before_running(monkeypatch: pytest.MonkeyPatch) -> None:
+    assert run_fsarm(monkeypatch, "rtca-fig12", "--radii-mm", "0") == 2
+    assert run_fsarm(monkeypatch, "rtca-fig12", "--radii-mm", "flat") == 2
+    assert run_fsarm(monkeypatch, "rtca-fig12", "--duration-s", "5") == 2

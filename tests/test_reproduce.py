@@ -11,6 +11,7 @@ import pytest
 from fsarm_sim.studies.reproduce import runner
 from fsarm_sim.studies.reproduce.claims import (
     PAPERS,
+    ROLES,
     VERDICTS,
     Abs,
     AllOf,
@@ -66,6 +67,7 @@ def test_a_malformed_claim_is_refused() -> None:
         "tolerance": Rel(0.1),
         "paper_value": 1.0,
         "measure": "m",
+        "role": "prediction",
     }
     Claim(**good).validate()  # type: ignore[arg-type]
     for change in (
@@ -75,6 +77,11 @@ def test_a_malformed_claim_is_refused() -> None:
         {"paper_value": None},
         {"not_implemented": "why"},  # two ways at once
         {"measure": None},  # none
+        {"role": ""},  # no role
+        {"role": "guess"},
+        {"role": "calibration"},  # names no parameter
+        {"role": "calibration", "calibrates": ("",)},
+        {"calibrates": ("k",)},  # a prediction names no calibrated parameter
     ):
         with pytest.raises(ClaimError):
             Claim(**{**good, **change}).validate()  # type: ignore[arg-type]
@@ -139,6 +146,25 @@ def test_trend_direction_monotonicity_and_size() -> None:
         t.judge(None, [1.0])
 
 
+def test_trend_judges_the_papers_size_of_change() -> None:
+    """A trend with the paper's own change (seed 001: 6.22 -> 4.30 Hz, 31 %) is judged by size:
+    a 1 % fall the right way is no longer enough."""
+    t = Trend("decreasing", tie=0.01, paper_change=0.309)
+    assert t.judge(None, [6.22, 5.87, 4.32, 4.30]) == "reproduced"  # the paper's own numbers
+    assert t.judge(None, [6.0, 5.0, 4.6]) == "reproduced"  # 23 %: within x2 of 31 %
+    assert t.judge(None, [6.0, 5.7, 5.5]) == "partly"  # 8 %: within x4
+    assert t.judge(None, [6.0, 5.95, 5.9]) == "contradicted"  # 1.7 %: the right way, too small
+    assert t.judge(None, [6.0, 1.0, 0.1]) == "partly"  # 98 %: too large for x2, within x4
+    assert t.judge(None, [6.0, 7.0, 3.5]) == "partly"  # the size, but not monotone
+    assert t.judge(None, [6.0, 6.5]) == "contradicted"  # the wrong way
+    assert "30.9 %" in t.text("Hz")
+    for bad in ({"paper_change": 0.0}, {"paper_change": 0.3, "min_change": 0.1}):
+        with pytest.raises(ClaimError):
+            Trend("decreasing", **bad)  # type: ignore[arg-type]
+    with pytest.raises(ClaimError):
+        Trend("decreasing", paper_change=0.3, change_factor=1.0)
+
+
 def test_all_of_and_ranking() -> None:
     a = AllOf(("x", "y", "z"))
     assert a.judge(None, [True, True, True]) == "reproduced"
@@ -169,6 +195,7 @@ def _claim(cid: str, measure: str) -> Claim:
         tolerance=Rel(0.1),
         paper_value=1.0,
         measure=measure,
+        role="prediction",
     )
 
 
@@ -242,9 +269,18 @@ def test_reproduce_paper_000_quick_writes_json(
             assert c["ours_text"]
     summary = data["summary"]["000"]
     assert summary["total"] == len(data["claims"])
-    assert sum(summary[v] for v in VERDICTS) == summary["total"]
+    assert sum(summary["roles"].values()) == summary["total"]
+    for role in ROLES:
+        assert sum(summary[role][v] for v in VERDICTS) == summary[role]["total"]
+        assert summary[role]["total"] == sum(c["role"] == role for c in data["claims"])
+    for c in data["claims"]:
+        assert c["role"] in ROLES
+        assert c["evidence"] == (c["role"] == "prediction" and c["verdict"] == "reproduced")
+        assert bool(c["calibrates"]) == (c["role"] == "calibration")
+        for name in c["calibrates"]:
+            assert c["id"] in data["calibrated_parameters"][name]
     shown = capsys.readouterr().out
-    assert "summary by paper and verdict" in shown and "000-length-lever" in shown
+    assert "predictions by paper" in shown and "000-length-lever" in shown
 
 
 def test_bad_paper_is_one_line_exit_2(

@@ -165,3 +165,91 @@ def test_on_slow_motion_the_load_feels_the_bend_friction_the_estimate_does_not()
     for bad in ({"amplitude_rad": 0.0}, {"period_s": math.nan}, {"periods": 1}):
         with pytest.raises(rb.BenchError):
             rb.interaction(ACT, pid, **bad)
+
+
+ZN_LIKE = rb.Pid(34.6, 961.0, 0.312)  # about the bench's Ziegler-Nichols PID at the defaults
+
+
+def test_set_point_delay_adds_to_the_lag_one_for_one() -> None:
+    """Sec. 4.1.1's 25 ms: outside the loop, the delay shifts both torques alike."""
+    own = rb.tracking(ACT, ZN_LIKE, periods=2)
+    delay = rb.calibrate_reference_delay(ACT, ZN_LIKE, 25.0)
+    assert delay == pytest.approx(0.025 - own.offset_ms / 1000.0, abs=0.001)
+    late = rb.tracking(rb.with_(ACT, reference_delay_s=delay), ZN_LIKE, periods=2)
+    assert late.offset_ms == pytest.approx(25.0, abs=1.0)
+    # the estimate and the sensor still agree (the paper: 0.0456 N*m while lagging 25 ms)
+    assert late.estimate_error_nm == pytest.approx(own.estimate_error_nm, rel=0.3)
+    # a pure 25 ms lag of 6 N*m at 1 Hz alone: 6 sqrt(2) sin(pi 0.025) = 0.666 N*m RMSE
+    assert late.rmse_nm > 0.9 * 6.0 * math.sqrt(2.0) * math.sin(math.pi * 0.025)
+    with pytest.raises(rb.BenchError, match="target offset"):
+        rb.calibrate_reference_delay(ACT, ZN_LIKE, math.nan)
+    with pytest.raises(rb.BenchError, match="reference_delay_s"):
+        rb.with_(ACT, reference_delay_s=-0.01)
+
+
+def test_transport_delay_is_dead_time_in_the_loop() -> None:
+    assert ACT.delay_cycles == ACT.bus_delay_cycles
+    assert rb.with_(ACT, transport_delay_s=0.010).delay_cycles == ACT.bus_delay_cycles + 10
+
+
+def test_load_servo_follows_slow_motion_and_keeps_its_speed_limit() -> None:
+    load = rb.LoadServo()
+    assert load.speed_limit_rad_s == pytest.approx(7000.0 * 2.0 * math.pi / 60.0 / 113.0)
+    dt = ACT.ctrl_dt_s
+    t = np.arange(_steps(2.0)) * dt
+    amp = math.radians(20.0)
+    fast = rb.load_motion(load, amp * np.sin(2.0 * math.pi * 10.0 * t), dt)
+    assert np.max(np.abs(np.diff(fast))) / dt <= load.speed_limit_rad_s + 1e-9
+    slow_ref = amp * np.sin(2.0 * math.pi * 0.2 * t)
+    slow = rb.load_motion(load, slow_ref, dt)
+    assert np.max(np.abs(slow - slow_ref)) < 0.01 * amp
+    assert rb.load_motion(None, slow_ref, dt) is not None
+    with pytest.raises(rb.BenchError, match="motor_speed_rpm"):
+        rb.load_motion(rb.LoadServo(motor_speed_rpm=0.0), slow_ref, dt)
+
+
+def test_fig12_p_loop_falls_with_frequency_and_the_pid_rises() -> None:
+    """Fig. 12 obs. 2 needs integral action: with a P loop T̂/θ̇_s = μK/(s + μK Kp) falls."""
+    fig = rb.fig12(
+        ACT,
+        {"P": rb.Pid(KP, 0.0, 0.0), "PID": ZN_LIKE},
+        (math.inf,),
+        duration_s=12.0,
+        f_lo=0.5,
+        f_hi=5.0,
+    )
+    p, pid = fig.by("P")[0], fig.by("PID")[0]
+    np.testing.assert_array_equal(p.freq_hz, pid.freq_hz)
+    assert p.magnitude[-1] < p.magnitude[0]
+    assert pid.magnitude[-1] > 2.0 * pid.magnitude[0]
+    assert "PID straight" in fig.table()
+    with pytest.raises(rb.BenchError, match="per_decade"):
+        rb.output_impedance(ACT, ZN_LIKE, per_decade=1)
+
+
+def test_core_friction_is_felt_by_the_load_and_not_read_by_the_estimate() -> None:
+    core = rb.with_(ACT, friction_site="core")
+    straight = rb.interaction(core, ZN_LIKE, periods=2)
+    bent = rb.interaction(core, ZN_LIKE, radius_m=0.2, periods=2)
+    assert bent.felt_rms_nm > 1.3 * straight.felt_rms_nm
+    assert bent.estimate_rms_nm == pytest.approx(straight.estimate_rms_nm, rel=0.1)
+    with pytest.raises(rb.BenchError, match="friction_site"):
+        rb.with_(ACT, friction_site="casing")
+
+
+def test_fig12_rise_below_peak_reads_the_bands_below_every_bends_peak() -> None:
+    f = np.array([0.5, 1.0, 2.0, 4.0, 8.0])
+
+    def row(r: float, mag: list[float], peak: float) -> rb.Fig12Row:
+        return rb.Fig12Row("PID", r, f, np.array(mag), peak, 0.0)
+
+    fig = rb.Fig12(
+        (
+            row(math.inf, [1.0, 2.0, 3.0, 9.0, 4.0], 4.0),
+            row(0.2, [1.1, 2.2, 3.3, 8.0, 5.0], 3.0),
+        )
+    )
+    bands = fig.rise_below_peak("PID")
+    assert list(bands) == ["0.5 Hz", "1 Hz", "2 Hz"]  # below the lower (bent) peak only
+    assert bands["2 Hz"] == [3.0, 3.3]
+    np.testing.assert_array_equal(fig.rows[0].side(below=False), [4])

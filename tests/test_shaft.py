@@ -96,8 +96,8 @@ def test_missing_file() -> None:
     ("edit", "message"),
     [
         (lambda t: t.replace("[series.positive]", "[series.pos]"), "series.positive"),
-        (lambda t: t.replace("p = [-1.816, ", "p = ["), "list of 7"),
-        (lambda t: t.replace("p = [-1.816, ", 'p = ["x", '), "finite number"),
+        (lambda t: t.replace("p = [1.334, ", "p = ["), "list of 7"),
+        (lambda t: t.replace("p = [1.334, ", 'p = ["x", '), "finite number"),
         (lambda t: t.replace("stiffening_per_rad2 = 0.1", "stiffening_per_rad2 = nan"), "finite"),
         (
             lambda t: t.replace(
@@ -123,42 +123,65 @@ def test_malformed_files(tmp_path: Path, edit, message: str) -> None:  # type: i
 # --- eq. 3's length law, eq. 4 as identified, the slip elements' apparent stiffness -------------
 
 
-def _with(tmp_path: Path, edit: Callable[[str], str]) -> Path:
+INVERSE_FILE = Path(__file__).resolve().parents[1] / "src/fsarm_sim/data/shafts_inverse_length.toml"
+INVERSE = load_catalogue(INVERSE_FILE)
+
+
+def _with(tmp_path: Path, edit: Callable[[str], str], text: str | None = None) -> Path:
     f = tmp_path / "edited.toml"
-    f.write_text(edit(_default_text()))
+    f.write_text(edit(_default_text() if text is None else text))
     return f
 
 
-def test_inverse_length_law_scales_eq3_by_l_ref_over_l() -> None:
-    assert CAT.series_reference_length_mm == 450.0
+def test_default_is_eq3_as_printed_affine_in_length() -> None:
+    """Seed 000 eq. 3 as printed (issue 27): K_s = p0 + ... + p4 L + ..., falling linearly with
+    L for every D, and the prototype's 15 N*m/rad at 9 mm x 450 mm."""
+    assert CAT.series_reference_length_mm == 0.0
+    for p in (CAT.p_pos, CAT.p_neg):
+        assert p[4] < 0.0
     for d in (4.0, 9.0, 13.0):
-        ref = CAT.shaft(d, 450.0)
+        for side in (1, -1):
+            p = CAT.p_pos if side > 0 else CAT.p_neg
+            for ell in (235.0, 335.0, 535.0):
+                k = CAT.shaft(d, ell).k_series(0.0, side)
+                want = p[0] + d * p[1] + d**2 * p[2] + d**3 * p[3] + p[4] * ell
+                assert k == pytest.approx(want, rel=1e-12)
+    assert CAT.shaft(9.0, 450.0).k_series(0.0, 1) == pytest.approx(15.0, rel=1e-5)
+
+
+def test_inverse_length_law_option_scales_eq3_by_l_ref_over_l() -> None:
+    assert INVERSE.series_reference_length_mm == 450.0
+    for d in (4.0, 9.0, 13.0):
+        ref = INVERSE.shaft(d, 450.0)
         for ell in (235.0, 335.0, 535.0):
-            s = CAT.shaft(d, ell)
+            s = INVERSE.shaft(d, ell)
             for side in (1, -1):
                 for b in (0.0, 1.0):
                     assert s.k_series(b, side) == pytest.approx(
                         ref.k_series(b, side) * 450.0 / ell, rel=1e-12
                     )
     # seed 001's measured MasterFlex08 (8 mm x 865 mm, ~5.3 N*m/rad secant at 90 deg twist)
-    k, _ = CAT.eq3(8.0, 865.0, 1)  # beyond the 535 mm validity (eq. 4 is negative there)
+    k, _ = INVERSE.eq3(8.0, 865.0, 1)  # beyond the 535 mm validity (eq. 4 is negative there)
     assert k == pytest.approx(5.3, rel=0.1)
+    # eq. 3 as printed cannot: its one p4 L term is the same for every D
+    k_affine, _ = CAT.eq3(8.0, 865.0, 1)
+    assert k_affine > 1.3 * 5.3
 
 
-def test_affine_law_keeps_eq3_as_printed(tmp_path: Path) -> None:
-    def affine(t: str) -> str:
-        t = t.replace('length_law = "inverse"\nreference_length_mm = 450.0\n', "")
-        return t.replace("p = [-1.816, 1.37886752", "p = [0.434, 1.37886752").replace(
-            "0.03024786, 0.0,", "0.03024786, -0.005,"
-        )
+def test_the_two_length_laws_differ_only_in_the_length_term() -> None:
+    """The option file is the default but for eq. 3's length law: every other parameter equal,
+    and the same series stiffness at its 450 mm reference (the default arm's shaft)."""
+    from dataclasses import fields
 
-    cat = load_catalogue(_with(tmp_path, affine))
-    assert cat.series_reference_length_mm == 0.0
-    p = cat.p_pos
-    for ell in (235.0, 535.0):
-        k = cat.shaft(9.0, ell).k_series(0.0, 1)
-        assert k == pytest.approx(p[0] + 9 * p[1] + 81 * p[2] + 729 * p[3] + p[4] * ell, rel=1e-12)
-    assert cat.shaft(9.0, 450.0).k_series(0.0, 1) == pytest.approx(15.0, rel=1e-5)
+    differ = {"source", "p_pos", "p_neg", "series_reference_length_mm"}
+    for f in fields(CAT):
+        if f.name not in differ:
+            assert getattr(CAT, f.name) == getattr(INVERSE, f.name), f.name
+    for d in (4.0, 6.5, 9.0, 13.0):
+        for side in (1, -1):
+            for b in (0.0, 0.7, 2.0):
+                a = CAT.shaft(d, 450.0).k_series(b, side)
+                assert a == pytest.approx(INVERSE.shaft(d, 450.0).k_series(b, side), rel=1e-9)
 
 
 @pytest.mark.parametrize(
@@ -186,7 +209,7 @@ def test_length_law_and_identification_keys_are_checked(
     tmp_path: Path, edit: Callable[[str], str], message: str
 ) -> None:
     with pytest.raises(CoefficientFileError, match=message):
-        load_catalogue(_with(tmp_path, edit))
+        load_catalogue(_with(tmp_path, edit, INVERSE_FILE.read_text("utf-8")))
 
 
 def test_eq4_is_what_eq2_identifies_and_the_elastic_kb_relieves_8nm(tmp_path: Path) -> None:

@@ -10,7 +10,7 @@ top-level ``controllers/`` folder, installed as ``fsarm_sim.controllers``.
 Read top-down, the layers are the package's folders (since 0.3.0):
 
 * base - named errors, declared parameter blocks, output paths, task executors, the lazily
-  completed command app;
+  completed command app, the seed papers' declared claims (data: the calibration targets);
 * laws (``plant/``, ``controllers/``) - physical laws and pure controllers: no MuJoCo,
   compilable (effects, transmissions, the shaft catalogue);
 * layout (``kernels/layout``) - where parameters and states live inside a model and its data;
@@ -41,6 +41,14 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
             "lazy_commands",
             "outputs",
             "paramblocks",
+            # the papers' claims are declared data, read by calibration code below studies
+            "studies.reproduce.claims",
+            "studies.reproduce.seed000",
+            "studies.reproduce.seed001",
+            "studies.reproduce.seed002",
+            "studies.reproduce.seed003",
+            "studies.reproduce.seed004",
+            "studies.reproduce.targets",
         ),
     ),
     ("laws", ("controllers", "plant")),

@@ -1,7 +1,9 @@
 """``fsarm reproduce``: the seed papers' claims checked on the simulator (issue 12).
 
-Prints, per claim, where it is in the paper, the paper's value, ours, the tolerance and the
-verdict, then a summary by paper and verdict. It is a report: exit code 0 whatever the verdicts,
+Leads with the predictions (the claims nothing in the model was chosen from): per paper, how
+many claims are predictions, calibrations and consistency checks, and the verdicts of the
+predictions; then, per claim (predictions first), its role, where it is in the paper, the
+paper's value, ours, the tolerance and the verdict. It is a report: exit code 0 whatever the verdicts,
 2 on bad input, 1 when an experiment itself failed to run, 130 on Ctrl-C (the JSON report then
 holds every finished claim).
 """
@@ -9,7 +11,7 @@ holds every finished claim).
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 from rich.markup import escape
@@ -54,6 +56,7 @@ def _paper_table(paper: str, results: list[object]) -> Table:
 
     table = Table(title=f"seed {paper}: {PAPERS[paper]}", show_lines=False, expand=True)
     table.add_column("claim", ratio=4, overflow="fold")
+    table.add_column("role", ratio=2, overflow="fold")
     table.add_column("where", ratio=2, overflow="fold")
     table.add_column("paper", ratio=3, overflow="fold")
     table.add_column("ours", ratio=4, overflow="fold")
@@ -64,8 +67,10 @@ def _paper_table(paper: str, results: list[object]) -> Table:
         c = r.claim
         ours = r.ours_text if r.verdict not in ("not_implemented", "uncheckable") else r.why
         style = STYLE[r.verdict]
+        role = c.role if c.role != "calibration" else "calibration: " + ", ".join(c.calibrates)
         table.add_row(
             escape(c.id),
+            escape(role),
             escape(c.locator),
             escape(c.paper_text),
             escape(ours),
@@ -75,21 +80,42 @@ def _paper_table(paper: str, results: list[object]) -> Table:
     return table
 
 
-def _summary_table(summary: dict[str, dict[str, int]]) -> Table:
+def _prediction_table(summary: dict[str, dict[str, Any]]) -> Table:
+    """The headline: per paper the roles' counts and the predictions' verdicts."""
     from fsarm_sim.studies.reproduce.claims import VERDICTS
 
-    table = Table(title="fsarm reproduce: summary by paper and verdict")
+    table = Table(title="fsarm reproduce: predictions by paper (the evidence)")
     table.add_column("paper")
+    for role in ("calibration", "prediction", "consistency"):
+        table.add_column(role, justify="right")
     for v in VERDICTS:
-        table.add_column(f"[{STYLE[v]}]{v}[/]", justify="right")
-    table.add_column("total", justify="right")
-    for paper, row in summary.items():
+        table.add_column(f"[{STYLE[v]}]prediction {v}[/]", justify="right")
+    for paper, entry in summary.items():
+        pred = entry["prediction"]
         table.add_row(
-            "all" if paper == "all" else paper,
-            *(str(row[v]) for v in VERDICTS),
-            str(row["total"]),
+            paper,
+            *(str(entry["roles"][r]) for r in ("calibration", "prediction", "consistency")),
+            *(str(pred[v]) for v in VERDICTS),
             end_section=paper == list(summary)[-2] if len(summary) > 1 else False,
         )
+    return table
+
+
+def _support_table(summary: dict[str, dict[str, Any]]) -> Table:
+    """Calibrations and consistency checks: do the fits and transcriptions hold (not evidence)."""
+    from fsarm_sim.studies.reproduce.claims import VERDICTS
+
+    table = Table(
+        title="calibration and consistency claims (they hold by construction; not evidence)"
+    )
+    table.add_column("paper")
+    table.add_column("role")
+    for v in VERDICTS:
+        table.add_column(f"[{STYLE[v]}]{v}[/]", justify="right")
+    for paper, entry in summary.items():
+        for role in ("calibration", "consistency"):
+            row = entry[role]
+            table.add_row(paper, role, *(str(row[v]) for v in VERDICTS))
     return table
 
 
@@ -113,9 +139,11 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Check the seed papers' claims on the simulator with the papers' own procedures.
 
-        Per claim: where it is in the paper, the paper's value, ours, the tolerance and a verdict
-        (reproduced, partly, contradicted, not_implemented, uncheckable); then a summary by paper
-        and verdict. Exit code 0 whatever the verdicts (it is a report), 1 if an experiment
+        Leads with the predictions (claims nothing in the model was chosen from): per paper the
+        counts of predictions, calibrations and consistency checks, and the predictions'
+        verdicts. Per claim: its role, where it is in the paper, the paper's value, ours, the
+        tolerance and a verdict (reproduced, partly, contradicted, not_implemented,
+        uncheckable). Calibration and consistency claims never count as reproduced. Exit code 0 whatever the verdicts (it is a report), 1 if an experiment
         failed to run, 2 on bad input, 130 on Ctrl-C (--json keeps every finished claim).
         """
         from fsarm_sim.studies.reproduce import runner
@@ -150,14 +178,32 @@ def register(app: typer.Typer) -> None:
 
         ctx = Context(quick=quick, backend="native")
         runner.run(claims, ctx, report, on_result)
+        order = {"prediction": 0, "calibration": 1, "consistency": 2}
         by_paper: dict[str, list[object]] = {}
-        for r in report.results:
+        for r in sorted(report.results, key=lambda r: order.get(r.claim.role, 3)):
             by_paper.setdefault(r.claim.paper, []).append(r)
-        for p, results in by_paper.items():
-            console.print(_paper_table(p, results))
-        console.print(_summary_table(report.summary()))
+        summary = report.summary()
+        console.print(_prediction_table(summary))
+        for p in report.papers:
+            if p in by_paper:
+                console.print(_paper_table(p, by_paper[p]))
+        console.print(_support_table(summary))
+        pred = summary["all"]["prediction"]
+        checkable = sum(summary["all"][r]["total"] for r in ("calibration", "prediction")) - sum(
+            summary["all"][r][v]
+            for r in ("calibration", "prediction")
+            for v in ("not_implemented", "uncheckable")
+        )
+        cal = summary["all"]["calibration"]
+        cal_checkable = cal["total"] - cal["not_implemented"] - cal["uncheckable"]
         total = f"{len(report.results)} of {report.planned} claims in {report.elapsed_s:.1f} s"
-        console.print(f"{total}{' (quick)' if quick else ''}", markup=False)
+        console.print(
+            f"{total}{' (quick)' if quick else ''}: predictions reproduced {pred['reproduced']} "
+            f"of {pred['total']} ({pred['partly']} partly, {pred['contradicted']} contradicted); "
+            f"calibration {cal_checkable} of {checkable} checkable claims (consistency "
+            f"checks are not counted)",
+            markup=False,
+        )
         if json_file is not None:
             where = writes.write(
                 json_file, lambda p_: runner.write_json(p_, report), "the report (--json)"

@@ -1,4 +1,5 @@
-"""``fsarm model-selection`` (seed 003, Tables 3-5) and ``fsarm qa-throws`` (seed 002, Sec. VI-VII).
+"""``fsarm model-selection`` (seed 003, Tables 3-5), ``fsarm qa-throws`` (seed 002, Sec. VI-VII)
+and ``fsarm rtca-fig12`` (seed 001, Fig. 12).
 
 Thin: options in, the studies of :mod:`fsarm_sim.studies.magnetic_spring_selection` and
 :mod:`fsarm_sim.studies.qa_joint_experiments` run, their tables printed (and written as JSON).
@@ -136,3 +137,59 @@ def register(app: typer.Typer) -> None:
                     line.append(f"σ {s:g}°: {imp.peak_joint_torque_nm:.1f}")
                 typer.echo(f"  r = {r:g} m: " + ", ".join(line))
         _write_json(json_file, {"adjust": adjust, "throws": rows, "impacts": impacts})
+
+    @app.command("rtca-fig12")
+    def rtca_fig12_cmd(
+        radii_mm: Annotated[
+            str, typer.Option("--radii-mm", help="bend radii [mm], comma-separated; inf = straight")
+        ] = "inf,450,200",
+        duration_s: Annotated[
+            float, typer.Option(help="length of the 20° chirp 0.1-10 Hz [s] (>= 20)")
+        ] = 60.0,
+        ideal_load: Annotated[
+            bool,
+            typer.Option(help="the load motor as an ideal position source (no speed limit)"),
+        ] = False,
+        json_file: Annotated[
+            Path | None, typer.Option("--json", help="also write the numbers as JSON here")
+        ] = None,
+    ) -> None:
+        """Seed 001's Fig. 12 on its bench: |T̂_s/θ̇_s| per band at each bend, P and ZN PID."""
+        import math
+
+        from fsarm_sim.outputs import OutputPlan
+        from fsarm_sim.studies import rtca_bench as rb
+
+        OutputPlan().file("--json", json_file).check()
+        radii = [math.inf if r == math.inf else r / 1000.0 for r in _floats("--radii-mm", radii_mm)]
+        if not radii or any(not (r > 0.0) for r in radii):
+            raise rb.BenchError("--radii-mm takes bend radii > 0 mm (inf = straight)")
+        if not (math.isfinite(duration_s) and 20.0 <= duration_s <= 600.0):
+            raise rb.BenchError(f"--duration-s must be in [20, 600] s, got {duration_s!r}")
+        act, controllers = rb.paper_controllers()
+        fig = rb.fig12(
+            act,
+            controllers,
+            tuple(radii),
+            load=None if ideal_load else rb.LoadServo(),
+            duration_s=duration_s,
+        )
+        typer.echo("|T̂_s/θ̇_s| [N·m·s/rad] per fifth-of-a-decade band (seed 001 Fig. 12)")
+        typer.echo(fig.table())
+        _write_json(
+            json_file,
+            {
+                "pid": {k: asdict(v) for k, v in controllers.items()},
+                "reference_delay_s": act.reference_delay_s,
+                "rows": [
+                    {
+                        "controller": r.controller,
+                        "radius_mm": 1000.0 * r.radius_m,
+                        "freq_hz": r.freq_hz.tolist(),
+                        "magnitude": r.magnitude.tolist(),
+                        "peak_hz": r.peak_hz,
+                    }
+                    for r in fig.rows
+                ],
+            },
+        )

@@ -19,7 +19,9 @@ is evaluated at a reference length ``L_ref`` and scaled by ``L_ref / L``,
 
     K(D, L, phi) = K_eq3(D, L_ref, phi) * L_ref / L         (``reference_length_mm`` = L_ref > 0),
 
-and ``reference_length_mm = 0`` keeps eq. 3 exactly as printed (a file with the paper's Table I).
+and ``reference_length_mm = 0`` keeps eq. 3 exactly as printed. The default catalogue
+(``data/shafts.toml``) uses eq. 3 as printed, the paper's own form; ``data/shafts_inverse_length.toml``
+is the same catalogue with the inverse law.
 """
 
 from __future__ import annotations

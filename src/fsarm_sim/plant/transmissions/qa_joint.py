@@ -56,6 +56,7 @@ from fsarm_sim.plant.transmissions.base import (
     non_negative,
     positive,
 )
+from fsarm_sim.studies.reproduce.targets import claim_value
 
 NAME = "qa-joint"
 TITLE = "DLR QA-Joint: exponential quasi-antagonistic spring with stiffness preset (seed 002)"
@@ -83,12 +84,43 @@ DESIGN_A_NM = 40.0  # eq. 12-13: a = 40 N*m
 DESIGN_B_PER_RAD = 15.0  # eq. 12-13: b = 15 1/rad
 DEFAULT_SIGMA_DEG = 15.0  # softest preset: closest to the flexible shaft's ~10 N*m/rad it replaces
 _ROW = TABLE_IV[DEFAULT_SIGMA_DEG]
+SIGMA_TAU_S = 0.02  # estimate: the stiffness drive's lag (Param sigma_tau_s)
+SETTLE_FRACTION = 0.01  # "settled": within 1 % of the range
+
+
+def full_range_time_s(rate: float, tau: float = SIGMA_TAU_S) -> float:
+    """Time of a full-range preset move (3 -> 15 deg) settled to 1 % of the range under
+    ``dsigma/dt = clamp((cmd - sigma) / tau, +-rate)``: the rate-limited leg, then the lag's
+    exponential tail, ``(R - rate tau) / rate + tau ln(rate tau / (0.01 R))``."""
+    r = math.radians(max(TABLE_IV) - min(TABLE_IV))
+    return (r - rate * tau) / rate + tau * math.log(rate * tau / (SETTLE_FRACTION * r))
+
+
+def rate_for_adjust_time(seconds: float, tau: float = SIGMA_TAU_S) -> float:
+    """The drive speed (rad/s) whose full-range move settles in ``seconds``: bisection on
+    :func:`full_range_time_s`, which falls monotonically over the speeds where its two legs
+    exist (``0.01 R < rate tau <= R``)."""
+    r = math.radians(max(TABLE_IV) - min(TABLE_IV))
+    lo, hi = SETTLE_FRACTION * r / tau * (1.0 + 1e-9), r / tau
+    if not (math.isfinite(seconds) and full_range_time_s(hi, tau) < seconds):
+        raise ValueError(
+            f"no drive speed settles a full-range preset move in {seconds!r} s (needs > "
+            f"{full_range_time_s(hi, tau):.3g} s with a {tau:g} s lag)"
+        )
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if full_range_time_s(mid, tau) > seconds:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
 # The stiffness drive's speed (rad/s): Table III's "maximum stiffness adjustment time 0.12 s" is
-# the time of a full-range move (3...15 deg) settled to 1 % of the range, which under
-# dsigma/dt = clamp((cmd - sigma) / tau, +-rate) with tau = 20 ms (sigma_tau_s) takes
-# (R - rate tau) / rate + tau ln(rate tau / (0.01 R)) = 0.12 s: rate = 2.827 rad/s (162 deg/s).
-# (R / 0.12 s, 100 deg/s, would settle in 0.156 s: the rate limit alone is not the whole move.)
-SIGMA_RATE_TABLE_III = 2.8269530
+# the time of a full-range move (3...15 deg) settled to 1 % of the range: with the 20 ms lag,
+# rate = 2.827 rad/s (162 deg/s). (R / 0.12 s, 100 deg/s, would settle in 0.156 s: the rate limit
+# alone is not the whole move.) Read from the calibration claim 002-adjust-time (one source).
+SIGMA_RATE_TABLE_III = rate_for_adjust_time(claim_value("002-adjust-time"))
 
 
 _PRESET_WHY = (
@@ -181,7 +213,7 @@ PARAMS: tuple[Param, ...] = (
     ),
     Param(
         "sigma_tau_s",
-        0.02,
+        SIGMA_TAU_S,
         "s",
         "estimate: stiffness-drive lag; seed 002 gives none (Fig. 12: 'slightly too little "
         "dynamics'); 20 ms is well inside the 0.12 s full-range time (sigma_rate is set with it)",

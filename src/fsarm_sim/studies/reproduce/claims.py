@@ -19,6 +19,17 @@ Verdicts (:data:`VERDICTS`):
 * ``uncheckable``  - the paper's statement cannot be checked without guessing (garbled text,
   figures only, the text contradicting its own table).
 
+Roles (:data:`ROLES`): every claim says what it is to the model, so that fitting and checking stay
+apart (issue 27):
+
+* ``prediction``   - nothing in the model was chosen from it: the only evidence of fidelity;
+* ``calibration``  - a parameter was chosen or fitted from it (``calibrates`` names which); its
+  verdict says the calibration holds, not that the model predicts it;
+* ``consistency``  - a number transcribed into the model, a formula checked against itself, a
+  structural identity: a check of the code against the paper, never counted as reproduced.
+
+``role_why`` says why a claim has its role (which parameter, which transcription).
+
 Tolerance kinds (each has :meth:`judge` and :meth:`text`): :class:`Rel`, :class:`Abs`,
 :class:`Factor` (numbers), :class:`Between` (a published range), :class:`AtLeast`,
 :class:`AtMost` (inequalities), :class:`Trend` (a direction over ordered conditions, with
@@ -34,6 +45,8 @@ from dataclasses import dataclass, field
 from typing import Any, Literal, TypeVar
 
 T = TypeVar("T")
+Role = Literal["prediction", "calibration", "consistency"]
+ROLES: tuple[Role, ...] = ("prediction", "calibration", "consistency")
 Verdict = Literal["reproduced", "partly", "contradicted", "not_implemented", "uncheckable"]
 VERDICTS: tuple[Verdict, ...] = (
     "reproduced",
@@ -238,6 +251,13 @@ class Trend:
       it or the change is below ``min_change``;
     * contradicted: no change beyond ``tie``, the wrong way, or every value below ``floor`` (in
       the claim's unit: the quantity is absent, so it cannot trend).
+
+    Where the paper states the size of its change, ``paper_change`` carries it (the total
+    relative change, first to last, as a positive fraction: a fall 6.22 -> 4.30 Hz is 0.31) and
+    the size is judged too: reproduced needs the total within ``change_factor`` of the paper's
+    (``paper/f <= total <= paper*f``, and monotone), partly within ``change_factor``² (or the
+    size right but not monotone); a change the right way but outside that is contradicted (a
+    1 % fall where the paper reports 31 % is not the paper's trend). ``min_change`` is then 0.
     """
 
     direction: Literal["increasing", "decreasing"]
@@ -245,7 +265,20 @@ class Trend:
     tie: float = 0.01
     strict: bool = False
     floor: float = 0.0
+    paper_change: float | None = None
+    change_factor: float = 2.0
     needs_paper_value = False
+
+    def __post_init__(self) -> None:
+        if self.paper_change is not None:
+            if not (_finite(self.paper_change) and self.paper_change > 0.0):
+                raise ClaimError(
+                    f"a Trend's paper_change must be a positive fraction, got {self.paper_change!r}"
+                )
+            if not (_finite(self.change_factor) and self.change_factor > 1.0):
+                raise ClaimError(f"a Trend's change_factor must be > 1, got {self.change_factor!r}")
+            if self.min_change:
+                raise ClaimError("a Trend takes paper_change or min_change, not both")
 
     def _one(self, ours: Any) -> Verdict:
         if not isinstance(ours, Sequence) or len(ours) < 2:
@@ -260,6 +293,15 @@ class Trend:
         monotone = (
             all(s > self.tie for s in steps) if self.strict else all(s >= -self.tie for s in steps)
         )
+        if self.paper_change is not None:
+            if total <= self.tie:
+                return "contradicted"
+            p, f = self.paper_change, self.change_factor
+            if monotone and p / f <= total <= p * f:
+                return "reproduced"
+            if p / (f * f) <= total <= p * f * f:
+                return "partly"
+            return "contradicted"
         if monotone and total > self.tie and total >= self.min_change:
             return "reproduced"
         if total > self.tie:
@@ -276,7 +318,13 @@ class Trend:
     def text(self, unit: str) -> str:
         word = "rises" if self.direction == "increasing" else "falls"
         s = f"{word} {'strictly ' if self.strict else ''}monotonically"
-        if self.min_change > 0.0:
+        if self.paper_change is not None:
+            p, f = 100 * self.paper_change, self.change_factor
+            s += (
+                f", by the paper's {p:.3g} % within ×{f:g} ({p / f:.3g}–{p * f:.3g} %; "
+                f"partly {p / f / f:.3g}–{p * f * f:.3g} %)"
+            )
+        elif self.min_change > 0.0:
             s += f", by ≥ {100 * self.min_change:g} % in total"
         return s + f" (ties ≤ {100 * self.tie:g} %)"
 
@@ -367,8 +415,44 @@ class Claim:
     uncheckable: str | None = None  # why the statement cannot be checked
     issue_item: int | None = None  # issue 12's "what the simulator contradicts" item
     quick: bool = True  # part of ``--quick``
+    role: str = ""  # one of ROLES (module docstring); required
+    calibrates: tuple[str, ...] = ()  # calibration: the parameter(s) chosen/fitted from it
+    role_why: str = ""  # why this role: which parameter, transcription or identity
+
+    def __post_init__(self) -> None:
+        self.check_role()
+
+    def check_role(self) -> None:
+        """The role is declared and fits (a claim without one cannot be built)."""
+        if self.role not in ROLES:
+            raise ClaimError(
+                f"{self.id}: role must be one of {', '.join(ROLES)}, got {self.role!r}"
+            )
+        if not isinstance(self.calibrates, tuple) or not all(
+            isinstance(p, str) and p.strip() for p in self.calibrates
+        ):
+            raise ClaimError(
+                f"{self.id}: calibrates must be a tuple of parameter names, got {self.calibrates!r}"
+            )
+        if self.role == "calibration" and not self.calibrates:
+            raise ClaimError(
+                f"{self.id}: a calibration claim must name the parameter(s) chosen from it "
+                "(calibrates=...)"
+            )
+        if self.role != "calibration" and self.calibrates:
+            raise ClaimError(
+                f"{self.id}: only a calibration claim names calibrated parameters "
+                f"(role {self.role!r}, calibrates {self.calibrates!r})"
+            )
+
+    @property
+    def counts_as_reproduced(self) -> bool:
+        """Only a prediction's verdict is evidence (a calibration or consistency claim that
+        holds says the model was built from it)."""
+        return self.role == "prediction"
 
     def validate(self) -> None:
+        self.check_role()
         if self.paper not in PAPERS:
             raise ClaimError(
                 f"{self.id}: paper must be one of {sorted(PAPERS)}, got {self.paper!r}"
@@ -435,6 +519,10 @@ class Result:
             "why": self.why,
             "note": self.note,
             "issue_item": c.issue_item,
+            "role": c.role,
+            "calibrates": list(c.calibrates),
+            "role_why": c.role_why,
+            "evidence": c.counts_as_reproduced and self.verdict == "reproduced",
             "failed": self.failed,
             "seconds": round(self.seconds, 3),
             "details": _jsonable(self.details),

@@ -30,6 +30,7 @@ CHIRP_FULL_S = 10.0  # the campaign's default chirp
 CHIRP_QUICK_S = 4.0
 TORSION_FRACTION = 0.9  # "with torsion": a held twist carrying 90 % of the rating (worst case)
 SLOW_PERIOD_S = 80.0  # conduit rate test: 10x slower than the campaign's 8 s cycle
+OTHER_BEND_PERIODS_S = (2.0, 120.0)  # K_b round trip away from the declared 8 s test
 
 
 def _bends(ctx: Context) -> tuple[float, ...]:
@@ -553,15 +554,27 @@ def k_rises_with_d(ctx: Context) -> Measured:
 
 
 def length_lever(ctx: Context) -> Measured:
+    """Eq. 3 of the default catalogue over the length range, straight, for every diameter of the
+    validity box and both sides: does it fall with L, and is it a straight line in L?"""
     stiffness = _selection().stiffness
     cat = _catalogue()
+    ds, ls = _grid(cat)
+    falls, worst_r2 = True, 1.0
+    for d in ds:
+        for side in (1, -1):
+            k = np.array([stiffness(cat, "series", float(d), float(ell), 0.0, side) for ell in ls])
+            falls = falls and bool(np.all(np.diff(k) < 0.0))
+            coef = np.polyfit(ls, k, 1)
+            ss = float(np.sum((k - k.mean()) ** 2))
+            r2 = 1.0 - float(np.sum((k - np.polyval(coef, ls)) ** 2)) / ss if ss > 0.0 else 0.0
+            worst_r2 = min(worst_r2, r2)
     k_short = stiffness(cat, "series", 9.0, 235.0)
     k_long = stiffness(cat, "series", 9.0, 535.0)
-    ratio = k_short / k_long
     return Measured(
-        ours=ratio,
-        text=f"K_sp(9×235) {k_short:.3g} / K_sp(9×535) {k_long:.3g} = {ratio:.3g}",
-        details={"k_235": k_short, "k_535": k_long},
+        ours=[falls, worst_r2 >= 0.99],
+        text=f"K_s {'falls' if falls else 'does not fall'} with L; smallest R² of a line in L "
+        f"{worst_r2:.4f}; 9 mm: {k_short:.3g} (235 mm) → {k_long:.3g} N·m/rad (535 mm)",
+        details={"r2_min": worst_r2, "k_9x235": k_short, "k_9x535": k_long},
     )
 
 
@@ -569,15 +582,106 @@ def algorithm1_reaches(ctx: Context) -> Measured:
     sel_mod = _selection()
     stiffness = sel_mod.stiffness
     cat = _catalogue()
-    k_des = stiffness(cat, "series", 9.0, 450.0) * 450.0 / 300.0
+    k_des = stiffness(cat, "series", 9.0, 300.0)
     req = sel_mod.SelectionRequest(k_des=k_des, torque_nm=6.7, diameters_mm=(9.0,))
     sel = sel_mod.select_shaft(cat, req, nearest=True)
-    miss = abs(sel.relative_error)
+    alg = sel_mod.algorithm1(cat, req)
+    miss = max(abs(sel.relative_error), abs(alg.k_nm_per_rad / k_des - 1.0))
     return Measured(
         ours=miss,
-        text=f"K_des {k_des:.3g}: D {sel.diameter_mm:g} mm, L {sel.length_mm:.0f} mm gives "
-        f"{sel.k_nm_per_rad:.3g} N·m/rad ({100 * sel.relative_error:+.1f} %)",
-        details={"k_des": k_des, "length_mm": sel.length_mm, "k": sel.k_nm_per_rad},
+        text=f"K_des {k_des:.3g}: closed form D {sel.diameter_mm:g} mm, L {sel.length_mm:.0f} mm "
+        f"({100 * sel.relative_error:+.2f} %); Algorithm 1 (interpreted) L "
+        f"{alg.length_mm:.0f} mm ({100 * (alg.k_nm_per_rad / k_des - 1.0):+.2f} %)",
+        details={"k_des": k_des, "length_mm": sel.length_mm, "alg_length_mm": alg.length_mm},
+        note="the interpreted variant re-evaluates δ every iteration (the printed one does not: "
+        "000-algorithm1-as-printed)",
+    )
+
+
+def algorithm1_as_printed(ctx: Context) -> Measured:
+    """Algorithm 1 line for line: δ is computed once (line 5) before the loop, so L walks
+    N_itr steps of (L_max − L_min)/N_itr one way from a random start (seeds 0-9)."""
+    sel_mod = _selection()
+    cat = _catalogue()
+    k_des = sel_mod.stiffness(cat, "series", 9.0, 300.0)
+    req = sel_mod.SelectionRequest(k_des=k_des, torque_nm=6.7, diameters_mm=(9.0,))
+    lo, hi = cat.length_range
+    ends = []
+    for seed in range(10):
+        alg = sel_mod.algorithm1(cat, req, seed=seed, variant="literal")
+        ends.append(alg.length_mm)
+    inside = [lo - 1e-9 <= e <= hi + 1e-9 for e in ends]
+    near = [abs(e - 300.0) <= 1.0 for e in ends]
+    return Measured(
+        ours=[all(inside), all(near)],
+        text=f"ends at L = {min(ends):.0f}…{max(ends):.0f} mm (K_des at 300 mm; range "
+        f"{lo:g}-{hi:g} mm)",
+        details={"end_lengths_mm": ends},
+    )
+
+
+def table1_rmse_rows(ctx: Context) -> Measured:
+    bends, rp, rn = _rmse_table(ctx)
+    return Measured(
+        ours=[rp[-1] <= rp[0], rn[-1] <= rn[0]],
+        text=f"RMSE_p {rp[0]:.3g} → {rp[-1]:.3g}, RMSE_n {rn[0]:.3g} → {rn[-1]:.3g} N·m "
+        f"({bends[0]:g} → {bends[-1]:g}°)",
+        details={"bend_deg": bends, "rmse_pos": rp, "rmse_neg": rn},
+        note="the slip elements' friction grows with the bend as the text says (calibrated: "
+        "000-series-hysteresis-grows-with-bend); the table, read row by row, says the opposite",
+    )
+
+
+def eq1_identified(ctx: Context) -> Measured:
+    """Eq. 1 (J, B and K per side) fitted by least squares to each series test, as the paper
+    identified it: is J physical (>= 0), and are the J and B terms small beside the torque?"""
+    worst, j_ok, rows = 0.0, True, []
+    for r in series_sweep(ctx):
+        f, cols = r["fit"], r["cols"]
+        t = np.asarray(cols["t"], dtype=np.float64)
+        twist = np.asarray(cols["theta_m"], dtype=np.float64) - np.asarray(cols["theta_s"])
+        tau = np.asarray(cols["tau_s"], dtype=np.float64)
+        rate = np.gradient(twist, t)
+        acc = np.gradient(rate, t)
+        b = np.where(twist >= 0.0, f.eq1_b_pos, f.eq1_b_neg)
+        dyn = f.eq1_j * acc + b * rate
+        share = float(np.sqrt(np.mean(dyn**2)) / np.sqrt(np.mean(tau**2)))
+        worst = max(worst, share)
+        j_ok = j_ok and f.eq1_j >= 0.0
+        rows.append(
+            {
+                "bend_deg": f.bend_deg,
+                "J": f.eq1_j,
+                "B_p": f.eq1_b_pos,
+                "B_n": f.eq1_b_neg,
+                "share": share,
+            }
+        )
+    js = [r["J"] for r in rows]
+    bs = [v for r in rows for v in (r["B_p"], r["B_n"])]
+    return Measured(
+        ours=[j_ok, worst <= 0.05],
+        text=f"J {min(js):.3g}…{max(js):.3g} kg·m², B {min(bs):.3g}…{max(bs):.3g} N·m·s/rad; "
+        f"J and B terms up to {100 * worst:.1f} % of the torque (RMS)",
+        details={"fits": rows},
+        note="the slip elements' loop (eq. 1 has no hysteresis term) is what the fit takes as "
+        "damping",
+    )
+
+
+def bending_roundtrip_periods(ctx: Context) -> Measured:
+    kb = _catalogue().shaft().kb_eq4
+    out = {}
+    for period in OTHER_BEND_PERIODS_S:
+        _, fit = parallel_run(ctx, False, period)
+        out[period] = fit.kb_linear / kb - 1.0
+    worst = max(abs(v) for v in out.values())
+    return Measured(
+        ours=worst,
+        text="K_b fit vs eq. 4: "
+        + ", ".join(f"{100 * v:+.1f} % ({p:g} s cycle)" for p, v in out.items()),
+        details={"relative_error_by_period_s": out, "kb_eq4": kb},
+        note="eq. 4 is normalised at the 8 s test declared in shafts.toml (000-bending-roundtrip)",
     )
 
 
@@ -725,4 +829,8 @@ MEASURES: dict[str, MeasureFn] = {
     "k_rises_with_d": k_rises_with_d,
     "length_lever": length_lever,
     "algorithm1_reaches": algorithm1_reaches,
+    "algorithm1_as_printed": algorithm1_as_printed,
+    "table1_rmse_rows": table1_rmse_rows,
+    "eq1_identified": eq1_identified,
+    "bending_roundtrip_periods": bending_roundtrip_periods,
 }

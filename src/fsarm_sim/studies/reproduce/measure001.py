@@ -2,22 +2,15 @@
 
 * The RTCA transmission (:mod:`fsarm_sim.plant.transmissions.rtca`, seed 001's own shaft model) is
   evaluated where a claim is about the shaft's law (Table 1, μ, dead zone).
-* Torque tracking (Sec. 4.1.1), the torque bandwidth at the paper's radii (Sec. 4.1.2) and the
-  output impedance of the RTCA (Sec. 4.2.1) run on **seed 001's own actuator**
-  (:mod:`fsarm_sim.studies.rtca_bench`: its motor, gearbox, encoders and 1 kHz cascade on a
-  blocked or load-driven output), the P gain calibrated once to the paper's 25 ms offset.
-* The bend-angle estimate (Sec. 5.1) runs on the *held arm* (as
-  :func:`fsarm_sim.studies.arm_metrics.torque_bandwidth` holds it: links on a huge armature, gravity off,
-  outer loops off) with our joint-3 cascade following a desired shaft torque ``A sin(2 pi f t)``;
-  the estimate is the controller's virtual torque sensor (``tau_model``), the truth the
-  transmission's torque (``tau_shaft``, what seed 001's torque sensor reads).
-* Bandwidth (Sec. 4.1.2) and output impedance (Sec. 4.2.1): :func:`fsarm_sim.studies.arm_metrics.
-  torque_bandwidth` and :func:`fsarm_sim.studies.transparency.output_impedance` with **fixed** torque-PID
-  gains ("the same PID gains for all spatial conditions"), at the paper's bend radii converted
-  with ``φ = L_bend / R`` (``L_bend`` = 255 mm, Sec. 5.1). This is *our* controller, not seed
-  001's (that comparison is ``not_implemented``), so only the trend is claimed.
-* The flexible shaft's model accuracy vs bend (Sec. 3.3): the seed-000 series bench (eq. 8 fitted
-  per side and bend, the analogue of seed 001's μ fitted per radius and sign).
+* Everything the paper measured on its actuator runs on **seed 001's own bench**
+  (:mod:`fsarm_sim.studies.rtca_bench`: its motor, gearbox, encoders and 1 kHz cascade on its
+  MasterFlex08, output blocked or driven by the load motor) with the paper's control: a PID
+  tuned by Ziegler-Nichols on the bench, the set-point delay calibrated on the 25 ms offset
+  (claim 001-torque-tracking-offset, read through ``targets.claim_value``). That is torque
+  tracking (Sec. 4.1.1), the torque bandwidth at the paper's radii (Sec. 4.1.2), Fig. 12's
+  |T̂_s/θ̇_s| per band (Sec. 4.2.1), the model's NRMSE vs bend (Sec. 3.3) and the bend-angle
+  estimate at fixed knee angles (Sec. 5.1, ``φ = L_bend / R``, ``L_bend`` = 255 mm).
+* The MasterFlex08 against seed 000's eq. 3: the catalogue's law at 8 mm × 865 mm.
 """
 
 from __future__ import annotations
@@ -157,52 +150,7 @@ def mu_lol_250(ctx: Context) -> Measured:
     return Measured(ours=v, text=f"{v:.4g}", note="T(Δθ, R)/T(Δθ, straight) of the rtca law")
 
 
-def model_accuracy_vs_bend(ctx: Context) -> Measured:
-    from fsarm_sim.plant.shaft import load_catalogue
-    from fsarm_sim.studies import campaign as cp
-
-    s = cp.BenchSettings(backend=ctx.backend, chirp_s=4.0 if ctx.quick else 10.0)
-    shaft = load_catalogue().shaft()
-    nrmse = []
-    for r in R_CHARACTERISATION_M:
-        b = _phi(r)
-        cols = cp.series_test(shaft, b, s)
-        f = cp.fit_series(cols, math.degrees(b))
-        rms = math.sqrt((f.n_pos * f.rmse_pos**2 + f.n_neg * f.rmse_neg**2) / (f.n_pos + f.n_neg))
-        span = float(np.max(cols["tau_s"]) - np.min(cols["tau_s"]))
-        nrmse.append(100.0 * rms / span)
-    return Measured(
-        ours=nrmse,
-        text="NRMSE " + " → ".join(f"{v:.3g}" for v in nrmse) + " %",
-        details={"radius_mm": [1000 * r for r in R_CHARACTERISATION_M], "nrmse_pct": nrmse},
-        note="our flexible shaft (9×450 prototype) on the series bench, eq. 8 fitted per side "
-        "and bend (seed 001: μ fitted per radius and sign)",
-    )
-
-
-# ------------------------------------------------------------------------------ held arm
-
-
-def held_torque_run(
-    ctx: Context, transmission: str, bend_rad: float, amplitude_nm: float, duration_s: float
-) -> dict[str, Any]:
-    """Our joint-3 loop following ``amplitude sin(2 pi t)`` (1 Hz) of shaft torque, arm held."""
-    from fsarm_sim.engine.model import SimConfig
-    from fsarm_sim.kernels import layout as L
-    from fsarm_sim.sim.simulation import initial_state
-    from fsarm_sim.studies.arm_metrics import held_arm, smoothstep
-
-    cfg = SimConfig(transmission=transmission)
-    sim, m33, t, table = held_arm(cfg, duration_s, bend_rad, math.radians(45.0), ctx.backend)
-    m, d, st = sim.model, sim.data, sim.structure
-    tau_d = amplitude_nm * smoothstep(t, 0.5) * np.sin(2.0 * math.pi * t)
-    table[:, 8] = st.coef_s * tau_d / m33
-    m.numeric(L.REF_NAME).data[:] = table.ravel()
-    initial_state(m, d, st)
-    cols, _ = sim.run(duration_s)
-    cols = dict(cols)
-    cols["controller_block"] = cfg.transmission_blocks()[1]
-    return cols
+# ------------------------------------------------------------------------- Sec. 4.1.1, 5.1
 
 
 def deadzone(ctx: Context) -> Measured:
@@ -216,32 +164,34 @@ def deadzone(ctx: Context) -> Measured:
     )
 
 
-def _bend_runs(ctx: Context) -> list[dict[str, Any]]:
-    bends = BENDS_SEC51_QUICK_DEG if ctx.quick else BENDS_SEC51_DEG
-    return ctx.once(
-        "001/sec51",
-        lambda: [
-            {"bend_deg": b, "cols": held_torque_run(ctx, "rtca", math.radians(b), 4.0, 2.5)}
-            for b in bends
-        ],
-    )
-
-
 def _sec51_errors(ctx: Context) -> tuple[float, float, list[dict[str, float]]]:
-    tr, _ = _rtca()
-    worst_with = worst_without = 0.0
-    rows = []
-    for run in _bend_runs(ctx):
-        c = run["cols"]
-        sel = c["t"] >= 1.0
-        true = c["tau_shaft"][sel]
-        with_bend = float(np.max(np.abs(c["tau_model"][sel] - true)))
-        straight = np.array(
-            [tr.sensor_torque(c["controller_block"], float(x), 0.0) for x in c["twist"][sel]]
-        )
-        without = float(np.max(np.abs(straight - true)))
-        worst_with, worst_without = max(worst_with, with_bend), max(worst_without, without)
-        rows.append({"bend_deg": run["bend_deg"], "with_bend": with_bend, "without_bend": without})
+    """Sec. 5.1 on seed 001's bench: the ZN loop follows 4 N·m at 1 Hz (output blocked) with
+    the shaft bent at each fixed knee angle φ (R = L/φ, L = 255 mm); the estimate with μ(φ)
+    (eq. 5) and with the straight law (T̂/μ) against the torque sensor."""
+    from fsarm_sim.plant.transmissions import rtca
+    from fsarm_sim.studies import rtca_bench as rb
+
+    act, pid = _bench(ctx)
+    bends = BENDS_SEC51_QUICK_DEG if ctx.quick else BENDS_SEC51_DEG
+
+    def one(b_deg: float) -> dict[str, float]:
+        r = BEND_LENGTH_M / math.radians(b_deg) if b_deg > 0.0 else math.inf
+        run = rb.tracking(act, pid, amplitude_nm=4.0, periods=2, radius_m=r).run
+        sel = run.t >= run.t[-1] - 2.0
+        block = act.shaft_block()
+        phi = rb.bend_of(r, block)
+        est = run.tau_est[sel]
+        mu = np.array([rtca.mu_factor(block, 1.0 if v >= 0.0 else -1.0, phi) for v in est])
+        sens = run.tau_sensor[sel]
+        return {
+            "bend_deg": b_deg,
+            "with_bend": float(np.max(np.abs(est - sens))),
+            "without_bend": float(np.max(np.abs(est / mu - sens))),
+        }
+
+    rows = ctx.once("001/bench/sec51", lambda: [one(b) for b in bends])
+    worst_with = max(r["with_bend"] for r in rows)
+    worst_without = max(r["without_bend"] for r in rows)
     return worst_with, worst_without, rows
 
 
@@ -251,7 +201,8 @@ def bend_compensated_error(ctx: Context) -> Measured:
         ours=w,
         text=f"max |error| {w:.3g} N·m",
         details={"rows": rows},
-        note="rtca, our loop following 4 N·m at 1 Hz, held at each of Sec. 5.1's knee angles",
+        note=BENCH_NOTE + "; 4 N·m at 1 Hz at each of Sec. 5.1's knee angles (R = 255 mm / φ); "
+        "the error is the shaft's bend friction and the encoders' quantum",
     )
 
 
@@ -272,104 +223,6 @@ def bend_compensation_gain(ctx: Context) -> Measured:
     w, wo, _ = _sec51_errors(ctx)
     gain = 100.0 * (1.0 - w / wo) if wo > 0.0 else 0.0
     return Measured(ours=gain, text=f"{gain:.3g} % (max error {wo:.3g} → {w:.3g} N·m)")
-
-
-# ------------------------------------------------------------------------- bandwidth, Z
-
-
-def _fixed_gains(transmission: str) -> Any:
-    from fsarm_sim.engine.model import Gains, SimConfig
-
-    return SimConfig(transmission=transmission, gains=Gains(gain_schedule=False))
-
-
-def bandwidth_hz(cfg: Any, bend_rad: float, ctx: Context) -> float:
-    """:func:`fsarm_sim.studies.arm_metrics.torque_bandwidth`; when the -3 dB point lies above its
-    default chirp (60 Hz, analysed to 40 Hz) the chirp is widened to 200 Hz."""
-    from fsarm_sim.studies.arm_metrics import torque_bandwidth
-
-    for f_stop in (60.0, 200.0):
-        bw = float(
-            torque_bandwidth(cfg, bend_rad, backend=ctx.backend, f_stop_hz=f_stop).bandwidth_hz
-        )
-        if math.isfinite(bw):
-            return bw
-    raise ValueError(f"no -3 dB point below 133 Hz at bend {math.degrees(bend_rad):.0f} deg")
-
-
-def _bandwidths(ctx: Context, transmission: str) -> Measured:
-    cfg = _fixed_gains(transmission)
-    bw = [bandwidth_hz(cfg, _phi(r), ctx) for r in R_BANDWIDTH_M]
-    return Measured(
-        ours=bw,
-        text=" → ".join(f"{v:.3g}" for v in bw) + " Hz (R = ∞, 450, 300, 150 mm)",
-        details={"radius_mm": [1000 * r for r in R_BANDWIDTH_M], "bandwidth_hz": bw},
-        note=f"our joint-3 loop, torque-PID gains fixed at the straight stiffness; "
-        f"φ = {BEND_LENGTH_M * 1000:g} mm / R",
-    )
-
-
-def bandwidth_rtca(ctx: Context) -> Measured:
-    return _bandwidths(ctx, "rtca")
-
-
-def bandwidth_flexible_shaft(ctx: Context) -> Measured:
-    return _bandwidths(ctx, "flexible-shaft")
-
-
-def _impedances(ctx: Context, transmission: str) -> list[Any]:
-    from fsarm_sim.studies.transparency import output_impedance
-
-    cfg = _fixed_gains(transmission)
-    return ctx.once(
-        f"001/Z/{transmission}",
-        lambda: [output_impedance(cfg, _phi(r), backend=ctx.backend) for r in R_IMPEDANCE_M],
-    )
-
-
-def _level(z: Any) -> float:
-    """The Bode magnitude's level: geometric mean of |Z| over the analysed band."""
-    return float(np.exp(np.mean(np.log(z.magnitude_nm_per_rad))))
-
-
-def _impedance_trend(ctx: Context, transmission: str) -> Measured:
-    zs = _impedances(ctx, transmission)
-    level = [_level(z) for z in zs]
-    low = [float(z.low_freq_nm_per_rad) for z in zs]
-    return Measured(
-        ours=level,
-        text="|Z| level "
-        + " → ".join(f"{v:.3g}" for v in level)
-        + " N·m/rad; low-f "
-        + " → ".join(f"{v:.3g}" for v in low),
-        details={"radius_mm": [1000 * r for r in R_IMPEDANCE_M], "level": level, "low_f": low},
-        note="joint-side |Z| = |τ_out/q3| with the torque loop at 0 N·m (fixed gains); level = "
-        "geometric mean over 0.75-13 Hz",
-    )
-
-
-def impedance_flexible_shaft(ctx: Context) -> Measured:
-    return _impedance_trend(ctx, "flexible-shaft")
-
-
-def transparent_low_f(ctx: Context) -> Measured:
-    worst = 0.0
-    for name in ("flexible-shaft", "rtca"):
-        for z in _impedances(ctx, name):
-            worst = max(worst, float(z.low_freq_nm_per_rad / z.passive_nm_per_rad))
-    return Measured(ours=worst, text=f"|Z(low f)| ≤ {100 * worst:.2g} % of the passive stiffness")
-
-
-def impedance_vs_frequency(ctx: Context) -> Measured:
-    ratios = []
-    for name in ("flexible-shaft", "rtca"):
-        for z in _impedances(ctx, name):
-            mag = z.magnitude_nm_per_rad
-            ratios.append(float(mag[-1] / mag[0]))
-    worst = min(ratios)
-    return Measured(
-        ours=worst, text=f"|Z(top)|/|Z(bottom)| ≥ {worst:.3g}", details={"ratios": ratios}
-    )
 
 
 # ------------------------------------------------------------------------ MasterFlex08
@@ -441,13 +294,25 @@ def fit_range(ctx: Context) -> Measured:
 # ------------------------------------------------------------- seed 001's own bench (Sec. 4)
 
 
-def _bench(ctx: Context) -> tuple[Any, Any]:
-    """Seed 001's actuator (:mod:`fsarm_sim.studies.rtca_bench`) and its calibrated P loop."""
+def _zn(ctx: Context) -> Any:
+    """The Ziegler-Nichols procedure on seed 001's bench (once per report)."""
     from fsarm_sim.studies import rtca_bench as rb
+
+    return ctx.once("001/bench/zn", lambda: rb.ziegler_nichols(rb.Rtca001()))
+
+
+def _bench(ctx: Context) -> tuple[Any, Any]:
+    """Seed 001's actuator (:mod:`fsarm_sim.studies.rtca_bench`) with the paper's control: a
+    PID tuned by Ziegler-Nichols on the bench (Sec. 4.1.1), the set-point delay calibrated on
+    the 25 ms offset (claim 001-torque-tracking-offset)."""
+    from fsarm_sim.studies import rtca_bench as rb
+    from fsarm_sim.studies.reproduce.targets import claim_value
 
     def build() -> tuple[Any, Any]:
         act = rb.Rtca001()
-        return act, rb.Pid(rb.calibrate_kp(act), 0.0, 0.0)
+        pid = _zn(ctx).pid
+        delay = rb.calibrate_reference_delay(act, pid, claim_value("001-torque-tracking-offset"))
+        return rb.with_(act, reference_delay_s=delay), pid
 
     return ctx.once("001/bench", build)
 
@@ -461,9 +326,22 @@ def _bench_tracking(ctx: Context) -> Any:
 
 BENCH_NOTE = (
     "seed 001's bench (studies.rtca_bench): EC-4pole 30 + 86:1, 192 rpm / 12 N·m limits, 500 CPT "
-    "motor and 2000 CPT shaft encoders, 1 kHz velocity PI and torque loop, output blocked; the "
-    "P gain is calibrated to the paper's 25 ms offset (I, D = 0)"
+    "motor and 2000 CPT shaft encoders, 1 kHz velocity PI and PID torque loop tuned by "
+    "Ziegler-Nichols on the bench (Sec. 4.1.1: ultimate gain and period of the P loop, classic "
+    "table), output blocked; the set-point reaches the loop later than it is logged by a delay "
+    "calibrated on the paper's 25 ms offset (the only number taken from Sec. 4.1)"
 )
+
+
+def bench_tracking_offset(ctx: Context) -> Measured:
+    tr = _bench_tracking(ctx)
+    act, _ = _bench(ctx)
+    return Measured(
+        ours=tr.offset_ms,
+        text=f"{tr.offset_ms:.3g} ms (set-point delay {1000 * act.reference_delay_s:.0f} ms "
+        "calibrated on it)",
+        note=BENCH_NOTE + "; the calibration holds if this is 25 ms",
+    )
 
 
 def bench_tracking_rmse(ctx: Context) -> Measured:
@@ -476,7 +354,7 @@ def bench_tracking_rmse(ctx: Context) -> Measured:
         details={
             "nrmse_pct": tr.nrmse_pct,
             "offset_ms": tr.offset_ms,
-            "kp_rad_s_per_nm": pid.kp,
+            "pid": [pid.kp, pid.ki, pid.kd],
             "saturated": tr.saturated,
         },
         note=BENCH_NOTE + "; RMSE of the set-point vs the torque sensor over 5 periods",
@@ -532,7 +410,11 @@ def _bench_bandwidth(ctx: Context, i: int) -> Measured:
         },
         note=BENCH_NOTE + "; multisine 0.1-10 Hz, peak 5 N·m, random phases (estimate), best "
         "linear approximation over 4 phase draws (2 in --quick), G = T_est/T_des fitted with 2 "
-        "poles + 1 zero, -3 dB of the fit; the same gain at every R",
+        "poles + 1 zero, -3 dB of the fit; the same gains at every R. Where ours departs (a "
+        "smaller fall with bend): the loop sees the bend only through μ (≥ 0.705 in the text, "
+        "held below R = 250 mm, so the loop gain falls by 30 % at most) and the 5 N·m multisine "
+        "holds the motor at its 192 rpm limit about 70 % of the time, which sets much of the "
+        "response whatever the bend",
     )
 
 
@@ -552,65 +434,185 @@ def bench_bandwidth_r150(ctx: Context) -> Measured:
     return _bench_bandwidth(ctx, 3)
 
 
-def bench_impedance(ctx: Context) -> Measured:
+def bench_bandwidth_trend(ctx: Context) -> Measured:
+    bws = _bench_bandwidths(ctx)
+    bw = [b.bandwidth_hz for b in bws]
+    return Measured(
+        ours=bw,
+        text=" → ".join(f"{v:.3g}" for v in bw)
+        + f" Hz (R = ∞, 450, 300, 150 mm): falls {100 * (1 - bw[-1] / bw[0]):.0f} %",
+        details={"radius_mm": [1000 * r for r in R_BANDWIDTH_M], "bandwidth_hz": bw},
+        note=BENCH_NOTE + "; the same ZN gains at every R, as the paper's 'same PID gains'. "
+        "Where ours departs (14 % against the paper's 31 %): the loop sees the bend only "
+        "through μ (≥ 0.705, held below R = 250 mm) and runs at the motor's 192 rpm limit about "
+        "70 % of the time",
+    )
+
+
+def bench_bandwidth_fit(ctx: Context) -> Measured:
+    fits = [b.fit_pct for b in _bench_bandwidths(ctx)]
+    worst = max(fits, key=lambda v: abs(v - 80.0))
+    return Measured(
+        ours=worst,
+        text="fit " + ", ".join(f"{v:.0f}" for v in fits) + " % (R = ∞, 450, 300, 150 mm)",
+        details={"fit_pct": fits},
+        note=BENCH_NOTE + "; ours is the fit farthest from 80 %; MATLAB's fit measure, 2 poles "
+        "+ 1 zero. The 5 N·m multisine drives the motor into its 192 rpm limit most of the time "
+        "(a 5 N·m swing at 10 Hz needs ~60 rad/s of twist rate), which a linear model cannot fit",
+    )
+
+
+R_FIG12_M = R_IMPEDANCE_M
+FIG12_NOTE = (
+    "seed 001's bench with the Ziegler-Nichols PID (integral action, as printed); the load motor "
+    "(DCX35L, 113:1, position mode) as a speed-limited position servo (7000 rpm / 113, 20 Hz: "
+    "estimates) moves the output through a 20° log chirp 0.1-10 Hz over 60 s (also in --quick), "
+    "torque set-point 0; Z = T̂_s/θ̇_s as the paper defines it (Sec. 4.2.1), per fifth-of-a-"
+    "decade band (bands start where the analysed sweep starts); the peak from tenth-decade bands"
+)
+
+
+def _fig12(ctx: Context) -> Any:
     from fsarm_sim.studies import rtca_bench as rb
 
     act, pid = _bench(ctx)
-    zs = ctx.once(
-        "001/bench/Z",
-        lambda: [rb.output_impedance(act, pid, radius_m=r) for r in R_IMPEDANCE_M],
+    return ctx.once(
+        "001/bench/fig12",
+        lambda: rb.fig12(act, {"PID": pid}, R_FIG12_M, load=rb.LoadServo()),
     )
-    level = [z.level for z in zs]
-    slow = ctx.once(
-        "001/bench/felt-slow",
-        lambda: [rb.interaction(act, pid, radius_m=r) for r in R_IMPEDANCE_M],
+
+
+def _fig12_details(fig: Any) -> dict[str, Any]:
+    return {
+        "radius_mm": [1000 * r.radius_m for r in fig.rows],
+        "freq_hz": [float(f) for f in fig.rows[0].freq_hz],
+        "magnitude": [[float(m) for m in r.magnitude] for r in fig.rows],
+        "peak_hz": [r.peak_hz for r in fig.rows],
+    }
+
+
+def fig12_transparent_low_f(ctx: Context) -> Measured:
+    """Obs. 1: |Z| in the lowest band against the shaft's own impedance there (the motor
+    held: T̂/θ̇_s = K/(jω), K the law's small-signal stiffness straight)."""
+    fig = _fig12(ctx)
+    tr, block = _rtca()
+    k = abs(tr.sensor_torque(block, 0.2, 0.0) / 0.2)  # secant over the first 0.2 rad
+    worst = 0.0
+    for r in fig.rows:
+        w = 2.0 * math.pi * float(r.freq_hz[0])
+        worst = max(worst, float(r.magnitude[0]) / (k / w))
+    return Measured(
+        ours=worst,
+        text=f"|Z| at {fig.rows[0].freq_hz[0]:.2g} Hz ≤ {100 * worst:.2g} % of the held shaft's "
+        f"K/ω (K = {k:.3g} N·m/rad) at every bend",
+        details=_fig12_details(fig),
+        note=FIG12_NOTE,
+    )
+
+
+def fig12_rises_with_frequency(ctx: Context) -> Measured:
+    """Obs. 2: |Z| rises from the lowest band to the peak (the smallest ratio over the bends)."""
+    fig = _fig12(ctx)
+    ratios = []
+    for r in fig.rows:
+        below = r.side(below=True)
+        top = float(np.max(r.magnitude[below])) if below.size else float(r.magnitude[0])
+        ratios.append(top / float(r.magnitude[0]))
+    return Measured(
+        ours=min(ratios),
+        text="|Z| below the peak / |Z| lowest band: " + ", ".join(f"{v:.3g}" for v in ratios),
+        details=_fig12_details(fig),
+        note=FIG12_NOTE + ". The P loop alone (the option, calibrated to 25 ms) falls with "
+        "frequency instead (T̂/θ̇_s = μK/(s + μK·Kp)): see fsarm rtca-fig12",
+    )
+
+
+def fig12_rises_with_bend(ctx: Context) -> Measured:
+    """Obs. 3: per band below every bend's peak, |Z| over straight, 450, 200 mm."""
+    fig = _fig12(ctx)
+    bands = fig.rise_below_peak("PID")
+    return Measured(
+        ours=bands,
+        text="; ".join(
+            f"{b}: " + " → ".join(f"{v:.3g}" for v in z) + f" ({100 * (z[-1] / z[0] - 1):+.0f} %)"
+            for b, z in bands.items()
+        ),
+        details=_fig12_details(fig),
+        note=FIG12_NOTE + ". Every band below the peak must rise. Where ours departs: the "
+        "lowest bands' T̂ is at the estimate's quantum (8000 counts/turn: 0.8 mrad, ~4 mN·m of "
+        "T̂, against |Z|·|θ̇_s| ≈ 1 mN·m at 0.3 Hz) and scatters either way; the band just below "
+        "the peak falls with the peak's height (the resonance flattens when bent); in between "
+        "|Z| rises 2-3 % per band. Linear theory with a velocity-sourced motor: T̂/θ̇_s = "
+        "1/(s/(μK) + C(s)e^(-sτ)): a smaller μ raises it below the peak only with integral "
+        "action (a P loop lowers it), and only by a few %: the paper's friction cause is not "
+        "seen by T̂ (studies.rtca_bench, friction_site)",
+    )
+
+
+def fig12_peak_lower(ctx: Context) -> Measured:
+    """Obs. 4: the frequency of the largest |Z| at each bend."""
+    fig = _fig12(ctx)
+    peaks = [r.peak_hz for r in fig.rows]
+    return Measured(
+        ours=peaks,
+        text="peak " + " → ".join(f"{v:.3g}" for v in peaks) + " Hz (straight, 450, 200 mm)",
+        details=_fig12_details(fig),
+        note=FIG12_NOTE,
+    )
+
+
+def mu_150_vs_250(ctx: Context) -> Measured:
+    tr, block = _rtca()
+    ok = [_mu(tr, block, 0.150, x) > _mu(tr, block, 0.250, x) + 1e-9 for x in (0.5, -0.5)]
+    return Measured(
+        ours=ok,
+        text=f"μ(150) {_mu(tr, block, 0.150, 0.5):.3g} / {_mu(tr, block, 0.150, -0.5):.3g} vs "
+        f"μ(250) {_mu(tr, block, 0.250, 0.5):.3g} / {_mu(tr, block, 0.250, -0.5):.3g} (TOL / LOL)",
+        note="the rtca law holds μ at its R = 250 mm values for tighter bends: the text prints μ "
+        "only at 250 mm; the 150 mm values are in Fig. 7 only",
+    )
+
+
+def bench_ziegler_nichols(ctx: Context) -> Measured:
+
+    _, pid = _bench(ctx)
+    zn = _zn(ctx)
+    classic = (
+        abs(pid.kp - 0.6 * zn.ultimate_gain) < 1e-9 * zn.ultimate_gain
+        and abs(pid.ki - pid.kp / (zn.ultimate_period_s / 2.0)) < 1e-9 * pid.ki
+        and abs(pid.kd - pid.kp * zn.ultimate_period_s / 8.0) < 1e-9 * pid.kd
     )
     return Measured(
-        ours=level,
-        text="|T̂/θ̇_s| level "
-        + " → ".join(f"{v:.3g}" for v in level)
-        + " N·m·s/rad; interaction RMS "
-        + " → ".join(f"{z.interaction_rms_nm:.3g}" for z in zs)
-        + " N·m; on a slow 20° sine (1.2 s) the load feels "
-        + " → ".join(f"{x.felt_rms_nm:.3g}" for x in slow)
-        + " N·m, T̂ reads "
-        + " → ".join(f"{x.estimate_rms_nm:.3g}" for x in slow),
-        details={
-            "slow_felt_rms_nm": [x.felt_rms_nm for x in slow],
-            "slow_estimate_rms_nm": [x.estimate_rms_nm for x in slow],
-            "radius_mm": [1000 * r for r in R_IMPEDANCE_M],
-            "level": level,
-            "peak": [float(np.max(z.magnitude)) for z in zs],
-            "peak_hz": [z.peak_hz for z in zs],
-            "interaction_rms_nm": [z.interaction_rms_nm for z in zs],
-            "freq_hz": [z.freq_hz for z in zs],
-            "magnitude": [z.magnitude for z in zs],
-        },
-        note=BENCH_NOTE + "; the load moves the output through a 20° log chirp 0.1-10 Hz over "
-        "60 s (also in --quick: shorter sweeps do not resolve 0.1-1 Hz; ideal position mode), "
-        "torque set-point 0; Z = T̂_s/θ̇_s as the paper defines it (Sec. 4.2.1); "
-        "level = geometric mean over the bands. With the loop velocity-sourced, T̂/θ̇_s = "
-        "μK/(s + μK·Kp): a smaller μ lowers it at every frequency. The shaft's bend-dependent "
-        "friction (the rtca transmission's slip element, 0.032 N·m · exp(1.16 |φ|), sized from "
-        "Sec. 3.3's 0.32 → 2.3 % NRMSE) is felt by the load but not seen by T̂: T̂ reads the "
-        "twist, which the motor's velocity loop sets, and the estimated 30 Hz EPOS3 loop rejects "
-        "the friction. Tried on this bench, none makes the level rise: ×10 that friction, also "
-        "with an 8 Hz velocity loop; a Coulomb drag on the rotor of 1 N·m straight growing as "
-        "exp(1.16 φ); PI torque loops (Ki/Kp 1, 3, 4, 12 s⁻¹, Kp re-calibrated to 25 ms): with "
-        "integral action |Z| rises with frequency to a peak that moves to lower frequency with "
-        "bend (0.94 → 0.85 Hz at Ki/Kp 3), as Fig. 12 shows, but below the peak it rises ≤ 1 % "
-        "and above it falls with μ (linear theory: |Z| = 1/|jω/(μK) + C(jω)e^(-jωτ)|, a peak "
-        "of 1/Kp whatever μ). The classic Ziegler-Nichols PID (the paper's tuning method) with "
-        "1, 5 or 10 ms bus delays moves the peak to lower frequency with bend too (5.37 → 5.14 "
-        "Hz at 5 ms), but its level is not monotonic (0.049 → 0.056 → 0.053 at 10 ms) and its "
-        "1 Hz run leads instead of lagging 25 ms. The paper's causes (friction, fixed PID gains) "
-        "can raise T̂/θ̇_s by ≥ 10 % only through a motor that follows worse when bent, i.e. a "
-        "friction far above what Sec. 3.3's NRMSE allows or drive gains the paper does not print. What the load "
-        "feels does rise with bend on slow motion (rtca_bench.interaction: the load moves the "
-        "output through a 20° sine at the 1.2 s stride of Sec. 4.2.2, a stand-in for its gait "
-        "profiles, which are only in a figure): the friction is felt, T̂ does not see it. The bands start "
-        "where the analysed sweep starts (0.29 Hz; 0.4.0 also averaged 0.15-0.24 Hz, which the "
-        "sweep had passed during its cut fade-in: leakage, and a spurious rise of the peak)",
+        ours=[pid.ki > 0.0, classic],
+        text=f"Ku {zn.ultimate_gain:.3g} rad/s per N·m, Tu {1000 * zn.ultimate_period_s:.3g} ms → "
+        f"Kp {pid.kp:.3g}, Ki {pid.ki:.3g}, Kd {pid.kd:.3g}",
+    )
+
+
+def bench_model_accuracy(ctx: Context) -> Measured:
+    """Sec. 3.2-3.3 on the MasterFlex08 of seed 001's bench: output blocked, the motor drives
+    the twist through a slow ±5 N·m sweep; NRMSE of eq. 3 (the estimate, no quantisation)
+    against the shaft's torque (law + its friction) over the span, per bend radius."""
+    from fsarm_sim.studies import rtca_bench as rb
+
+    act = rb.with_(rb.Rtca001(), shaft_cpt=2**20)  # the model's error, not the encoders'
+    _, pid = _bench(ctx)
+
+    def one(r: float) -> float:
+        tr = rb.tracking(act, pid, amplitude_nm=5.0, freq_hz=0.5, periods=2, radius_m=r).run
+        sel = tr.t >= tr.t[-1] - 4.0
+        e = tr.tau_est[sel] - tr.tau_true[sel]
+        return 100.0 * float(np.sqrt(np.mean(e**2))) / float(np.ptp(tr.tau_true[sel]))
+
+    radii = R_CHARACTERISATION_M[::2] if ctx.quick else R_CHARACTERISATION_M
+    nrmse = ctx.once("001/bench/nrmse", lambda: [one(r) for r in radii])
+    mm = ", ".join("∞" if math.isinf(r) else f"{1000 * r:g}" for r in radii)
+    return Measured(
+        ours=nrmse,
+        text="NRMSE " + " → ".join(f"{v:.3g}" for v in nrmse) + f" % (R = {mm} mm)",
+        details={"radius_mm": [1000 * r for r in radii], "nrmse_pct": nrmse},
+        note="seed 001's MasterFlex08 on its bench: eq. 3 against the shaft's torque including "
+        "its bend friction (sized from these two NRMSE values: a calibration), ±5 N·m at 0.5 Hz",
     )
 
 
@@ -623,10 +625,13 @@ MEASURES: dict[str, MeasureFn] = {
     "bend_needs_more_twist": bend_needs_more_twist,
     "mu_tol_250": mu_tol_250,
     "mu_lol_250": mu_lol_250,
-    "model_accuracy_vs_bend": model_accuracy_vs_bend,
     "deadzone": deadzone,
-    "bandwidth_rtca": bandwidth_rtca,
-    "bandwidth_flexible_shaft": bandwidth_flexible_shaft,
+    "bench_bandwidth_trend": bench_bandwidth_trend,
+    "bench_bandwidth_fit": bench_bandwidth_fit,
+    "bench_tracking_offset": bench_tracking_offset,
+    "bench_model_accuracy": bench_model_accuracy,
+    "bench_ziegler_nichols": bench_ziegler_nichols,
+    "mu_150_vs_250": mu_150_vs_250,
     "bench_tracking_rmse": bench_tracking_rmse,
     "bench_estimate_error": bench_estimate_error,
     "bench_symmetric": bench_symmetric,
@@ -634,10 +639,10 @@ MEASURES: dict[str, MeasureFn] = {
     "bench_bandwidth_r450": bench_bandwidth_r450,
     "bench_bandwidth_r300": bench_bandwidth_r300,
     "bench_bandwidth_r150": bench_bandwidth_r150,
-    "bench_impedance": bench_impedance,
-    "impedance_flexible_shaft": impedance_flexible_shaft,
-    "transparent_low_f": transparent_low_f,
-    "impedance_vs_frequency": impedance_vs_frequency,
+    "fig12_transparent_low_f": fig12_transparent_low_f,
+    "fig12_rises_with_frequency": fig12_rises_with_frequency,
+    "fig12_rises_with_bend": fig12_rises_with_bend,
+    "fig12_peak_lower": fig12_peak_lower,
     "bend_compensated_error": bend_compensated_error,
     "bend_neglected_error": bend_neglected_error,
     "bend_compensation_gain": bend_compensation_gain,

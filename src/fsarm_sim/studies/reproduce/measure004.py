@@ -255,7 +255,14 @@ def gap_vs_velocity(ctx: Context) -> Measured:
 
 def eq19_max_error(ctx: Context) -> Measured:
     errs = [r["max_error"] for r in _by_bend(ctx) + _by_speed(ctx)]
-    return Measured(ours=max(errs), text=f"largest M.E. {max(errs):.3g} rad")
+    return Measured(
+        ours=errs,
+        text=f"M.E. {min(errs):.3g}…{max(errs):.3g} rad",
+        details={"max_error_rad": errs},
+        note="each condition's maximal error (both directions) at the three bends and speeds; "
+        "our transmission is noise-free and its joint encoder needs no compensation (eq. 15), "
+        "so eq. 19 fits it closer than the paper's measurements",
+    )
 
 
 def error_vs_bend(ctx: Context) -> Measured:

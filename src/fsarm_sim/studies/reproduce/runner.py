@@ -40,6 +40,7 @@ from fsarm_sim.studies.reproduce import (
 )
 from fsarm_sim.studies.reproduce.claims import (
     PAPERS,
+    ROLES,
     VERDICTS,
     Claim,
     ClaimError,
@@ -100,7 +101,7 @@ class Report:
     def failed(self) -> list[str]:
         return [r.claim.id for r in self.results if r.failed]
 
-    def summary(self) -> dict[str, dict[str, int]]:
+    def summary(self) -> dict[str, dict[str, Any]]:
         return summarize(self.results, self.papers)
 
     def as_dict(self) -> dict[str, Any]:
@@ -117,22 +118,41 @@ class Report:
             "interrupted": self.interrupted,
             "failed": self.failed,
             "verdicts": list(VERDICTS),
+            "roles": list(ROLES),
             "summary": self.summary(),
+            "calibrated_parameters": calibrated_parameters([r.claim for r in self.results]),
             "claims": [r.as_dict() for r in self.results],
         }
 
 
-def summarize(results: Sequence[Result], papers: Sequence[str]) -> dict[str, dict[str, int]]:
-    """Counts per paper and verdict (plus ``total``), and over all papers (``all``)."""
-    out: dict[str, dict[str, int]] = {}
+def summarize(results: Sequence[Result], papers: Sequence[str]) -> dict[str, dict[str, Any]]:
+    """Per paper (and ``all``): how many claims of each role (``roles``), and for each role the
+    counts per verdict with their ``total``. Only the ``prediction`` row is evidence: a
+    calibration claim that holds says the fit holds, a consistency claim that holds says the
+    code carries the paper's number or formula; neither counts as reproduced."""
+    out: dict[str, dict[str, Any]] = {}
     for p in [*papers, "all"]:
-        row: dict[str, int] = {v: 0 for v in VERDICTS}
-        for r in results:
-            if p in ("all", r.claim.paper):
-                row[r.verdict] += 1
-        row["total"] = sum(row[v] for v in VERDICTS)
-        out[p] = row
+        mine = [r for r in results if p in ("all", r.claim.paper)]
+        entry: dict[str, Any] = {"roles": {role: 0 for role in ROLES}, "total": len(mine)}
+        for role in ROLES:
+            row: dict[str, int] = {v: 0 for v in VERDICTS}
+            for r in mine:
+                if r.claim.role == role:
+                    row[r.verdict] += 1
+            row["total"] = sum(row[v] for v in VERDICTS)
+            entry["roles"][role] = row["total"]
+            entry[role] = row
+        out[p] = entry
     return out
+
+
+def calibrated_parameters(claims: Sequence[Claim]) -> dict[str, list[str]]:
+    """Each calibrated parameter and the claims it was chosen or fitted from."""
+    out: dict[str, list[str]] = {}
+    for c in claims:
+        for name in c.calibrates:
+            out.setdefault(name, []).append(c.id)
+    return dict(sorted(out.items()))
 
 
 def run_claim(claim: Claim, measures: dict[str, MeasureFn], ctx: Context) -> Result:

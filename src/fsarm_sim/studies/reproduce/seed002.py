@@ -30,6 +30,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="-",
         tolerance=AllOf(("a = 40 N·m", "b = 15 1/rad (also in the default block)")),
         measure="design_constants",
+        role="consistency",
+        role_why="transcribed",
     ),
     Claim(
         id="002-nominal-stiffness-range",
@@ -42,6 +44,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="N·m/rad",
         tolerance=AllOf(("lowest stiffness below 100 N·m/rad", "highest above 550 N·m/rad")),
         measure="nominal_stiffness_range",
+        role="consistency",
+        role_why="eq. 13 with the transcribed a, b: the paper's formula against its own statement",
     ),
     Claim(
         id="002-stiffness-range-low",
@@ -54,6 +58,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="N·m/rad",
         tolerance=Rel(0.15, partly=0.5),
         measure="stiffness_low",
+        role="consistency",
+        role_why="eq. 13 with the transcribed a, b at σ = 15°",
     ),
     Claim(
         id="002-stiffness-range-high",
@@ -66,6 +72,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="N·m/rad",
         tolerance=Rel(0.15, partly=0.5),
         measure="stiffness_high",
+        role="consistency",
+        role_why="eq. 13 with the transcribed a, b at σ = 3°",
     ),
     Claim(
         id="002-deflection-range",
@@ -77,6 +85,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="deg",
         tolerance=AllOf(("σ_min = 3°", "σ_max = 15°")),
         measure="deflection_range",
+        role="consistency",
+        role_why="transcribed",
     ),
     Claim(
         id="002-adjust-time",
@@ -90,6 +100,9 @@ CLAIMS: tuple[Claim, ...] = (
         unit="s",
         tolerance=Rel(0.2, partly=0.5),
         measure="adjust_time",
+        role="calibration",
+        calibrates=("qa_joint.sigma_rate",),
+        role_why="the stiffness drive's rate is solved so that a full-range move settles in 0.12 s",
     ),
     Claim(
         id="002-torque-capacity",
@@ -102,6 +115,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="N·m",
         tolerance=Rel(0.10, partly=0.25),
         measure="torque_capacity",
+        role="consistency",
+        role_why="a = 40 N·m is by eq. 12's definition the torque at the springs' energy limit",
     ),
     Claim(
         id="002-identify-stiffness",
@@ -114,6 +129,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="-",
         tolerance=AtMost(0.05, partly=0.15),
         measure="identify_stiffness",
+        role="consistency",
+        role_why="the plant is Table IV; the identification returns what was put in",
     ),
     Claim(
         id="002-identify-friction",
@@ -125,6 +142,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="-",
         tolerance=AtMost(0.10, partly=0.25),
         measure="identify_friction",
+        role="consistency",
+        role_why="the plant is Table IV; the identification returns what was put in",
     ),
     Claim(
         id="002-friction-velocity-independent",
@@ -137,6 +156,9 @@ CLAIMS: tuple[Claim, ...] = (
         unit="-",
         tolerance=AtMost(0.10, partly=0.25),
         measure="friction_velocity",
+        role="consistency",
+        role_why="the friction is eq. 19 as a rate-independent Dahl element: no velocity term to "
+        "find",
     ),
     Claim(
         id="002-real-vs-theoretical-35",
@@ -150,6 +172,8 @@ CLAIMS: tuple[Claim, ...] = (
         tolerance=Rel(0.1),
         uncheckable="compares the real joint with its design; the simulator takes Table IV as the "
         "joint, and Table IV itself deviates up to 43 % (a_S = 22.73 vs 40 at σ = 15°), not 35 %",
+        role="consistency",
+        role_why="Table IV against the design values: the paper's numbers against each other",
     ),
     Claim(
         id="002-load-free-friction-grows-with-sigma",
@@ -164,6 +188,8 @@ CLAIMS: tuple[Claim, ...] = (
         uncheckable="the text says it rises with σ, but its own eq. 19 with Table IV gives "
         "τ_F(0) = (a_F + b_F) e^(-15 σ), which falls with σ (larger σ = softer); cannot tell "
         "which is meant",
+        role="consistency",
+        role_why="eq. 19 with Table IV: the paper's numbers against each other",
     ),
     Claim(
         id="002-asymmetry-grows-with-stiffness",
@@ -176,6 +202,8 @@ CLAIMS: tuple[Claim, ...] = (
         tolerance=AllOf(("|b_S − a_S| rises with stiffness",)),
         uncheckable="Table IV's asymmetry grows with σ (0.05 N·m at 3°, 7.5 N·m at 15°), i.e. as "
         "the joint gets *softer*; text and table disagree",
+        role="consistency",
+        role_why="Table IV read against the text",
     ),
     Claim(
         id="002-spring-energy",
@@ -189,6 +217,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="J",
         tolerance=Rel(0.10, partly=0.25),
         measure="spring_energy",
+        role="consistency",
+        role_why="eq. 13 integrated with the transcribed a, b",
     ),
     Claim(
         id="002-efficiency-trend",
@@ -200,6 +230,9 @@ CLAIMS: tuple[Claim, ...] = (
         unit="-",
         tolerance=Trend("decreasing", tie=0.01),
         measure="efficiency_trend",
+        role="prediction",
+        role_why="Table V's bench, the throw reconstructed from the stated premise; nothing "
+        "chosen from ε",
     ),
     Claim(
         id="002-efficiency-2.7",
@@ -213,6 +246,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="-",
         tolerance=Rel(0.15, partly=0.3),
         measure="efficiency_27",
+        role="prediction",
+        role_why="nothing in the model was chosen from ε",
     ),
     Claim(
         id="002-link-velocity-twice",
@@ -225,6 +260,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="-",
         tolerance=Rel(0.15, partly=0.3),
         measure="link_velocity_twice",
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="002-stiffness-adjustment-266",
@@ -238,6 +275,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="deg/s",
         tolerance=Rel(0.1, partly=0.25),
         measure="stiffness_adjustment_266",
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="002-impact-below-capacity",
@@ -250,6 +289,8 @@ CLAIMS: tuple[Claim, ...] = (
         unit="N·m",
         tolerance=AtMost(40.0),
         not_implemented=NO_IMPACT,
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
     ),
     Claim(
         id="002-impact-halved",
@@ -263,5 +304,23 @@ CLAIMS: tuple[Claim, ...] = (
         unit="-",
         tolerance=Rel(0.2, partly=0.5),
         not_implemented=NO_IMPACT,
+        role="prediction",
+        role_why="nothing in the model was chosen from it",
+    ),
+    Claim(
+        id="002-efficiency-largest-where",
+        paper=P,
+        title="the largest efficiency is at 75 °/s and σ = 7°",
+        locator="Sec. VI, Fig. 10",
+        quote="For the QA-Joint the largest efficiency ε = 2.7 can be obtained for θ_d = 75 °/s "
+        "and σ = 7°",
+        paper_text="argmax of ε over presets and motor speeds: σ = 7°, θ'_d = 75 °/s",
+        unit="-",
+        tolerance=AllOf(("the largest ε is at σ = 7°", "the largest ε is at θ'_d = 75 °/s")),
+        measure="efficiency_largest_where",
+        quick=False,
+        role="prediction",
+        role_why="Table V's bench and the throw reconstructed from the stated premise; nothing "
+        "was chosen from ε",
     ),
 )
