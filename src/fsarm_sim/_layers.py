@@ -9,7 +9,7 @@ top-level ``controllers/`` folder, installed as ``fsarm_sim.controllers``.
 
 Read top-down, the layers are the package's folders (since 0.3.0):
 
-* base - named errors, declared parameter blocks, output paths, task executors, the lazily
+* base - named errors, declared parameter blocks, checked paths and output paths, task executors, the lazily
   completed command app;
 * laws (``plant/``, ``controllers/``) - physical laws and pure controllers: no MuJoCo,
   compilable (effects, transmissions, the shaft catalogue);
@@ -40,6 +40,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
             "lazy_commands",
             "outputs",
             "paramblocks",
+            "paths",
         ),
     ),
     ("laws", ("controllers", "plant")),

@@ -50,6 +50,7 @@ from typing import Any
 import numpy as np
 
 from fsarm_sim.errors import CoefficientFileError, ShaftRangeError
+from fsarm_sim.paths import bounded_toml, checked_path
 from fsarm_sim.plant.effects import bending, conduit_viscoelastic, series_stiffness
 
 DEFAULT_CATALOGUE = "shafts.toml"
@@ -723,6 +724,7 @@ def load_catalogue(path: str | Path | None = None) -> Catalogue:
         source = f"default catalogue ({DEFAULT_CATALOGUE})"
     else:
         p = Path(path)
+        checked_path(p, "coefficient file", CoefficientFileError)  # loops, long names ...
         if not p.is_file():
             raise CoefficientFileError(
                 f"coefficient file not found: {p} (expected a TOML file like the default shafts.toml)"
@@ -733,7 +735,7 @@ def load_catalogue(path: str | Path | None = None) -> Catalogue:
             raise CoefficientFileError(f"cannot read coefficient file {p}: {exc}") from exc
         source = str(p)
     try:
-        data = tomllib.loads(text)
+        data = bounded_toml(text, source, CoefficientFileError)
     except tomllib.TOMLDecodeError as exc:
         raise CoefficientFileError(f"{source}: not valid TOML ({exc})") from exc
     return parse_catalogue(data, source)

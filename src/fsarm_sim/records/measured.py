@@ -44,6 +44,7 @@ import numpy as np
 import numpy.typing as npt
 
 from fsarm_sim.errors import FsarmError, ShaftRangeError
+from fsarm_sim.paths import checked_path, named_os_errors
 from fsarm_sim.plant.shaft import Catalogue, ShaftParams, load_catalogue
 from fsarm_sim.records.sidecar import (
     OPTIONAL,
@@ -191,6 +192,7 @@ def output_files(path: str | Path) -> tuple[Path, Path]:
 def _paths(path: str | Path) -> tuple[Path, Path]:
     """(table, sidecar) for NAME, NAME.csv, NAME.parquet or NAME.json."""
     p = Path(path)
+    checked_path(p, "dataset", MeasuredDataError)  # loops, long names ...
     if p.suffix.lower() in (".csv", ".parquet"):
         return p, p.with_suffix(".json")
     stem = p.with_suffix("") if p.suffix.lower() == ".json" else p
@@ -322,8 +324,33 @@ def _read_table(path: Path) -> tuple[list[str], dict[str, Any]]:
     except Exception as exc:  # pandas/pyarrow raise many types; all mean "unreadable"
         raise MeasuredDataError(f"{path}: cannot read the table ({exc})") from exc
     names = [str(c).strip() for c in frame.columns]
+    # pandas renames a repeated CSV header (tau_s, tau_s.1): the header as written decides
+    _refuse_repeated(_csv_header(path) if path.suffix.lower() != ".parquet" else names, path)
     cols = {n: frame.iloc[:, i].to_numpy() for i, n in enumerate(names)}
     return names, cols
+
+
+def _csv_header(path: Path) -> list[str]:
+    """The first row of a CSV file as written (names stripped)."""
+    import csv
+
+    with (
+        named_os_errors("table", path, MeasuredDataError),
+        path.open(newline="", encoding="utf-8-sig") as f,
+    ):
+        return [c.strip() for c in next(csv.reader(f), [])]
+
+
+def _refuse_repeated(names: list[str], path: Path) -> None:
+    """MeasuredDataError for a column name given twice (which one is meant cannot be known)."""
+    seen: dict[str, int] = {}
+    for i, n in enumerate(names):
+        if n in seen:
+            raise MeasuredDataError(
+                f"{path}: the column name {n!r} is given twice (columns {seen[n] + 1} and "
+                f"{i + 1}); every column needs its own name"
+            )
+        seen[n] = i
 
 
 def _to_float(raw: Any, name: str, path: Path) -> FloatArray:
