@@ -98,8 +98,10 @@ def whole_number(
 ) -> int:
     """``value`` as an int within ``[low, high]`` (the stated cap of a size that scales work or
     memory); ``error`` for a boolean, a fraction, a string, or a value outside."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not (
-        low <= int(value) <= high
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, numbers.Integral)
+        or not (low <= int(value) <= high)
     ):
         raise error(f"{what} must be a whole number >= {low} and <= {high}, got {value!r}")
     return int(value)

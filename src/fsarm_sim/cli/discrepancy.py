@@ -293,7 +293,10 @@ def register(app: typer.Typer) -> None:
         else:
             if input_file is not None and duration is None:
                 t_in, _ = synth.read_input_file(input_file, setup)
-                duration = float(t_in[-1] - t_in[0])
+                # whole sample periods of the file's span (a rounded-up last sample would lie
+                # past the file's end)
+                r = rate if rate is not None else synth.Recording.rate_hz
+                duration = math.floor(float(t_in[-1] - t_in[0]) * r + 1e-6) / r
             stated: dict[str, Any] = {
                 "duration_s": duration,
                 "rate_hz": rate,
