@@ -21,6 +21,7 @@ from __future__ import annotations
 import errno
 import json
 import os
+import stat
 import tomllib
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -163,3 +164,20 @@ def bounded_json(text: str, source: str, error: type[FsarmError]) -> Any:
     except RecursionError:
         raise _too_deep(source, error) from None
     return _check_nesting(data, source, error)
+
+
+def regular_file(
+    path: str | os.PathLike[str], what: str, error: type[FsarmError] = FilePathError
+) -> Path:
+    """:func:`checked_path` of a file to read, which must be a regular file: a folder, a
+    device (``/dev/zero`` never ends) or a named pipe (blocks until someone writes) is
+    ``error``, as is a missing file. Returns the resolved path."""
+    real = checked_path(path, what, error)
+    try:
+        mode = os.stat(real).st_mode
+    except OSError as exc:
+        raise error(f"{what} {os.fspath(path)}: {os_problem(exc)}") from None
+    if not stat.S_ISREG(mode):
+        kind = "a folder" if stat.S_ISDIR(mode) else "not a regular file (a device or a pipe)"
+        raise error(f"{what} {os.fspath(path)} is {kind}; give a file")
+    return real

@@ -331,7 +331,7 @@ def main() -> None:
             with app.core_only() if core else contextlib.nullcontext():
                 app()
         except FsarmError as exc:
-            _error_line(str(exc))
+            _error_line(str(exc).strip())
             code = 2
         except OSError as exc:  # the file system failed where no command named it
             where = f" ({exc.filename})" if exc.filename else ""

@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any
 
 from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.errors import FsarmError
-from fsarm_sim.paths import bounded_json, checked_path
+from fsarm_sim.paths import bounded_json, regular_file
 from fsarm_sim.plant.effects import registry
 from fsarm_sim.plant.shaft import ShaftParams
 
@@ -249,7 +249,7 @@ def model_from_dict(data: Any, source: str = "model") -> BenchModel:
 
 def load_model(path: str | Path) -> BenchModel:
     p = Path(path)
-    checked_path(p, "model file", ModelFileError)  # loops, long names ...
+    regular_file(p, "model file", ModelFileError)  # loops, long names ...
     try:
         data = bounded_json(p.read_text("utf-8"), str(p), ModelFileError)
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:

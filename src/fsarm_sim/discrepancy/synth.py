@@ -40,7 +40,7 @@ from fsarm_sim.discrepancy.benchmodel import (
     nominal_from_shaft,
 )
 from fsarm_sim.errors import InvalidParameterError, real_number
-from fsarm_sim.paths import checked_path
+from fsarm_sim.paths import regular_file
 from fsarm_sim.plant.effects import registry, sensor_offset
 from fsarm_sim.plant.shaft import ShaftParams
 from fsarm_sim.records import sidecar as records
@@ -312,7 +312,7 @@ def read_input_file(path: str | Path, setup: str) -> tuple[FloatArray, FloatArra
     col = INPUT_COLUMNS.get(setup)
     if col is None:
         raise InvalidParameterError(f"an input file drives a bench, not the setup {setup!r}")
-    checked_path(p, "the input file", InvalidParameterError)  # loops, long names ...
+    regular_file(p, "the input file", InvalidParameterError)  # loops, long names ...
     try:
         head = [c.strip() for c in p.read_text("utf-8").splitlines()[0].strip().split(",")]
     except (OSError, ValueError, IndexError) as exc:

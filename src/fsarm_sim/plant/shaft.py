@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import os
 import tomllib
 from collections.abc import Iterable
 from dataclasses import dataclass, field
@@ -50,7 +51,7 @@ from typing import Any
 import numpy as np
 
 from fsarm_sim.errors import CoefficientFileError, ShaftRangeError
-from fsarm_sim.paths import bounded_toml, checked_path
+from fsarm_sim.paths import bounded_toml, regular_file
 from fsarm_sim.plant.effects import bending, conduit_viscoelastic, series_stiffness
 
 DEFAULT_CATALOGUE = "shafts.toml"
@@ -724,7 +725,8 @@ def load_catalogue(path: str | Path | None = None) -> Catalogue:
         source = f"default catalogue ({DEFAULT_CATALOGUE})"
     else:
         p = Path(path)
-        checked_path(p, "coefficient file", CoefficientFileError)  # loops, long names ...
+        if os.path.lexists(p):  # a loop, a long name, a folder, a device or a pipe: named
+            regular_file(p, "coefficient file", CoefficientFileError)
         if not p.is_file():
             raise CoefficientFileError(
                 f"coefficient file not found: {p} (expected a TOML file like the default shafts.toml)"

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -44,7 +45,7 @@ import numpy as np
 import numpy.typing as npt
 
 from fsarm_sim.errors import FsarmError, ShaftRangeError
-from fsarm_sim.paths import checked_path, named_os_errors
+from fsarm_sim.paths import checked_path, named_os_errors, regular_file
 from fsarm_sim.plant.shaft import Catalogue, ShaftParams, load_catalogue
 from fsarm_sim.records.sidecar import (
     OPTIONAL,
@@ -314,6 +315,8 @@ def _read_table(path: Path) -> tuple[list[str], dict[str, Any]]:
     """Column names and raw column arrays (object arrays for CSV cells that failed to parse)."""
     import pandas as pd
 
+    if os.path.lexists(path):  # a device or a pipe would never end or never answer
+        regular_file(path, "table", MeasuredDataError)
     try:
         if path.suffix.lower() == ".parquet":
             frame = pd.read_parquet(path)
@@ -322,7 +325,7 @@ def _read_table(path: Path) -> tuple[list[str], dict[str, Any]]:
     except FileNotFoundError as exc:
         raise MeasuredDataError(f"table {path} not found") from exc
     except Exception as exc:  # pandas/pyarrow raise many types; all mean "unreadable"
-        raise MeasuredDataError(f"{path}: cannot read the table ({exc})") from exc
+        raise MeasuredDataError(f"{path}: cannot read the table ({str(exc).strip()})") from exc
     names = [str(c).strip() for c in frame.columns]
     # pandas renames a repeated CSV header (tau_s, tau_s.1): the header as written decides
     _refuse_repeated(_csv_header(path) if path.suffix.lower() != ".parquet" else names, path)
@@ -454,6 +457,8 @@ def validate_columns(
 def load_dataset(path: str | Path, *, expect_setup: str | None = None) -> Dataset:
     """Load and validate ``NAME.csv``/``NAME.parquet`` + ``NAME.json``."""
     table, side = _paths(path)
+    if os.path.lexists(table):  # a folder, a device or a pipe: named as what it is
+        regular_file(table, "table", MeasuredDataError)
     if not table.is_file():
         raise MeasuredDataError(f"table {table} not found")
     record, sidecar = read_sidecar(side)

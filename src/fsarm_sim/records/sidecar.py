@@ -34,6 +34,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import os
 import types
 import typing
 from collections.abc import Mapping
@@ -42,7 +43,7 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from fsarm_sim.errors import FsarmError
-from fsarm_sim.paths import bounded_json, checked_path
+from fsarm_sim.paths import bounded_json, checked_path, regular_file
 from fsarm_sim.plant.shaft import ShaftParams
 
 SCHEMA = "fsarm-record/1"  # value of the ``schema`` key this version writes
@@ -276,6 +277,8 @@ def read_sidecar(path: str | Path) -> tuple[Sidecar, dict[str, Any]]:
     bad JSON, an unknown key or a wrong type."""
     p = Path(path)
     checked_path(p, "sidecar", SidecarError)  # loops, long names ...
+    if os.path.lexists(p):  # a folder, a device or a pipe: named
+        regular_file(p, "sidecar", SidecarError)
     if not p.is_file():
         raise SidecarError(
             f"sidecar {p} not found: every table needs NAME.json beside it "

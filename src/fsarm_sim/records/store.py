@@ -17,6 +17,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import os
 import socket
 import sqlite3
 import time
@@ -27,7 +28,7 @@ from typing import Any
 
 from fsarm_sim import __version__
 from fsarm_sim.errors import FsarmError
-from fsarm_sim.paths import checked_path, named_os_errors
+from fsarm_sim.paths import checked_path, named_os_errors, regular_file
 
 SCHEMA_VERSION = 1
 _SCHEMA = """
@@ -68,6 +69,8 @@ def check_store_file(path: Path) -> None:
     :class:`ForeignStoreError`. The check opens the database read-only.
     """
     checked_path(path, "results store", StoreError)  # loops, long names ...
+    if os.path.lexists(path):  # a device or a pipe would never answer SQLite
+        regular_file(path, "results store", StoreError)
     with named_os_errors("results store", path, StoreError):
         if not path.exists() or path.stat().st_size == 0:
             return

@@ -50,6 +50,7 @@ import hashlib
 import itertools
 import json
 import math
+import os
 import time
 import tomllib
 from collections.abc import Callable, Mapping, Sequence
@@ -63,7 +64,7 @@ from fsarm_sim import __version__
 from fsarm_sim.engine.model import Gains, SimConfig
 from fsarm_sim.errors import FsarmError, ShaftRangeError
 from fsarm_sim.executors import EXECUTORS, ExecutorError, Outcome, check_workers, run_tasks
-from fsarm_sim.paths import bounded_toml, checked_path
+from fsarm_sim.paths import bounded_toml, checked_path, regular_file
 from fsarm_sim.plant.shaft import Catalogue, load_catalogue, parse_catalogue
 from fsarm_sim.records.store import ResultStore, canonical_json, point_key
 from fsarm_sim.sim import scenarios
@@ -298,6 +299,8 @@ def parse_assignment(text: str) -> tuple[str, str]:
 def load_spec_file(path: str | Path) -> dict[str, Any]:
     p = Path(path)
     checked_path(p, "sweep spec file", SweepSpecError)  # loops, long names ...
+    if os.path.lexists(p):  # a folder, a device or a pipe: named
+        regular_file(p, "sweep spec file", SweepSpecError)
     if not p.is_file():
         raise SweepSpecError(f"sweep spec file not found: {p}")
     try:
