@@ -451,6 +451,14 @@ def _special(t: Path, name: str, device: str | None, *args: str) -> tuple[int, s
 # ------------------------------------------------------------------------------------ the cases
 
 
+def _sim() -> Any:
+    from fsarm_sim.engine.model import SimConfig
+    from fsarm_sim.sim import scenarios
+    from fsarm_sim.sim.simulation import Simulation
+
+    return Simulation(SimConfig(), scenarios.get("step-q3").table(10, 0.001), "native")
+
+
 def _lib(fn: Callable[[], Any]) -> Callable[[Path], Any]:
     return lambda t: fn()
 
@@ -458,6 +466,8 @@ def _lib(fn: Callable[[], Any]) -> Callable[[Path], Any]:
 def cases() -> list[Case]:
     from fsarm_sim.discrepancy import synth
     from fsarm_sim.paths import checked_path
+    from fsarm_sim.plant.shaft import load_catalogue
+    from fsarm_sim.sim.batch import run_batch
     from fsarm_sim.sim.simulation import run_scenario
     from fsarm_sim.studies import magnetic_spring_selection as sel
     from fsarm_sim.studies import speed
@@ -637,6 +647,18 @@ def cases() -> list[Case]:
             )
         ),
     )
+    shaft = load_catalogue().shaft
+    add(lib, "catalogue shaft D True", call=_lib(lambda: shaft(True, 450.0)))
+    add(lib, "catalogue shaft D '9'", call=_lib(lambda: shaft("9", 450.0)))  # type: ignore[arg-type]
+    add(lib, "bend check True", call=_lib(lambda: load_catalogue().check_bend(True)))
+    for name, kw in (
+        ("n_steps True", {"n_steps": True}),
+        ("n_steps 1e12", {"n_steps": 10**12}),
+        ("n_steps 2.0", {"n_steps": 2.0}),
+        ("workers 0", {"n_steps": 1, "workers": 0}),
+        ("record 3e8 steps", {"n_steps": 300_000_000, "record": True}),
+    ):
+        add(lib, f"run_batch {name}", call=lambda t, kw=kw: run_batch([_sim()], **kw))
     add(
         lib,
         "sweep range 1e8",

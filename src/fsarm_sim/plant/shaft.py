@@ -50,7 +50,7 @@ from typing import Any
 
 import numpy as np
 
-from fsarm_sim.errors import CoefficientFileError, ShaftRangeError
+from fsarm_sim.errors import CoefficientFileError, ShaftRangeError, real_number
 from fsarm_sim.paths import bounded_toml, regular_file
 from fsarm_sim.plant.effects import bending, conduit_viscoelastic, series_stiffness
 
@@ -217,6 +217,8 @@ class Catalogue:
         series_hysteresis: bool | None = None,
     ) -> ShaftParams:
         """Evaluate eq. 3 and eq. 4 for one shaft."""
+        real_number(diameter_mm, "shaft diameter (mm)", ShaftRangeError)  # True is not 1 mm
+        real_number(length_mm, "shaft length (mm)", ShaftRangeError)
         self.check_range(diameter_mm, length_mm, extrapolate)
         k_pos, s_pos = self.eq3(diameter_mm, length_mm, 1)
         k_neg, s_neg = self.eq3(diameter_mm, length_mm, -1)
@@ -270,6 +272,10 @@ def check_bend_rad(
     """The one bend-angle check (bench, sweep, arm runs): |phi_B| <= ``limit_rad``, the largest
     |bend| of the coefficient file's ``validity.bend_rad``; ShaftRangeError names the worst value,
     the range and the file."""
+    if isinstance(bend_rad, bool | np.bool_) or (
+        isinstance(bend_rad, np.ndarray) and bend_rad.dtype == np.bool_
+    ):
+        raise ShaftRangeError(f"{what} must be an angle in rad, got {bend_rad!r}")
     raw = bend_rad if isinstance(bend_rad, int | float | np.ndarray) else list(bend_rad)
     values = np.atleast_1d(np.asarray(raw, dtype=np.float64)).ravel()
     if values.size == 0:
