@@ -946,8 +946,8 @@ def cases() -> list[Case]:
     )
     add(
         nm,
-        "a dash-led file name",
-        args=["synth", "--", "{t}/-x"],
+        "a file name starting with a dash",
+        args=["synth", "--duration", "1", "--", "{t}/-x"],
         expect="ok",
         check=files("-x.csv", "-x.json"),
     )
