@@ -459,13 +459,18 @@ def _sim() -> Any:
     return Simulation(SimConfig(), scenarios.get("step-q3").table(10, 0.001), "native")
 
 
+def _checked(path: str, what: str) -> Path:
+    from fsarm_sim.paths import checked_path
+
+    return checked_path(path, what)
+
+
 def _lib(fn: Callable[[], Any]) -> Callable[[Path], Any]:
     return lambda t: fn()
 
 
 def cases() -> list[Case]:
     from fsarm_sim.discrepancy import synth
-    from fsarm_sim.paths import checked_path
     from fsarm_sim.plant.shaft import load_catalogue
     from fsarm_sim.sim.batch import run_batch
     from fsarm_sim.sim.simulation import run_scenario
@@ -507,7 +512,7 @@ def cases() -> list[Case]:
     add("paths", "synth OUT long", args=["synth", f"{{t}}/{LONG}"], words="longer")
     add("paths", "synth --input-file loop", args=["synth", "{t}/s", "--input-file", "{t}/loop"])
     add("paths", "synth --model loop", args=["synth", "{t}/s", "--model", "{t}/loop"])
-    add("paths", "library: NUL in a name", call=_lib(lambda: checked_path("a\x00b", "--json")))
+    add("paths", "library: NUL in a name", call=_lib(lambda: _checked("a\x00b", "--json")))
     add(
         "paths",
         "deleted working directory, relative --out",
