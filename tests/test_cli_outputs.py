@@ -8,11 +8,17 @@ files that were there before are byte-identical afterwards.
 
 from __future__ import annotations
 
+import errno
+import io
 import json
+import os
 import shutil
 import sqlite3
+import subprocess
+import sys
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -653,3 +659,124 @@ def test_sweep_dry_run_counts_failed_points_in_the_store(
     )
     assert code == 0
     assert "2 points valid, 1 already in" in capsys.readouterr().out
+
+
+# ---------------------------------------------------------------------------------------------
+# a print that fails never loses the work (issue 33): files first, then the printout; a full or
+# closed standard output is one named line at the end, a reader that left (| head) no error
+
+
+class _FailingStdout(io.StringIO):
+    def __init__(self, code: int) -> None:
+        super().__init__()
+        self.code = code
+
+    def write(self, text: str) -> int:
+        raise OSError(self.code, os.strerror(self.code))
+
+
+def test_run_with_stdout_on_a_full_device_keeps_every_file(tmp_path: Path) -> None:
+    if not Path("/dev/full").exists():
+        pytest.skip("no /dev/full here")
+    fsarm = Path(sys.executable).with_name("fsarm")
+    out, summary = str(tmp_path / "D"), str(tmp_path / "S")
+    with open("/dev/full", "w") as full:
+        done = subprocess.run(
+            [str(fsarm), "run", "fig14-sine", *SHORT, "--out", out, "--json", summary],
+            stdout=full,
+            stderr=subprocess.PIPE,
+            text=True,
+            env={**os.environ, "MUJOCO_GL": "disable"},
+            timeout=120,
+        )
+    assert "Traceback" not in done.stderr and "Exception ignored" not in done.stderr
+    (line,) = done.stderr.strip().splitlines()
+    assert done.returncode == 2
+    assert line.startswith("error: standard output could not be written (no space left")
+    assert len(pd.read_csv(tmp_path / "D" / "fig14-sine.csv")) == 200
+    assert json.loads((tmp_path / "D" / "fig14-sine.json").read_text())["setup"] == "arm"
+    assert set(json.loads((tmp_path / "S").read_text())["rmse_rad"]) == {"q1", "q2", "q3"}
+
+
+@pytest.mark.parametrize(
+    ("code", "exit_code", "message"),
+    [
+        (errno.ENOSPC, 2, "error: standard output could not be written (no space left"),
+        (errno.EIO, 2, "error: standard output could not be written (input/output error"),
+        (errno.EPIPE, 0, None),  # the reader left (| head): nothing is wrong
+    ],
+)
+def test_a_failing_stdout_is_named_once_and_stops_nothing(
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    tmp_path: Path,
+    code: int,
+    exit_code: int,
+    message: str | None,
+) -> None:
+    monkeypatch.setattr(sys, "stdout", _FailingStdout(code))
+    assert run_fsarm(monkeypatch, "scenarios") == exit_code
+    assert run_fsarm(monkeypatch, "run", "step-q3", *SHORT, "--out", str(tmp_path)) == exit_code
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    assert (tmp_path / "step-q3.csv").is_file() and (tmp_path / "step-q3.json").is_file()
+    lines = err.strip().splitlines()
+    if message is not None:
+        assert len(lines) == 2 and all(ln.startswith(message) for ln in lines)
+    else:
+        assert lines == []
+
+
+def test_guarded_stream_keeps_the_first_error_and_drops_the_rest() -> None:
+    from fsarm_sim.outputs import GuardedStream
+
+    g = GuardedStream(_FailingStdout(errno.ENOSPC))
+    assert g.write("abc") == 3 and g.write("de") == 2
+    g.flush()
+    assert g.error is not None and g.error.errno == errno.ENOSPC
+    ok = GuardedStream(io.StringIO())
+    ok.write("fine")
+    ok.flush()
+    assert ok.error is None and ok.stream.getvalue() == "fine"
+
+
+# ---------------------------------------------------------------------------------------------
+# outputs over inputs and sizes that scale work (issue 33)
+
+
+def test_design_experiment_saves_before_it_prints(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """Both files of design-experiment exist although standard output is full."""
+    from fsarm_sim.discrepancy import design
+
+    def quick(ds: object) -> dict[str, object]:  # the design itself is tested elsewhere
+        t = np.linspace(0.0, 1.0, 20)
+        best = {"design": "sine", "expected_margin": 1.0}
+        best |= {"expected_margin_if_A": 1.0, "expected_margin_if_B": 1.0}
+        return {  # the keys the command reads
+            "t": t,
+            "u": 0.1 * t,
+            "best": best,
+            "own_input_expected_margin": 0.5,
+            "step": 1,
+            "A": "a",
+            "B": "b",
+            "record_margin": 0.2,
+            "input_column": "theta_m",
+        }
+
+    monkeypatch.setattr(design, "design", quick)
+    monkeypatch.setattr(sys, "stdout", _FailingStdout(errno.ENOSPC))
+    code = run_fsarm(
+        monkeypatch,
+        "design-experiment",
+        str(DATA / "series_null.csv"),
+        "--out",
+        str(tmp_path / "in.csv"),
+        "--json",
+        str(tmp_path / "d.json"),
+    )
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and code == 2, err
+    assert (tmp_path / "in.csv").is_file() and json.loads((tmp_path / "d.json").read_text())

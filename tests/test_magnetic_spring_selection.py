@@ -59,3 +59,16 @@ def test_split_halves_and_bad_config() -> None:
     ):
         with pytest.raises(sel.BenchError):
             sel.BenchConfig(**bad).check()
+
+
+@pytest.mark.parametrize(
+    ("changes", "words"),
+    [
+        ({"trial_s": 1e9}, "trial_s (--trial-s) must be at most 600 s"),  # was 14.6 TiB
+        ({"trial_s": 60.0, "dt_sim_s": 1e-5, "period_s": 1e-5}, "samples per trial"),
+        ({"trial_s": True}, "trial_s must be a number"),
+    ],
+)
+def test_trial_sizes_are_capped_before_any_work(changes: dict[str, object], words: str) -> None:
+    with pytest.raises(sel.BenchError, match=words.replace("(", r"\(").replace(")", r"\)")):
+        sel.run_study(sel.BenchConfig(**changes))  # type: ignore[arg-type]

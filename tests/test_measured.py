@@ -197,3 +197,31 @@ def test_arm_columns_are_defined(tmp_path: Path) -> None:
     side = {"setup": "arm", "shaft": {"diameter_mm": 9.0, "length_mm": 450.0}, "payload_kg": 0.0}
     ds = M.load_dataset(_write_csv(tmp_path, cols, side))
     assert ds.setup == "arm" and "tau_m" in ds.columns
+
+
+def test_a_repeated_column_name_is_refused_from_the_header(tmp_path: Path) -> None:
+    """Issue 33: pandas renames a repeated header (tau_s, tau_s.1) and one was used silently."""
+    import shutil
+
+    from fsarm_sim.errors import FsarmError
+
+    data = Path(__file__).resolve().parents[1] / "examples" / "data"
+    lines = (data / "series_null.csv").read_text().splitlines()
+    head = lines[0].split(",")
+    i = head.index("tau_s")
+    rows = [",".join([*r.split(","), str(2 * float(r.split(",")[i]))]) for r in lines[1:]]
+    (tmp_path / "d.csv").write_text(",".join([*head, " tau_s"]) + "\n" + "\n".join(rows) + "\n")
+    shutil.copy(data / "series_null.json", tmp_path / "d.json")
+    with pytest.raises(FsarmError, match=r"the column name 'tau_s' is given twice \(columns"):
+        M.load_dataset(tmp_path / "d.csv")
+    (tmp_path / "d.csv").write_text("\n".join(lines) + "\n")  # the same without it: fine
+    assert M.load_dataset(tmp_path / "d.csv") is not None
+
+
+def test_a_deeply_nested_sidecar_is_a_named_error(tmp_path: Path) -> None:
+    from fsarm_sim.records.sidecar import SidecarError, read_sidecar
+
+    f = tmp_path / "s.json"
+    f.write_text('{"setup": "series_bench", "x": ' + "[" * 100_000 + "]" * 100_000 + "}")
+    with pytest.raises(SidecarError, match="nest deeper than 32 levels"):
+        read_sidecar(f)

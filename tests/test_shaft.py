@@ -246,3 +246,18 @@ def test_spring_is_eq3_less_the_elements_apparent_stiffness() -> None:
             on.k_series(b, -1) - (a[2] + a[3] * b) * on.k_pos
         )
         assert 0.0 < on.k_spring(b, -1) < on.k_series(b, -1)
+
+
+def test_a_deeply_nested_coefficient_file_is_a_named_error(tmp_path: Path) -> None:
+    """Issue 33: nested arrays gave a RecursionError out of tomllib."""
+    from fsarm_sim.errors import CoefficientFileError
+    from fsarm_sim.plant.shaft import load_catalogue
+
+    for depth in (40, 50_000):
+        f = tmp_path / f"deep{depth}.toml"
+        f.write_text("x = " + "[" * depth + "]" * depth + "\n")
+        with pytest.raises(CoefficientFileError, match=f"{f}: arrays/tables nest deeper than 32"):
+            load_catalogue(f)
+    (tmp_path / "loop.toml").symlink_to("loop.toml")
+    with pytest.raises(CoefficientFileError, match=r"loop\.toml: it is a loop of symbolic links"):
+        load_catalogue(tmp_path / "loop.toml")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -297,3 +298,44 @@ def test_tracking_at_the_scenarios_own_bend_matches_the_scenario_run() -> None:
     own = arm_metrics.tracking(SimConfig(), "fig14-sine", duration_s=2.0)
     held = arm_metrics.tracking(SimConfig(), "fig14-sine", duration_s=2.0, bend_rad=q2)
     assert held == own
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "words"),
+    [
+        ({"duration_s": True}, "duration must be a finite number"),  # used to run 1 s
+        ({"duration_s": 0.1, "payload_kg": True}, "payload_kg (--payload-kg) must be a number"),
+        ({"duration_s": 0.1, "log_every_ticks": True}, "whole number"),
+        ({"duration_s": 0.1, "log_every_ticks": 10**20}, "<= 360000000"),  # was OverflowError
+        ({"duration_s": 0.1, "log_every_ticks": 0}, ">= 1"),
+        ({"duration_s": "0.1"}, "duration must be a finite number"),
+    ],
+)
+def test_booleans_and_huge_sizes_are_not_numbers_of_a_run(
+    kwargs: dict[str, object], words: str
+) -> None:
+    """Issue 33: refused before the model is built."""
+    with pytest.raises(InvalidParameterError) as info:
+        run_scenario("fig14-sine", **kwargs)  # type: ignore[arg-type]
+    assert words in str(info.value)
+
+
+def test_booleans_are_not_numbers_of_a_config() -> None:
+    from fsarm_sim.engine.model import Effects, Gains
+
+    for cfg, words in (
+        (SimConfig(payload_kg=True), "payload_kg must be a number"),  # type: ignore[arg-type]
+        (SimConfig(timestep_s=True), "timestep_s must be a number"),  # type: ignore[arg-type]
+        (SimConfig(gains=Gains(ctrl_dt_s=True)), "gain ctrl_dt_s must be a number"),  # type: ignore[arg-type]
+        (SimConfig(effects=Effects(q3_friction_nm=True)), "q3_friction_nm must be"),  # type: ignore[arg-type]
+    ):
+        with pytest.raises(InvalidParameterError, match=re.escape(words)):
+            cfg.validate()
+
+
+def test_log_every_beyond_the_run_records_the_first_row_only() -> None:
+    """The cap is the most steps a run may take: anything up to it is a correct run."""
+    from fsarm_sim.sim.simulation import MAX_LOG_EVERY
+
+    res = run_scenario("fig14-sine", duration_s=0.05, log_every_ticks=MAX_LOG_EVERY)
+    assert len(res.columns["t"]) == 1

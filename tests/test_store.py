@@ -79,3 +79,60 @@ def test_meta_and_bad_files(tmp_path: Path) -> None:
         ResultStore(junk)
     with pytest.raises(StoreError, match="not a file"):
         ResultStore(tmp_path)
+
+
+def _filling_store(monkeypatch: pytest.MonkeyPatch, spare_pages: int) -> None:
+    """Every ResultStore opened from now on may grow by ``spare_pages`` pages only: SQLite's
+    own "database or disk is full" (SQLITE_FULL), as on a full disk."""
+    opened = ResultStore.__init__
+
+    def init(self: ResultStore, path: str | Path) -> None:
+        opened(self, path)
+        pages = self._db.execute("PRAGMA page_count").fetchone()[0]
+        self._db.execute(f"PRAGMA max_page_count = {pages + spare_pages}")
+
+    monkeypatch.setattr(ResultStore, "__init__", init)
+
+
+def test_a_full_disk_is_a_named_error_that_keeps_the_stored_points(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    """Issue 33: sqlite3.OperationalError became a StoreError that says the points stored before
+    are kept; the same sweep then resumes where it stopped."""
+    from fsarm_sim.studies import sweep as sw
+
+    spec = sw.build_spec(grid=["diameter_mm=4,6,9,13", "length_mm=235,535"], outputs=["relief"])
+    store = tmp_path / "r.sqlite"
+    with monkeypatch.context() as m:
+        _filling_store(m, 1)
+        with pytest.raises(StoreError, match="database or disk is full") as info:
+            sw.run_sweep(spec, store, workers=1)
+    with ResultStore(store) as st:
+        kept = st.count()
+    assert 0 < kept < 8 and f"the {kept} point(s) stored before are kept" in str(info.value)
+    assert "rerun the same command to resume" in str(info.value)
+    again = sw.run_sweep(spec, store, workers=1)  # space again: the rest, nothing twice
+    assert (again.already, again.computed, again.failed) == (kept, 8 - kept, 0)
+
+
+def test_a_full_disk_in_the_sweep_command_is_one_line(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    from conftest import run_fsarm
+
+    _filling_store(monkeypatch, 1)
+    args = ["sweep", "--store", str(tmp_path / "r.sqlite"), "--grid", "diameter_mm=4:13:10"]
+    code = run_fsarm(monkeypatch, *args, "--outputs", "relief", "--workers", "1", "--no-progress")
+    err = capsys.readouterr().err
+    (line,) = err.strip().splitlines()
+    assert code == 2 and line.startswith("error: results store") and "are kept" in line
+
+
+def test_store_paths_the_os_refuses_are_named(tmp_path: Path) -> None:
+    (tmp_path / "loop.sqlite").symlink_to("loop.sqlite")
+    for path, words in (
+        (tmp_path / "loop.sqlite", "loop of symbolic links"),
+        (tmp_path / ("a" * 300 + ".sqlite"), "longer than the file system allows"),
+    ):
+        with pytest.raises(StoreError, match=words):
+            ResultStore(path)

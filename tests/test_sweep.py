@@ -393,3 +393,25 @@ def test_auto_executor_threads_native_simulations_and_pools_python_fits(tmp_path
         grid=["diameter_mm=8,9"], backend="python", outputs=["tracking"], name="p"
     )
     assert python.backend == "python" and sw.pick_executor(python) == "local"
+
+
+def test_a_huge_range_is_refused_before_numpy_makes_it() -> None:
+    """Issue 33: 4:13:100000000 used to build 1e8 values (and hang) before the points cap."""
+    import time
+
+    start = time.perf_counter()
+    with pytest.raises(sw.SweepSpecError, match="at most 100000 points"):
+        sw.build_spec(grid=["diameter_mm=4:13:100000000"])
+    with pytest.raises(sw.SweepSpecError, match="at most 100000 points"):
+        sw.build_spec({"grid": {"diameter_mm": {"start": 4, "stop": 13, "num": 1e300}}})
+    assert time.perf_counter() - start < 5.0  # at once (a hang is minutes), not a speed goal
+
+
+def test_workers_are_capped_before_any_work(tmp_path: Path) -> None:
+    from fsarm_sim.executors import MAX_WORKERS, ExecutorError
+
+    spec = sw.build_spec(grid=["diameter_mm=9"], outputs=["relief"])
+    for bad in (0, MAX_WORKERS + 1, True):
+        with pytest.raises(ExecutorError, match="workers"):
+            sw.run_sweep(spec, tmp_path / "r.sqlite", workers=bad)  # type: ignore[arg-type]
+    assert not (tmp_path / "r.sqlite").exists()

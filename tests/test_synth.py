@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -150,3 +151,54 @@ def test_cli_synth_shaft_options_take_the_run_commands_names(
     assert res.exit_code == 0, res.output
     side = json.loads((tmp_path / "s.json").read_text())
     assert side["shaft"] == {"diameter_mm": 8.0, "length_mm": 500.0}
+
+
+def test_synth_enforces_the_bend_validity_of_run(tmp_path: Path) -> None:
+    """Issue 33: --bend-deg 500 wrote a record with a -9.8 N·m/rad slope; the one bend check
+    (shaft.check_bend_rad, as run, sweep and the bench) now refuses it."""
+    from fsarm_sim.errors import ShaftRangeError
+
+    rec = synth.Recording(duration_s=1.0, bend_rad=math.radians(500.0))
+    with pytest.raises(ShaftRangeError, match=r"outside the validity range \[-2.094, 2.094\]"):
+        synth.synthesize_setup("series_bench", recording=rec)
+    ok = synth.Recording(duration_s=1.0, bend_rad=math.radians(120.0))  # the edge is valid
+    cols, _, _ = synth.synthesize_setup("series_bench", recording=ok)
+    assert np.allclose(cols["phi_b"], math.radians(120.0))
+    with pytest.raises(InvalidParameterError, match="bend_rad must be a number"):
+        synth.Recording(bend_rad=True).validate()  # type: ignore[arg-type]
+
+
+def test_synth_refuses_to_overwrite_its_input_file(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """Issue 33: `fsarm synth OUT --input-file OUT.csv` overwrote its own input."""
+    from conftest import run_fsarm
+
+    f = tmp_path / "x.csv"
+    t = np.arange(0.0, 2.0, 0.001)
+    synth.write_input_file(f, t, 0.01 * np.sin(t), "series_bench")
+    before = f.read_bytes()
+    for out in (tmp_path / "x", f, tmp_path / "x.parquet"):
+        code = run_fsarm(monkeypatch, "synth", str(out), "--input-file", str(f), "--rate", "100")
+        err = capsys.readouterr().err
+        if out.suffix == ".parquet":  # another file: a correct run
+            assert code == 0, err
+            continue
+        (line,) = err.strip().splitlines()
+        assert code == 2 and "is the trajectory file of --input-file (an input)" in line
+    assert f.read_bytes() == before
+    code = run_fsarm(monkeypatch, "synth", str(tmp_path / "b"), "--bend-deg", "500")
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and "bend_rad (--bend-deg): 8.727 rad (500.0 deg) is outside" in line
+    assert not (tmp_path / "b.csv").exists()
+
+
+def test_input_file_with_a_repeated_column_is_refused(tmp_path: Path) -> None:
+    f = tmp_path / "in.csv"
+    rows = "\n".join(f"{0.01 * i},{0.1 * i},{0.2 * i}" for i in range(20))
+    f.write_text("t,theta_m,theta_m\n" + rows + "\n")
+    with pytest.raises(InvalidParameterError, match=r"\['theta_m'\] are given twice"):
+        synth.read_input_file(f, "series_bench")
+    f.write_text("t,theta_m\n" + "0,0\n" * 3)
+    with pytest.raises(InvalidParameterError, match=">= 10 finite rows"):
+        synth.read_input_file(f, "series_bench")

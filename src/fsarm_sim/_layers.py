@@ -9,8 +9,9 @@ top-level ``controllers/`` folder, installed as ``fsarm_sim.controllers``.
 
 Read top-down, the layers are the package's folders (since 0.3.0):
 
-* base - named errors, declared parameter blocks, output paths, task executors, the lazily
-  completed command app, the seed papers' declared claims (data: the calibration targets);
+* base - named errors, declared parameter blocks, checked paths and output paths, task
+  executors, the lazily completed command app, the seed papers' declared claims (data: the
+  calibration targets);
 * laws (``plant/``, ``controllers/``) - physical laws and pure controllers: no MuJoCo,
   compilable (effects, transmissions, the shaft catalogue);
 * layout (``kernels/layout``) - where parameters and states live inside a model and its data;
@@ -41,6 +42,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
             "lazy_commands",
             "outputs",
             "paramblocks",
+            "paths",
             # the papers' claims are declared data, read by calibration code below studies
             "studies.reproduce.claims",
             "studies.reproduce.seed000",

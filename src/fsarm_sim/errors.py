@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numbers
 from typing import Any
 
 
@@ -59,11 +60,48 @@ class CallbackConflictError(FsarmError, RuntimeError):
     """fsarm's process-global callbacks are held by another thread with the other backend."""
 
 
-class OutputPathError(FsarmError, ValueError):
+class FilePathError(FsarmError, ValueError):
+    """A path cannot be used: a loop of symbolic links, a name too long for the file system, no
+    permission on the way, a NUL in the name, or a working directory that no longer exists
+    (:func:`fsarm_sim.paths.checked_path`)."""
+
+
+class OutputPathError(FilePathError):
     """An output path cannot be used: a folder where a file is meant (or the reverse), a place
     that cannot be written, two outputs on one file, or an output on one of the inputs."""
+
+
+class ConsoleWriteError(FsarmError, OSError):
+    """Standard output could not be written (a full device, a closed terminal): what the
+    command printed is lost, the files it wrote are kept."""
 
 
 class OutputWriteError(FsarmError, RuntimeError):
     """Writing a result failed after the work was done; the results went to a fallback place,
     which the message names."""
+
+
+def real_number(value: object, what: str, error: type[FsarmError] = InvalidParameterError) -> float:
+    """``value`` as a float when it is a real number (int, float, NumPy's); ``error`` for a
+    boolean (``True`` is not 1 s), a string or anything else."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise error(f"{what} must be a number, got {value!r}")
+    return float(value)
+
+
+def whole_number(
+    value: object,
+    what: str,
+    low: int,
+    high: int,
+    error: type[FsarmError] = InvalidParameterError,
+) -> int:
+    """``value`` as an int within ``[low, high]`` (the stated cap of a size that scales work or
+    memory); ``error`` for a boolean, a fraction, a string, or a value outside."""
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, numbers.Integral)
+        or not (low <= int(value) <= high)
+    ):
+        raise error(f"{what} must be a whole number >= {low} and <= {high}, got {value!r}")
+    return int(value)

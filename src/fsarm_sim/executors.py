@@ -55,12 +55,15 @@ from multiprocessing import get_all_start_methods, get_context
 from multiprocessing.context import BaseContext
 from typing import Any, Literal
 
-from fsarm_sim.errors import FsarmError
+from fsarm_sim.errors import FsarmError, whole_number
 
 ExecutorName = Literal["local", "threads", "dask"]
 EXECUTORS: tuple[str, ...] = ("local", "threads", "dask")
 PROCESS_LOCK = threading.Lock()
 TaskFn = Callable[[Any], dict[str, Any]]
+# most workers (processes or threads) one run may start: each costs memory (a forked process holds
+# a simulator, ~100 MB) while the machines fsarm runs on have tens of cores, not hundreds
+MAX_WORKERS = 256
 START_METHOD_ENV = "FSARM_START_METHOD"  # "spawn": never fork the local pool's workers
 
 
@@ -104,13 +107,17 @@ def call_task(fn: TaskFn, index: int, task: Any, serial: bool = True) -> Outcome
     return Outcome(index, task, result, error, time.perf_counter() - start, socket.gethostname())
 
 
+def check_workers(workers: int | None, what: str = "workers") -> int | None:
+    """``workers`` (None: every core) within 1 .. :data:`MAX_WORKERS`, else ExecutorError."""
+    if workers is None:
+        return None
+    return whole_number(workers, what, 1, MAX_WORKERS, ExecutorError)
+
+
 def _check(executor: str, workers: int | None, scheduler: str | None) -> int:
     if executor not in EXECUTORS:
         raise ExecutorError(f"executor must be one of {', '.join(EXECUTORS)}, got {executor!r}")
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)):
-        raise ExecutorError(f"workers must be a whole number >= 1, got {workers!r}")
-    if workers is not None and workers < 1:
-        raise ExecutorError(f"workers must be >= 1, got {workers}")
+    workers = check_workers(workers)
     if scheduler is not None and executor != "dask":
         raise ExecutorError("a scheduler address only makes sense with executor 'dask'")
     return workers if workers is not None else available_cores()

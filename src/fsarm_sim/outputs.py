@@ -4,26 +4,33 @@
   will receive) and its inputs, and :meth:`OutputPlan.check` raises :class:`OutputPathError`
   *before* the run when a file path is an existing folder, a folder path an existing file, a place
   cannot be created or written, two outputs are one file, or an output is one of the inputs.
-  Paths are compared resolved (``Path.resolve``), so ``runs/../runs/a.json`` and ``runs/a.json``
-  are the same file.
+  Paths are compared resolved (:func:`fsarm_sim.paths.checked_path`, which also names a loop of
+  symbolic links, a name too long or a vanished working directory), so ``runs/../runs/a.json``
+  and ``runs/a.json`` are the same file.
 * :class:`SafeWriter` writes results after the run: a write that still fails (disk full,
   permissions changed meanwhile) goes to a fresh folder ``fsarm-rescue-*`` in the temporary
   directory instead, says so at once, and :meth:`SafeWriter.finish` then raises
   :class:`OutputWriteError` naming where everything went, so the command exits non-zero with the
   results kept.
+* :class:`GuardedStream` wraps standard output and error while a command runs
+  (:func:`guarded_streams`): a print that fails (a full device, a closed terminal, a broken
+  pipe) is remembered, not raised, so it never stops a command before its work is saved.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
+import sys
 import tempfile
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TypeVar
+from typing import Any, TypeVar
 
 from fsarm_sim.errors import FsarmError, OutputPathError, OutputWriteError
+from fsarm_sim.paths import checked_path
 
 T = TypeVar("T")
 
@@ -39,8 +46,8 @@ class _Entry:
     explicit: bool = True  # named by an option (not a file a folder option implies)
 
 
-def _resolve(path: Path) -> Path:
-    return Path(os.path.abspath(path)).resolve()
+def _resolve(path: Path, what: str) -> Path:
+    return checked_path(path, what, OutputPathError)
 
 
 def _nearest_existing(path: Path) -> Path:
@@ -67,7 +74,7 @@ def _check_creatable(option: str, given: Path, folder: Path) -> None:
 def check_file_path(option: str, path: Path) -> Path:
     """``path`` will be written as a file: not an existing folder, and creatable or writable.
     Returns the resolved path."""
-    real = _resolve(path)
+    real = _resolve(path, option)
     if real.is_dir():
         raise OutputPathError(f"{option} points to the folder {path}; give a file path")
     if real.exists():
@@ -90,7 +97,7 @@ def check_file_path(option: str, path: Path) -> Path:
 def check_folder_path(option: str, path: Path) -> Path:
     """``path`` will be a folder that receives files: not an existing file, and creatable or
     writable. Returns the resolved path."""
-    real = _resolve(path)
+    real = _resolve(path, option)
     if real.exists() and not real.is_dir():
         raise OutputPathError(
             f"{option} points to the file {path}; give a folder (an existing one or a new name)"
@@ -135,7 +142,7 @@ class OutputPlan:
                     f"{what} ({option})",
                     f"{what} that {option} writes",
                     path / name,
-                    _resolve(real / name),
+                    _resolve(real / name, f"{what} ({option})"),
                     explicit=False,
                 )
             )
@@ -145,7 +152,7 @@ class OutputPlan:
         """A file the command reads (``what``: e.g. "the dataset's sidecar"); no output may be
         written over it."""
         if path is not None:
-            self._inputs.append(_Entry(what, what, path, _resolve(path)))
+            self._inputs.append(_Entry(what, what, path, _resolve(path, what)))
         return self
 
     def check(self) -> None:
@@ -265,3 +272,59 @@ def safe_write(
     result = w.write(path, writer, what, folder=folder)
     w.finish()
     return result
+
+
+class GuardedStream:
+    """Standard output (or error) that never raises: the first ``OSError`` of a write or flush
+    (a full device, a closed terminal, a broken pipe) is kept in :attr:`error` and what follows
+    is dropped, so that a failing print cannot stop a command before it has saved its work.
+    The stream's file descriptor is then pointed at ``os.devnull``, so that the interpreter's
+    last flush at exit fails no more."""
+
+    buffer = None  # writes go through :meth:`write` (click looks for a binary buffer otherwise)
+
+    def __init__(self, stream: Any) -> None:
+        self.stream = stream
+        self.error: OSError | None = None
+
+    def _fail(self, exc: OSError) -> None:
+        if self.error is None:
+            self.error = exc
+        with contextlib.suppress(Exception):
+            fd = self.stream.fileno()
+            null = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(null, fd)
+            os.close(null)
+
+    def write(self, text: str) -> int:
+        if self.error is None:
+            try:
+                return int(self.stream.write(text))
+            except OSError as exc:
+                self._fail(exc)
+        return len(text)
+
+    def flush(self) -> None:
+        if self.error is None:
+            try:
+                self.stream.flush()
+            except OSError as exc:
+                self._fail(exc)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.stream, name)
+
+
+@contextlib.contextmanager
+def guarded_streams() -> Iterator[tuple[GuardedStream, GuardedStream]]:
+    """``sys.stdout`` and ``sys.stderr`` as :class:`GuardedStream` s for the block (flushed at
+    its end, so that a failure shows in their ``error``)."""
+    saved = sys.stdout, sys.stderr
+    out, err = GuardedStream(sys.stdout), GuardedStream(sys.stderr)
+    sys.stdout, sys.stderr = out, err
+    try:
+        yield out, err
+    finally:
+        out.flush()
+        err.flush()
+        sys.stdout, sys.stderr = saved

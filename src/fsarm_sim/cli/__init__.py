@@ -23,6 +23,7 @@ from fsarm_sim.lazy_commands import (
     freeze_imports_if_entry,
     preload,
 )
+from fsarm_sim.outputs import guarded_streams
 
 # the extension modules' commands are registered when first needed (fsarm_sim.lazy_commands)
 app = LazyTyper(
@@ -220,6 +221,17 @@ def run_cmd(
     except KeyboardInterrupt:
         err_console.print("[bold yellow]interrupted[/] before anything was recorded: no output")
         raise typer.Exit(130) from None
+    # the finished work is saved before anything is printed
+    writes = SafeWriter(lambda msg: err_console.print(f"[bold yellow]warning:[/] {escape(msg)}"))
+    path = writes.write(
+        out, lambda d: write_timeseries(result, d, fmt), "the time series (--out)", folder=True
+    )
+
+    def summary(p: Path) -> Path:
+        write_summary(result, p)
+        return p
+
+    where = None if json_file is None else writes.write(json_file, summary, "the summary (--json)")
     m = result.metrics
     if result.interrupted:
         err_console.print(
@@ -269,21 +281,10 @@ def run_cmd(
         )
     for warning in result.warnings:
         err_console.print(f"[bold yellow]warning:[/] {escape(warning)}")
-    writes = SafeWriter(lambda msg: err_console.print(f"[bold yellow]warning:[/] {escape(msg)}"))
-    path = writes.write(
-        out, lambda d: write_timeseries(result, d, fmt), "the time series (--out)", folder=True
-    )
     if path is not None:
         console.print(f"time series: {path}  (sidecar {path.with_suffix('.json')})")
-    if json_file is not None:
-
-        def summary(p: Path) -> Path:
-            write_summary(result, p)
-            return p
-
-        where = writes.write(json_file, summary, "the summary (--json)")
-        if where is not None:
-            console.print(f"summary: {where}")
+    if where is not None:
+        console.print(f"summary: {where}")
     compare = None
     if compare_changes:
         from fsarm_sim.cli.review import compare_run
@@ -331,14 +332,41 @@ app.ready()
 
 
 def main() -> None:
-    """Entry point: named errors become one red line and exit code 2, never a traceback."""
+    """Entry point: named errors become one red line and exit code 2, never a traceback. A
+    failing standard output (a full device, a closed terminal) stops no command's work: the
+    files are written, the error is named at the end (a reader that closed the pipe, as
+    ``| head`` does, is no error)."""
+    import errno
+
+    from fsarm_sim.paths import os_problem
+
     # a command defined in this module (`fsarm run ...`) needs none of the extension modules
     core = command_name(sys.argv[1:]) in app.core_names()
     freeze_imports_if_entry(main)  # the garbage collector skips the imports' objects
     freeze_at_exit()
-    try:
-        with app.core_only() if core else contextlib.nullcontext():
-            app()
-    except FsarmError as exc:
-        err_console.print(f"[bold red]error:[/] {escape(str(exc))}", soft_wrap=True)
-        raise SystemExit(2) from None
+    code: int | str | None = 0
+    with guarded_streams() as (out, _):
+        try:
+            with app.core_only() if core else contextlib.nullcontext():
+                app()
+        except FsarmError as exc:
+            _error_line(str(exc).strip())
+            code = 2
+        except OSError as exc:  # the file system failed where no command named it
+            where = f" ({exc.filename})" if exc.filename else ""
+            _error_line(f"{os_problem(exc)}{where}")
+            code = 2
+        except SystemExit as exc:
+            code = exc.code
+    if out.error is not None and out.error.errno != errno.EPIPE:
+        _error_line(
+            f"standard output could not be written ({os_problem(out.error)}): what the command "
+            "printed is lost; the files it wrote are kept"
+        )
+        code = code or 2
+    raise SystemExit(code)
+
+
+def _error_line(message: str) -> None:
+    with contextlib.suppress(OSError):  # a closed terminal: nothing left to tell
+        err_console.print(f"[bold red]error:[/] {escape(message)}", soft_wrap=True)

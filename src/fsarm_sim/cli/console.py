@@ -1,7 +1,9 @@
 """The consoles the CLI prints to: terminal width on a terminal, 140 columns when piped.
 
 Rich falls back to 80 columns when stdout is not a terminal (CI logs, ``| tee``), which folds
-or truncates the wider tables; 140 keeps them readable in logs.
+or truncates the wider tables; 140 keeps them readable in logs. While a command runs, both
+streams are :class:`fsarm_sim.outputs.GuardedStream` s: a print that fails never stops the
+command's work.
 """
 
 from __future__ import annotations

@@ -14,7 +14,7 @@ from typing import Annotated, Any
 import typer
 
 from fsarm_sim.cli.console import make_console
-from fsarm_sim.outputs import OutputPlan, SafeWriter
+from fsarm_sim.outputs import OutputPlan, SafeWriter, write_text
 from fsarm_sim.records.measured import stated_shaft
 
 
@@ -114,7 +114,16 @@ def register(app: typer.Typer) -> None:
         ).file("--out", out).file("--json", json_file).check()
         ds = load_dataset(data)
         res = D.design(ds)
-        synth.write_input_file(out, res["t"], res["u"], ds.setup)
+        # both files saved before anything is printed
+        writes = SafeWriter(lambda msg: typer.echo(f"warning: {msg}", err=True))
+        written = writes.write(
+            out, lambda p: synth.write_input_file(p, res["t"], res["u"], ds.setup), "--out"
+        )
+        where = None
+        if json_file is not None:
+            body = {k: v for k, v in res.items() if k not in ("t", "u")}
+            text = json.dumps(json_clean(body), indent=2) + "\n"
+            where = writes.write(json_file, lambda p: write_text(p, text), "the result (--json)")
         best = res["best"]
         own = res["own_input_expected_margin"]
         own_txt = f"{own:.1f}" if math.isfinite(own) else "an effect below the noise variance there"
@@ -127,11 +136,11 @@ def register(app: typer.Typer) -> None:
             f"(if {res['A']}: {best['expected_margin_if_A']:.1f}, if {res['B']}: "
             f"{best['expected_margin_if_B']:.1f})"
         )
-        typer.echo(f"wrote {out} (columns t, {res['input_column']})")
-        if json_file is not None:
-            body = {k: v for k, v in res.items() if k not in ("t", "u")}
-            json_file.write_text(json.dumps(json_clean(body), indent=2) + "\n", "utf-8")
-            typer.echo(f"result: {json_file}")
+        if written is not None:
+            typer.echo(f"wrote {written} (columns t, {res['input_column']})")
+        if where is not None:
+            typer.echo(f"result: {where}")
+        writes.finish()
 
     @app.command("synth")
     def synth_cmd(
@@ -265,7 +274,7 @@ def register(app: typer.Typer) -> None:
         table_out, side_out = output_files(out)
         OutputPlan().file("OUT", table_out).file("the sidecar of OUT", side_out).input(
             "the truth model of --model", model
-        ).check()
+        ).input("the trajectory file of --input-file", input_file).check()
         err = make_console(stderr=True)
         writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
         load = load or "blocked"
@@ -284,7 +293,10 @@ def register(app: typer.Typer) -> None:
         else:
             if input_file is not None and duration is None:
                 t_in, _ = synth.read_input_file(input_file, setup)
-                duration = float(t_in[-1] - t_in[0])
+                # whole sample periods of the file's span (a rounded-up last sample would lie
+                # past the file's end)
+                r = rate if rate is not None else synth.Recording.rate_hz
+                duration = math.floor(float(t_in[-1] - t_in[0]) * r + 1e-6) / r
             stated: dict[str, Any] = {
                 "duration_s": duration,
                 "rate_hz": rate,

@@ -17,14 +17,20 @@ import typer
 # the studies are imported inside the commands, so that registering them keeps `fsarm` quick
 
 
-def _write_json(json_file: Path | None, data: Any) -> None:
-    if json_file is None:
-        return
-    from fsarm_sim.outputs import safe_write, write_text
+def _write_json(json_file: Path | None, data: Any, printout: str = "") -> None:
+    """Write ``data`` as JSON (saved before ``printout`` is printed), then print both."""
+    from fsarm_sim.outputs import SafeWriter, write_text
 
-    text = json.dumps(data, indent=2, default=float)
-    where = safe_write(json_file, lambda p: write_text(p, text), "the numbers (--json)")
-    typer.echo(f"numbers: {where}")
+    writes = SafeWriter(lambda msg: typer.echo(f"warning: {msg}", err=True))
+    where = None
+    if json_file is not None:
+        text = json.dumps(data, indent=2, default=float)
+        where = writes.write(json_file, lambda p: write_text(p, text), "the numbers (--json)")
+    if printout:
+        typer.echo(printout)
+    if where is not None:
+        typer.echo(f"numbers: {where}")
+    writes.finish()
 
 
 def _floats(option: str, text: str) -> list[float]:
@@ -61,7 +67,6 @@ def register(app: typer.Typer) -> None:
             unbalance_nm=unbalance, output_damping_nms=output_damping, trial_s=trial_s, seed=seed
         )
         st = sel.run_study(cfg, free_run=free_run)
-        typer.echo(st.table())
         _write_json(
             json_file,
             {
@@ -71,6 +76,7 @@ def register(app: typer.Typer) -> None:
                 "rows": {m: asdict(r) for m, r in st.rows.items()},
                 "free_run_rms_deg": st.free_run_deg,
             },
+            st.table(),
         )
 
     @app.command("qa-throws")

@@ -29,9 +29,13 @@ def register(app: typer.Typer) -> None:
         """Time raw MuJoCo vs the Python and native callbacks (full model and lean twin), the
         real-time factor with and without logging, whole `fsarm run` processes, a sweep and
         batch scaling - side by side in one run."""
-        from fsarm_sim.outputs import OutputPlan, safe_write, write_text
-        from fsarm_sim.studies.speed import format_report, measure_speed
+        from fsarm_sim.errors import whole_number
+        from fsarm_sim.executors import check_workers
+        from fsarm_sim.outputs import OutputPlan, SafeWriter, write_text
+        from fsarm_sim.studies.speed import MAX_REPS, format_report, measure_speed
 
+        whole_number(reps, "--reps", 1, MAX_REPS)  # checked with --quick too, which sets its own
+        check_workers(max_workers, "--max-workers")
         OutputPlan().file("--json", json_file).check()
         report = (
             measure_speed(
@@ -46,8 +50,12 @@ def register(app: typer.Typer) -> None:
             if quick
             else measure_speed(reps=reps, max_workers=max_workers)
         )
-        typer.echo(format_report(report))
-        if json_file is not None:
+        writes = SafeWriter(lambda msg: typer.echo(f"warning: {msg}", err=True))
+        where = None
+        if json_file is not None:  # saved before anything is printed
             text = json.dumps(asdict(report), indent=2)
-            where = safe_write(json_file, lambda p: write_text(p, text), "the numbers (--json)")
+            where = writes.write(json_file, lambda p: write_text(p, text), "the numbers (--json)")
+        typer.echo(format_report(report))
+        if where is not None:
             typer.echo(f"numbers: {where}")
+        writes.finish()

@@ -16,6 +16,7 @@ from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console, number_table
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.outputs import OutputPlan, SafeWriter
+from fsarm_sim.paths import checked_path
 
 console = make_console()
 
@@ -346,6 +347,7 @@ def register(app: typer.Typer) -> None:
         """Re-fit eq. 3/4 to a stored sweep and plot its metrics (maps, 3-D surfaces)."""
         from fsarm_sim.records.store import check_store_file
 
+        checked_path(store, "--store", FsarmError)  # loops, long names ...
         if not store.is_file():
             raise FsarmError(f"results store not found: {store}")
         check_store_file(store)

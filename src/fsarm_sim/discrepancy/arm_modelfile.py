@@ -23,6 +23,7 @@ from fsarm_sim.discrepancy import arm_fit as A
 from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.engine.model import SimConfig
 from fsarm_sim.errors import FsarmError
+from fsarm_sim.paths import bounded_json, regular_file
 from fsarm_sim.plant import transmissions
 from fsarm_sim.records.measured import resolve_shaft
 from fsarm_sim.records.sidecar import as_record, shaft_params_entry
@@ -183,9 +184,10 @@ def jsonable(x: Any) -> Any:
 
 def load_arm_model(path: str | Path) -> tuple[A.ArmModel, A.ArmRun]:
     p = Path(path)
+    regular_file(p, "model file", ArmModelFileError)  # loops, long names ...
     try:
-        d = json.loads(p.read_text("utf-8"))
-    except (OSError, json.JSONDecodeError) as exc:
+        d = bounded_json(p.read_text("utf-8"), str(p), ArmModelFileError)
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise ArmModelFileError(f"{p}: not a readable JSON file ({exc})") from exc
     return model_from_dict(d, str(p))
 

@@ -22,7 +22,7 @@ from fsarm_sim.discrepancy import arm_fit as A
 from fsarm_sim.discrepancy import arm_modelfile as MF
 from fsarm_sim.discrepancy.effect_text import parse_effect
 from fsarm_sim.engine.model import Gains
-from fsarm_sim.errors import InvalidParameterError
+from fsarm_sim.errors import InvalidParameterError, real_number
 from fsarm_sim.plant import transmissions
 from fsarm_sim.plant.effects.registry import ARM
 from fsarm_sim.plant.shaft import ShaftParams
@@ -55,7 +55,10 @@ class ArmRecording:
     rate_hz: float | None = None
 
     def validate(self) -> None:
-        if not math.isfinite(self.noise_rad) or self.noise_rad < 0.0:
+        for name in ("duration_s", "payload_kg", "rate_hz"):
+            if getattr(self, name) is not None:
+                real_number(getattr(self, name), name)  # True is not 1 s
+        if not math.isfinite(real_number(self.noise_rad, "noise_rad")) or self.noise_rad < 0.0:
             raise InvalidParameterError(f"noise_rad must be >= 0, got {self.noise_rad!r}")
         if self.rate_hz is not None:
             self.sampling(Gains().ctrl_dt_s)

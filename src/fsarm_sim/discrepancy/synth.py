@@ -20,6 +20,7 @@ The diagnosis never reads the ``synthetic`` key. Input trajectories: :data:`TRAJ
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import lru_cache
@@ -38,7 +39,8 @@ from fsarm_sim.discrepancy.benchmodel import (
     load_model,
     nominal_from_shaft,
 )
-from fsarm_sim.errors import InvalidParameterError
+from fsarm_sim.errors import InvalidParameterError, real_number
+from fsarm_sim.paths import regular_file
 from fsarm_sim.plant.effects import registry, sensor_offset
 from fsarm_sim.plant.shaft import ShaftParams
 from fsarm_sim.records import sidecar as records
@@ -155,6 +157,10 @@ class Recording:
     input_file: str | None = None  # a trajectory file (:func:`read_input_file`) instead
 
     def validate(self) -> None:
+        for name in ("duration_s", "rate_hz", "noise", "bend_rad"):
+            real_number(getattr(self, name), name)  # True is not 1 s
+        if self.amplitude is not None:
+            real_number(self.amplitude, "amplitude")
         for name in ("duration_s", "rate_hz"):
             v = getattr(self, name)
             if not math.isfinite(v) or v <= 0:
@@ -234,6 +240,8 @@ def synthesize(
     sh = shaft or stated_shaft(
         truth.shaft.get("diameter_mm", 9.0), truth.shaft.get("length_mm", 450.0)
     )
+    if truth.setup == "series_bench":  # the one bend check, as runs, sweeps and the bench
+        sh.check_bend(rec.bend_rad, "bend_rad (--bend-deg)")
     rng = np.random.default_rng(rec.seed + 7919)
     h = 1.0 / rec.rate_hz
     n = round(rec.duration_s * rec.rate_hz) + 1
@@ -304,15 +312,34 @@ def read_input_file(path: str | Path, setup: str) -> tuple[FloatArray, FloatArra
     col = INPUT_COLUMNS.get(setup)
     if col is None:
         raise InvalidParameterError(f"an input file drives a bench, not the setup {setup!r}")
+    regular_file(p, "the input file", InvalidParameterError)  # loops, long names ...
     try:
-        head = p.read_text("utf-8").splitlines()[0].strip().split(",")
-        data = np.loadtxt(p, delimiter=",", skiprows=1, ndmin=2)
+        head = [c.strip() for c in p.read_text("utf-8").splitlines()[0].strip().split(",")]
     except (OSError, ValueError, IndexError) as exc:
         raise InvalidParameterError(f"cannot read the input file {p}: {exc}") from exc
+    repeated = sorted({c for c in head if head.count(c) > 1})
+    if repeated:
+        raise InvalidParameterError(
+            f"the input file {p}: the column name(s) {repeated} are given twice; every column "
+            "needs its own name"
+        )
     if "t" not in head or col not in head:
         raise InvalidParameterError(
             f"the input file {p} needs the columns t and {col} (for {setup}), has {head}"
         )
+    try:
+        with warnings.catch_warnings():  # no rows: refused below, by name
+            warnings.simplefilter("ignore", UserWarning)
+            data = np.loadtxt(p, delimiter=",", skiprows=1, ndmin=2)
+    except (OSError, ValueError) as exc:
+        raise InvalidParameterError(f"cannot read the input file {p}: {exc}") from exc
+    if data.shape[0] and data.shape[1] != len(head):
+        raise InvalidParameterError(
+            f"the input file {p}: its rows have {data.shape[1]} values, its header "
+            f"{len(head)} names"
+        )
+    if data.shape[0] < 10:
+        raise InvalidParameterError(f"the input file {p} needs >= 10 finite rows")
     t = np.asarray(data[:, head.index("t")], dtype=np.float64)
     u = np.asarray(data[:, head.index(col)], dtype=np.float64)
     if t.size < 10 or not (np.all(np.isfinite(t)) and np.all(np.isfinite(u))):

@@ -24,7 +24,7 @@ import numpy.typing as npt
 
 from fsarm_sim.engine import callbacks
 from fsarm_sim.engine.lean import idle_off, strip
-from fsarm_sim.errors import InvalidParameterError, ModelStructureError
+from fsarm_sim.errors import InvalidParameterError, ModelStructureError, real_number
 from fsarm_sim.kernels import layout as L
 from fsarm_sim.plant import transmissions
 from fsarm_sim.plant.effects import registry
@@ -82,7 +82,7 @@ class Gains:
             **{f"zeta[{i}]": v for i, v in enumerate(self.zeta)},
         }
         for name, v in values.items():
-            if not math.isfinite(v) or v < 0.0:
+            if not math.isfinite(real_number(v, f"gain {name}")) or v < 0.0:
                 raise InvalidParameterError(f"gain {name} must be a finite number >= 0, got {v!r}")
         if self.ctrl_dt_s <= 0.0:
             raise InvalidParameterError(f"ctrl_dt_s must be > 0, got {self.ctrl_dt_s!r}")
@@ -114,6 +114,10 @@ class Effects:
 
     def validate(self) -> None:
         validate_laws(self.laws)
+        for name in ("payload_error_kg", "backlash_width_rad", "backlash_center_rad"):
+            real_number(getattr(self, name), name)
+        for name in ("q3_friction_nm", "q3_damping_nms"):
+            real_number(getattr(self, name), name)
         if not math.isfinite(self.payload_error_kg) or abs(self.payload_error_kg) > PAYLOAD_MAX_KG:
             raise InvalidParameterError(
                 f"payload_error_kg must be within +-{PAYLOAD_MAX_KG:g} kg, got {self.payload_error_kg!r}"
@@ -151,6 +155,9 @@ class SimConfig:
         return replace(self, **changes)  # type: ignore[arg-type]
 
     def validate(self) -> None:
+        real_number(self.payload_kg, "payload_kg")
+        if self.timestep_s is not None:
+            real_number(self.timestep_s, "timestep_s")
         if not math.isfinite(self.payload_kg) or not 0.0 <= self.payload_kg <= PAYLOAD_MAX_KG:
             raise InvalidParameterError(
                 f"payload must be between 0 and {PAYLOAD_MAX_KG:g} kg (seed 000 Table III), got {self.payload_kg!r}"

@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import os
 import tomllib
 from collections.abc import Iterable
 from dataclasses import dataclass, field
@@ -49,7 +50,8 @@ from typing import Any
 
 import numpy as np
 
-from fsarm_sim.errors import CoefficientFileError, ShaftRangeError
+from fsarm_sim.errors import CoefficientFileError, ShaftRangeError, real_number
+from fsarm_sim.paths import bounded_toml, regular_file
 from fsarm_sim.plant.effects import bending, conduit_viscoelastic, series_stiffness
 
 DEFAULT_CATALOGUE = "shafts.toml"
@@ -215,6 +217,8 @@ class Catalogue:
         series_hysteresis: bool | None = None,
     ) -> ShaftParams:
         """Evaluate eq. 3 and eq. 4 for one shaft."""
+        real_number(diameter_mm, "shaft diameter (mm)", ShaftRangeError)  # True is not 1 mm
+        real_number(length_mm, "shaft length (mm)", ShaftRangeError)
         self.check_range(diameter_mm, length_mm, extrapolate)
         k_pos, s_pos = self.eq3(diameter_mm, length_mm, 1)
         k_neg, s_neg = self.eq3(diameter_mm, length_mm, -1)
@@ -268,6 +272,10 @@ def check_bend_rad(
     """The one bend-angle check (bench, sweep, arm runs): |phi_B| <= ``limit_rad``, the largest
     |bend| of the coefficient file's ``validity.bend_rad``; ShaftRangeError names the worst value,
     the range and the file."""
+    if isinstance(bend_rad, bool | np.bool_) or (
+        isinstance(bend_rad, np.ndarray) and bend_rad.dtype == np.bool_
+    ):
+        raise ShaftRangeError(f"{what} must be an angle in rad, got {bend_rad!r}")
     raw = bend_rad if isinstance(bend_rad, int | float | np.ndarray) else list(bend_rad)
     values = np.atleast_1d(np.asarray(raw, dtype=np.float64)).ravel()
     if values.size == 0:
@@ -732,6 +740,8 @@ def load_catalogue(path: str | Path | None = None) -> Catalogue:
         source = f"default catalogue ({DEFAULT_CATALOGUE})"
     else:
         p = Path(path)
+        if os.path.lexists(p):  # a loop, a long name, a folder, a device or a pipe: named
+            regular_file(p, "coefficient file", CoefficientFileError)
         if not p.is_file():
             raise CoefficientFileError(
                 f"coefficient file not found: {p} (expected a TOML file like the default shafts.toml)"
@@ -742,7 +752,7 @@ def load_catalogue(path: str | Path | None = None) -> Catalogue:
             raise CoefficientFileError(f"cannot read coefficient file {p}: {exc}") from exc
         source = str(p)
     try:
-        data = tomllib.loads(text)
+        data = bounded_toml(text, source, CoefficientFileError)
     except tomllib.TOMLDecodeError as exc:
         raise CoefficientFileError(f"{source}: not valid TOML ({exc})") from exc
     return parse_catalogue(data, source)

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -44,6 +45,7 @@ import numpy as np
 import numpy.typing as npt
 
 from fsarm_sim.errors import FsarmError, ShaftRangeError
+from fsarm_sim.paths import checked_path, named_os_errors, regular_file
 from fsarm_sim.plant.shaft import Catalogue, ShaftParams, load_catalogue
 from fsarm_sim.records.sidecar import (
     OPTIONAL,
@@ -191,6 +193,7 @@ def output_files(path: str | Path) -> tuple[Path, Path]:
 def _paths(path: str | Path) -> tuple[Path, Path]:
     """(table, sidecar) for NAME, NAME.csv, NAME.parquet or NAME.json."""
     p = Path(path)
+    checked_path(p, "dataset", MeasuredDataError)  # loops, long names ...
     if p.suffix.lower() in (".csv", ".parquet"):
         return p, p.with_suffix(".json")
     stem = p.with_suffix("") if p.suffix.lower() == ".json" else p
@@ -312,6 +315,8 @@ def _read_table(path: Path) -> tuple[list[str], dict[str, Any]]:
     """Column names and raw column arrays (object arrays for CSV cells that failed to parse)."""
     import pandas as pd
 
+    if os.path.lexists(path):  # a device or a pipe would never end or never answer
+        regular_file(path, "table", MeasuredDataError)
     try:
         if path.suffix.lower() == ".parquet":
             frame = pd.read_parquet(path)
@@ -320,10 +325,35 @@ def _read_table(path: Path) -> tuple[list[str], dict[str, Any]]:
     except FileNotFoundError as exc:
         raise MeasuredDataError(f"table {path} not found") from exc
     except Exception as exc:  # pandas/pyarrow raise many types; all mean "unreadable"
-        raise MeasuredDataError(f"{path}: cannot read the table ({exc})") from exc
+        raise MeasuredDataError(f"{path}: cannot read the table ({str(exc).strip()})") from exc
     names = [str(c).strip() for c in frame.columns]
+    # pandas renames a repeated CSV header (tau_s, tau_s.1): the header as written decides
+    _refuse_repeated(_csv_header(path) if path.suffix.lower() != ".parquet" else names, path)
     cols = {n: frame.iloc[:, i].to_numpy() for i, n in enumerate(names)}
     return names, cols
+
+
+def _csv_header(path: Path) -> list[str]:
+    """The first row of a CSV file as written (names stripped)."""
+    import csv
+
+    with (
+        named_os_errors("table", path, MeasuredDataError),
+        path.open(newline="", encoding="utf-8-sig") as f,
+    ):
+        return [c.strip() for c in next(csv.reader(f), [])]
+
+
+def _refuse_repeated(names: list[str], path: Path) -> None:
+    """MeasuredDataError for a column name given twice (which one is meant cannot be known)."""
+    seen: dict[str, int] = {}
+    for i, n in enumerate(names):
+        if n in seen:
+            raise MeasuredDataError(
+                f"{path}: the column name {n!r} is given twice (columns {seen[n] + 1} and "
+                f"{i + 1}); every column needs its own name"
+            )
+        seen[n] = i
 
 
 def _to_float(raw: Any, name: str, path: Path) -> FloatArray:
@@ -427,6 +457,8 @@ def validate_columns(
 def load_dataset(path: str | Path, *, expect_setup: str | None = None) -> Dataset:
     """Load and validate ``NAME.csv``/``NAME.parquet`` + ``NAME.json``."""
     table, side = _paths(path)
+    if os.path.lexists(table):  # a folder, a device or a pipe: named as what it is
+        regular_file(table, "table", MeasuredDataError)
     if not table.is_file():
         raise MeasuredDataError(f"table {table} not found")
     record, sidecar = read_sidecar(side)

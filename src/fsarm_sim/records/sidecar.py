@@ -34,6 +34,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import os
 import types
 import typing
 from collections.abc import Mapping
@@ -42,6 +43,7 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from fsarm_sim.errors import FsarmError
+from fsarm_sim.paths import bounded_json, checked_path, regular_file
 from fsarm_sim.plant.shaft import ShaftParams
 
 SCHEMA = "fsarm-record/1"  # value of the ``schema`` key this version writes
@@ -274,13 +276,16 @@ def read_sidecar(path: str | Path) -> tuple[Sidecar, dict[str, Any]]:
     """(typed record, raw JSON object) of a sidecar file; named errors for a missing file,
     bad JSON, an unknown key or a wrong type."""
     p = Path(path)
+    checked_path(p, "sidecar", SidecarError)  # loops, long names ...
+    if os.path.lexists(p):  # a folder, a device or a pipe: named
+        regular_file(p, "sidecar", SidecarError)
     if not p.is_file():
         raise SidecarError(
             f"sidecar {p} not found: every table needs NAME.json beside it "
             '(at least {"setup": ..., "shaft": {"diameter_mm": ..., "length_mm": ...}})'
         )
     try:
-        data = json.loads(p.read_text("utf-8"))
+        data = bounded_json(p.read_text("utf-8"), str(p), SidecarError)
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise SidecarError(f"{p}: not a readable JSON file ({exc})") from exc
     if not isinstance(data, dict):

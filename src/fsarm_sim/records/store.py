@@ -17,6 +17,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import os
 import socket
 import sqlite3
 import time
@@ -27,6 +28,7 @@ from typing import Any
 
 from fsarm_sim._version import __version__
 from fsarm_sim.errors import FsarmError
+from fsarm_sim.paths import checked_path, named_os_errors, regular_file
 
 SCHEMA_VERSION = 1
 _SCHEMA = """
@@ -66,8 +68,12 @@ def check_store_file(path: Path) -> None:
     (tables ``meta`` and ``points``, ``meta`` holding ``schema_version``). Everything else raises
     :class:`ForeignStoreError`. The check opens the database read-only.
     """
-    if not path.exists() or path.stat().st_size == 0:
-        return
+    checked_path(path, "results store", StoreError)  # loops, long names ...
+    if os.path.lexists(path):  # a device or a pipe would never answer SQLite
+        regular_file(path, "results store", StoreError)
+    with named_os_errors("results store", path, StoreError):
+        if not path.exists() or path.stat().st_size == 0:
+            return
     try:
         with path.open("rb") as f:
             head = f.read(len(SQLITE_HEADER))
@@ -79,7 +85,8 @@ def check_store_file(path: Path) -> None:
             "untouched); give a new file name or an existing fsarm store"
         )
     try:
-        db = sqlite3.connect(f"{path.resolve().as_uri()}?mode=ro", uri=True, timeout=30.0)
+        real = checked_path(path, "results store", StoreError)
+        db = sqlite3.connect(f"{real.as_uri()}?mode=ro", uri=True, timeout=30.0)
         try:
             tables = {r[0] for r in db.execute("SELECT name FROM sqlite_master WHERE type='table'")}
             marker = (
@@ -161,11 +168,13 @@ class ResultStore:
 
     def __init__(self, path: str | Path) -> None:
         self.path = Path(path)
+        checked_path(self.path, "results store", StoreError)  # loops, long names ...
         if self.path.exists() and not self.path.is_file():
             raise StoreError(f"results store {self.path} exists and is not a file")
         check_store_file(self.path)  # before anything is written to it
         if self.path.parent and not self.path.parent.exists():
-            self.path.parent.mkdir(parents=True, exist_ok=True)
+            with named_os_errors("the folder of the results store", self.path.parent, StoreError):
+                self.path.parent.mkdir(parents=True, exist_ok=True)
         try:
             self._db = sqlite3.connect(str(self.path), timeout=30.0, isolation_level=None)
             self._db.execute("PRAGMA journal_mode=WAL")
@@ -210,7 +219,7 @@ class ResultStore:
         inputs = canonical_json(point)
         key = hashlib.sha256(inputs.encode("utf-8")).hexdigest()
         status = "error" if error is not None else "ok"
-        cur = self._db.execute(
+        cur = self._write(
             "INSERT OR IGNORE INTO points (key, sweep, inputs_json, outputs_json, status, error, "
             "version, host, wall_s, finished_unix) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
             (
@@ -229,7 +238,22 @@ class ResultStore:
         return cur.rowcount == 1
 
     def set_meta(self, key: str, value: str) -> None:
-        self._db.execute("INSERT OR REPLACE INTO meta (key, value) VALUES (?, ?)", (key, value))
+        self._write("INSERT OR REPLACE INTO meta (key, value) VALUES (?, ?)", (key, value))
+
+    def _write(self, sql: str, args: tuple[Any, ...]) -> sqlite3.Cursor:
+        """One committed write; a full disk (or a file that became read-only) is a
+        :class:`StoreError` that says the points stored so far are kept."""
+        try:
+            return self._db.execute(sql, args)
+        except sqlite3.DatabaseError as exc:  # "database or disk is full", "disk I/O error" ...
+            try:
+                kept = f"the {self.count()} point(s) stored before are kept"
+            except sqlite3.DatabaseError:
+                kept = "the points stored before are kept"
+            raise StoreError(
+                f"results store {self.path}: cannot store more ({exc}); {kept} - free space (or "
+                "make the file writable) and rerun the same command to resume"
+            ) from exc
 
     def delete_errors(self, keys: Iterable[str] | None = None) -> int:
         """Forget failed points (all, or those keys) so the next run retries them."""

@@ -27,8 +27,15 @@ import numpy.typing as npt
 from mujoco import rollout
 
 from fsarm_sim.engine import callbacks
-from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.sim.simulation import Simulation, raise_on_warning
+from fsarm_sim.errors import InvalidParameterError, whole_number
+from fsarm_sim.executors import MAX_WORKERS
+from fsarm_sim.sim.simulation import (
+    MAX_STEPS,
+    MEMORY_SHARE,
+    Simulation,
+    available_memory_bytes,
+    raise_on_warning,
+)
 
 Array = npt.NDArray[np.float64]
 FULLPHYSICS = mujoco.mjtState.mjSTATE_FULLPHYSICS
@@ -93,8 +100,7 @@ def run_batch(
     """
     if not sims:
         raise InvalidParameterError("a batch needs at least one simulation")
-    if not isinstance(n_steps, int) or n_steps < 1:
-        raise InvalidParameterError(f"n_steps must be an integer >= 1, got {n_steps!r}")
+    whole_number(n_steps, "n_steps", 1, MAX_STEPS)  # the cap of one run's steps
     if len({id(s) for s in sims}) != len(sims):
         raise InvalidParameterError("a simulation appears twice in the batch; each needs its own")
     backends = {s.backend for s in sims}
@@ -103,8 +109,16 @@ def run_batch(
             f"all simulations of a batch must use one callback backend, got {sorted(backends)}"
         )
     n_workers = available_cores() if workers is None else workers
-    if not isinstance(n_workers, int) or n_workers < 1:
-        raise InvalidParameterError(f"workers must be an integer >= 1, got {workers!r}")
+    whole_number(n_workers, "workers", 1, MAX_WORKERS)
+    if record:  # every run's state after every step, allocated up front
+        need = 8.0 * len(sims) * n_steps * mujoco.mj_stateSize(sims[0].model, FULLPHYSICS)
+        have = MEMORY_SHARE * available_memory_bytes()
+        if need > have:
+            raise InvalidParameterError(
+                f"recording {len(sims)} run(s) of {n_steps} steps needs about "
+                f"{need / 2**30:.1f} GiB but only {have / 2**30:.1f} GiB may be used here: "
+                "fewer steps or runs, or record=False"
+            )
     n_workers = min(n_workers, len(sims))
     with callbacks.active(backends.pop()), ThreadPoolExecutor(max_workers=n_workers) as pool:
         start = time.perf_counter()

@@ -26,6 +26,8 @@ from fsarm_sim.errors import (
     RunFailedError,
     RunHealthError,
     SimulationWarningError,
+    real_number,
+    whole_number,
 )
 from fsarm_sim.kernels import layout as L
 from fsarm_sim.plant import transmissions
@@ -38,6 +40,9 @@ MAX_DURATION_S = 3600.0
 DEFAULT_TIMESTEP_S = 0.001  # models/fsarm/fsarm.xml <option timestep>, used before a model exists
 # One hour at a 10 us timestep: the most physics steps one run may take (about 15 min native).
 MAX_STEPS = 360_000_000
+# log one row every N control ticks: N above the most steps a run may take records the first row
+# only, like any N longer than the run; beyond it N is refused (it would overflow the kernels' ints)
+MAX_LOG_EVERY = MAX_STEPS
 # A run may use at most this share of the memory available when it starts (reference table,
 # recorded rows and the columns made from them), so that it cannot fail half-way for memory.
 MEMORY_SHARE = 0.5
@@ -69,7 +74,8 @@ class RunResult:
 
 def check_duration(duration_s: float) -> float:
     if (
-        not isinstance(duration_s, int | float)
+        isinstance(duration_s, bool)  # True is not 1 s
+        or not isinstance(duration_s, int | float)
         or not math.isfinite(duration_s)
         or duration_s <= 0.0
     ):
@@ -425,14 +431,9 @@ class Simulation:
         up.
         """
         duration_s = check_duration(duration_s)
-        if isinstance(log_every_ticks, bool) or not isinstance(log_every_ticks, int | np.integer):
-            raise InvalidParameterError(
-                f"log_every_ticks must be a whole number >= 0 (0: no logging), got {log_every_ticks!r}"
-            )
-        if log_every_ticks < 0:
-            raise InvalidParameterError(
-                f"log_every_ticks must be >= 0 (0: no logging), got {log_every_ticks}"
-            )
+        log_every_ticks = whole_number(
+            log_every_ticks, "log_every_ticks (0: no logging)", 0, MAX_LOG_EVERY
+        )
         m, d = self.model, self.data
         if m.opt.timestep != self.params[L.P_TIMESTEP]:
             raise InvalidParameterError(
@@ -756,14 +757,11 @@ def run_scenario(
     finished part) instead of raising KeyboardInterrupt (:meth:`Simulation.run`)."""
     sc = name if isinstance(name, scenarios.Scenario) else scenarios.get(name)
     duration = check_duration(sc.duration_s if duration_s is None else duration_s)
-    if (
-        isinstance(log_every_ticks, bool)
-        or not isinstance(log_every_ticks, int | np.integer)
-        or log_every_ticks < 1
-    ):
-        raise InvalidParameterError(
-            f"log every N control ticks: N must be a whole number >= 1, got {log_every_ticks!r}"
-        )
+    log_every_ticks = whole_number(
+        log_every_ticks, "log every N control ticks (--log-every): N", 1, MAX_LOG_EVERY
+    )
+    if payload_kg is not None:
+        real_number(payload_kg, "payload_kg (--payload-kg)")
     cfg = config or SimConfig()
     cfg = cfg.with_(payload_kg=sc.payload_kg if payload_kg is None else payload_kg)
     cfg.validate()

@@ -40,6 +40,7 @@ import numpy.typing as npt
 
 from fsarm_sim.errors import FsarmError, InvalidParameterError
 from fsarm_sim.executors import Outcome, run_tasks
+from fsarm_sim.paths import named_os_errors
 from fsarm_sim.plant.shaft import (
     Catalogue,
     CatalogueShaft,
@@ -496,7 +497,10 @@ def compare_surface(
 
 
 def _catalogue_text(path: str | Path | None) -> str | None:
-    return None if path is None else Path(path).read_text("utf-8")
+    if path is None:
+        return None
+    with named_os_errors("coefficient file", path, CampaignError):
+        return Path(path).read_text("utf-8")
 
 
 def series_tasks(

@@ -41,11 +41,15 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim.errors import FsarmError
+from fsarm_sim.errors import FsarmError, real_number
 from fsarm_sim.studies.identification import magnetic_spring_models as msm
 
 FloatArray = npt.NDArray[np.float64]
 DEG = math.pi / 180.0
+# caps of experiment C's trials, which scale time and memory (the default: 6 s at 0.5 ms, 12,000
+# samples; the cap is 100 times that)
+MAX_TRIAL_S = 600.0
+MAX_TRIAL_SAMPLES = 1_200_000
 FLYWHEEL_KG = 1.0  # estimate: a steel disc of J = 0.01 kg m^2 is ~1 kg at 0.14 m radius
 
 
@@ -75,13 +79,23 @@ class BenchConfig:
 
     def check(self) -> None:
         for name in ("inertia_kgm2", "period_s", "dt_sim_s", "trial_s", "cord_radius_m"):
-            v = getattr(self, name)
+            v = real_number(getattr(self, name), name, BenchError)
             if not (math.isfinite(v) and v > 0.0):
                 raise BenchError(f"{name} must be a finite number > 0, got {v!r}")
         for name in ("unbalance_nm", "output_damping_nms", "scale_noise_nm"):
-            v = getattr(self, name)
+            v = real_number(getattr(self, name), name, BenchError)
             if not (math.isfinite(v) and v >= 0.0):
                 raise BenchError(f"{name} must be a finite number >= 0, got {v!r}")
+        if self.trial_s > MAX_TRIAL_S:
+            raise BenchError(
+                f"trial_s (--trial-s) must be at most {MAX_TRIAL_S:g} s, got {self.trial_s!r}"
+            )
+        if self.trial_s / self.dt_sim_s > MAX_TRIAL_SAMPLES:
+            raise BenchError(
+                f"trial_s / dt_sim_s = {self.trial_s / self.dt_sim_s:.3g} simulated samples per "
+                f"trial; at most {MAX_TRIAL_SAMPLES:,} are allowed: shorten trial_s or raise "
+                "dt_sim_s"
+            )
         if (
             self.period_s < self.dt_sim_s
             or abs(self.period_s / self.dt_sim_s - round(self.period_s / self.dt_sim_s)) > 1e-9

@@ -57,12 +57,18 @@ import numpy as np
 
 from fsarm_sim.engine import callbacks
 from fsarm_sim.engine.model import SimConfig
-from fsarm_sim.errors import InvalidParameterError
+from fsarm_sim.errors import InvalidParameterError, real_number, whole_number
+from fsarm_sim.executors import check_workers
 from fsarm_sim.plant.shaft import load_catalogue
 from fsarm_sim.sim import batch, scenarios
 from fsarm_sim.sim.simulation import Simulation
 
 SCENARIO = "fig14-sine"
+# caps of the sizes that scale the benchmark's work (its defaults: 15 reps, 200 steps, 10 s runs)
+MAX_REPS = 1000
+MAX_BLOCK_STEPS = 100_000
+MAX_RUN_S = 3600.0
+MAX_BATCH_RUNS = 10_000
 WARMUP_STEPS = 50  # untimed steps of the same path before each timed block
 GOAL_NATIVE_OVER_RAW = 1.3
 GOAL_LEAN_OVER_RAW = 1.0  # the default stepping (lean twin + callbacks) vs the shipped scene raw
@@ -336,14 +342,23 @@ def measure_speed(
     sweep_reps: int = 3,
 ) -> SpeedReport:
     """Run the whole benchmark (about a minute on 2 cores) and return its medians."""
-    for name, v in (("reps", reps), ("block_steps", block_steps), ("rtf_reps", rtf_reps)):
-        if not isinstance(v, int) or v < 1:
-            raise InvalidParameterError(f"{name} must be an integer >= 1, got {v!r}")
+    for name, v, low in (
+        ("reps (--reps)", reps, 1),
+        ("rtf_reps", rtf_reps, 1),
+        ("batch_reps", batch_reps, 1),
+        ("process_reps", process_reps, 1),
+        ("sweep_reps", sweep_reps, 0),
+    ):
+        whole_number(v, name, low, MAX_REPS)
+    whole_number(block_steps, "block_steps", 1, MAX_BLOCK_STEPS)
+    for name, d in (("rtf_duration_s", rtf_duration_s), ("batch_duration_s", batch_duration_s)):
+        if not 0.0 < real_number(d, name) <= MAX_RUN_S:
+            raise InvalidParameterError(f"{name} must be > 0 and <= {MAX_RUN_S:g} s, got {d!r}")
     cores = batch.available_cores()
-    n_workers = max_workers or cores
-    if not isinstance(n_workers, int) or n_workers < 1:
-        raise InvalidParameterError(f"max_workers must be an integer >= 1, got {max_workers!r}")
-    n_runs = batch_runs or 4 * n_workers
+    n_workers = cores if max_workers is None else max_workers
+    check_workers(n_workers, "max_workers (--max-workers)")
+    n_runs = 4 * n_workers if batch_runs is None else batch_runs
+    whole_number(n_runs, "batch_runs", 1, MAX_BATCH_RUNS)
     from fsarm_sim.engine import native
 
     times, nefc, timestep = _per_step(reps, block_steps)

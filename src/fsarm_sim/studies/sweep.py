@@ -50,6 +50,7 @@ import hashlib
 import itertools
 import json
 import math
+import os
 import time
 import tomllib
 from collections.abc import Callable, Mapping, Sequence
@@ -62,7 +63,8 @@ import numpy as np
 from fsarm_sim._version import __version__
 from fsarm_sim.engine.model import Gains, SimConfig
 from fsarm_sim.errors import FsarmError, ShaftRangeError
-from fsarm_sim.executors import EXECUTORS, ExecutorError, Outcome, run_tasks
+from fsarm_sim.executors import EXECUTORS, ExecutorError, Outcome, check_workers, run_tasks
+from fsarm_sim.paths import bounded_toml, checked_path, regular_file
 from fsarm_sim.plant.shaft import Catalogue, load_catalogue, parse_catalogue
 from fsarm_sim.records.store import ResultStore, canonical_json, point_key
 from fsarm_sim.sim import scenarios
@@ -220,6 +222,10 @@ def _linspace(name: str, start: Any, stop: Any, num: Any) -> tuple[float, ...]:
         raise SweepSpecError(
             f"{name}: the count of a range must be a whole number >= 1, got {num!r}"
         )
+    if n > MAX_POINTS:  # refused before numpy makes the values
+        raise SweepSpecError(
+            f"{name}: a range of {num!r} values; one spec may have at most {MAX_POINTS} points"
+        )
     n_i = int(n)
     if a > b:
         raise SweepSpecError(
@@ -293,10 +299,13 @@ def parse_assignment(text: str) -> tuple[str, str]:
 
 def load_spec_file(path: str | Path) -> dict[str, Any]:
     p = Path(path)
+    checked_path(p, "sweep spec file", SweepSpecError)  # loops, long names ...
+    if os.path.lexists(p):  # a folder, a device or a pipe: named
+        regular_file(p, "sweep spec file", SweepSpecError)
     if not p.is_file():
         raise SweepSpecError(f"sweep spec file not found: {p}")
     try:
-        data = tomllib.loads(p.read_text("utf-8"))
+        data = bounded_toml(p.read_text("utf-8"), str(p), SweepSpecError)
     except (tomllib.TOMLDecodeError, UnicodeDecodeError, OSError) as exc:
         raise SweepSpecError(f"{p}: not a readable TOML sweep spec ({exc})") from exc
     unknown = set(data) - TOP_KEYS
@@ -305,7 +314,9 @@ def load_spec_file(path: str | Path) -> dict[str, Any]:
             f"{p}: unknown keys {sorted(unknown)}; allowed: {', '.join(sorted(TOP_KEYS))}"
         )
     if isinstance(data.get("shaft_file"), str) and not Path(data["shaft_file"]).is_absolute():
-        data["shaft_file"] = str((p.parent / data["shaft_file"]).resolve())
+        data["shaft_file"] = str(
+            checked_path(p.parent / data["shaft_file"], f"{p}: shaft_file", SweepSpecError)
+        )
     return data
 
 
@@ -675,6 +686,7 @@ def pick_executor(spec: SweepSpec, executor: str = AUTO, workers: int | None = N
     for 2 forked processes on 12 tracking points of 10 s), the process pool ("local") where points fit benches in Python
     (``bench``) or step through the Python callbacks, and one worker runs the points here one
     after the other (the local executor's inline path)."""
+    check_workers(workers)
     if executor != AUTO:
         if executor not in EXECUTORS:
             raise ExecutorError(
