@@ -7,15 +7,23 @@ import pytest
 from fsarm_sim.studies.reproduce import measure002, measure003, runner, seed002, seed003
 from fsarm_sim.studies.reproduce.claims import Context
 
+# Table 4's linearised models on the teaching half: ours x51 / x238 worse, the paper's x1.23 /
+# x1.55 (our trials' share beyond the critical angle; added by issue 27, a real disagreement)
+KNOWN_CONTRADICTED = {"003-linearised-worse-teaching"}
+
 
 @pytest.mark.parametrize("paper", ["002", "003"])
-def test_quick_claims_run_and_none_is_contradicted(paper: str) -> None:
+def test_quick_claims_run_and_only_known_predictions_are_contradicted(paper: str) -> None:
     claims = runner.select([paper], quick=True)
     report = runner.Report(papers=[paper], quick=True, backend="python")
     runner.run(claims, Context(quick=True, backend="python"), report, lambda rep, _: None)
     assert not report.failed
     verdicts = {r.claim.id: r.verdict for r in report.results}
-    assert "contradicted" not in verdicts.values(), verdicts
+    # contradicted: only the known predictions, each naming its cause in the note (issue 27)
+    contradicted = {r.claim.id: r for r in report.results if r.verdict == "contradicted"}
+    assert set(contradicted) <= KNOWN_CONTRADICTED, verdicts
+    for r in contradicted.values():
+        assert r.claim.role == "prediction" and r.note, r.claim.id
     # the experiments of issue 14 are measured now, not declared missing
     measured = {
         "002": ("002-efficiency-2.7", "002-efficiency-trend", "002-stiffness-adjustment-266"),

@@ -106,7 +106,7 @@ def _support_table(summary: dict[str, dict[str, Any]]) -> Table:
     from fsarm_sim.studies.reproduce.claims import VERDICTS
 
     table = Table(
-        title="calibration and consistency claims (they hold by construction; not evidence)"
+        title="calibration and consistency claims (not evidence: the model was made from them)"
     )
     table.add_column("paper")
     table.add_column("role")

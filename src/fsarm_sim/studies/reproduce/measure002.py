@@ -439,6 +439,41 @@ def efficiency_largest_where(ctx: Context) -> Measured:
     )
 
 
+WINDOW_PRESETS_DEG = (3.0, 7.0, 11.0, 15.0)  # Table IV's rows
+WINDOW_SPEEDS_DEG_S = (10.0, 30.0, 60.0, 90.0, 130.0, 200.0, 400.0)  # estimate: wide, log-spaced
+
+
+def speed_window(ctx: Context) -> Measured:
+    """Per preset, which motor speeds admit a one-switch throw that reaches the maximum
+    deflection within the constraints (Sec. VI's premise)."""
+    rows = {
+        s: [bool(_throw(ctx, s, v).feasible) for v in WINDOW_SPEEDS_DEG_S]
+        for s in WINDOW_PRESETS_DEG
+    }
+
+    def bounded(flags: list[bool]) -> tuple[bool, bool]:
+        if not any(flags):
+            return False, False
+        first, last = flags.index(True), len(flags) - 1 - flags[::-1].index(True)
+        return first > 0, last < len(flags) - 1
+
+    lows, highs = zip(*(bounded(f) for f in rows.values()), strict=True)
+    return Measured(
+        ours=[all(lows), all(highs)],
+        text="; ".join(
+            f"σ = {s:g}°: "
+            + (
+                "/".join(f"{v:g}" for v, ok in zip(WINDOW_SPEEDS_DEG_S, f, strict=True) if ok)
+                or "none"
+            )
+            + " °/s feasible"
+            for s, f in rows.items()
+        ),
+        details={f"{s:g}": f for s, f in rows.items()},
+        note="speeds tried: " + "/".join(f"{v:g}" for v in WINDOW_SPEEDS_DEG_S) + " °/s",
+    )
+
+
 def link_velocity_twice(ctx: Context) -> Measured:
     pts = ((3.0, 60.0), (11.0, 100.0))  # Fig. 11's two cases
     eps = {f"σ = {s:g}°, {v:g} °/s": _throw(ctx, s, v).epsilon for s, v in pts}
@@ -487,6 +522,7 @@ def stiffness_adjustment_266(ctx: Context) -> Measured:
 
 
 MEASURES: dict[str, MeasureFn] = {
+    "speed_window": speed_window,
     "efficiency_largest_where": efficiency_largest_where,
     "efficiency_trend": efficiency_trend,
     "efficiency_27": efficiency_27,

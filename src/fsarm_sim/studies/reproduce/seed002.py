@@ -323,4 +323,28 @@ CLAIMS: tuple[Claim, ...] = (
         role_why="Table V's bench and the throw reconstructed from the stated premise; nothing "
         "was chosen from ε",
     ),
+    Claim(
+        id="002-speed-window",
+        paper=P,
+        title="a throw needs a motor speed within a bounded window",
+        locator="Sec. VI, Fig. 10",
+        quote="Under the premise of achieving maximum deflection with one switching cycle, a "
+        "limited velocity range results for the position motor ... a minimum velocity for "
+        "achieving the maximum deflection is needed and ... there exists a maximum velocity at "
+        "which the constraints ... can still be ensured",
+        paper_text="per preset, a minimum and a maximum feasible motor speed",
+        unit="-",
+        tolerance=AllOf(
+            (
+                "every preset has a lowest feasible speed (slower throws miss the maximum "
+                "deflection)",
+                "every preset has a highest feasible speed (faster throws break a constraint)",
+            )
+        ),
+        measure="speed_window",
+        quick=False,
+        role="prediction",
+        role_why="Table V's bench and the paper's stated premise; nothing was chosen from the "
+        "window",
+    ),
 )

@@ -331,9 +331,10 @@ CLAIMS: tuple[Claim, ...] = (
         paper_text="max torque FMS < AMS (same poles, similar size)",
         unit="-",
         tolerance=AllOf(("FMS peak torque < AMS peak torque", "FMS stiffness < AMS stiffness")),
-        not_implemented="no magnetic-field model: both springs are eq. 1 shapes with the torque "
-        "scale an estimate, and the AMS is given the FMS's peak torque (magnetic_spring_arc."
-        "arc_overrides) so that their shapes compare at equal strength",
+        not_implemented="the text does not give either spring's torque scale (Fig. 9a only) and "
+        "the simulator has no magnetic-field model: both springs are eq. 1 shapes, and the AMS is "
+        "given the FMS's peak torque (magnetic_spring_arc.arc_overrides) so that their shapes "
+        "compare at equal strength",
         role="prediction",
         role_why="nothing in the model was chosen from it",
     ),
