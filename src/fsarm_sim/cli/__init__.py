@@ -137,6 +137,8 @@ def run_cmd(
     ] = None,
     transmission: opt.Transmission = "flexible-shaft",
     tr_param: opt.TrParam = None,
+    controller: opt.Controller = "default",
+    hysteresis_model: opt.HysteresisModelFile = None,
 ) -> None:
     """Run a scenario headless, print tracking metrics, write its time series."""
     from fsarm_sim.engine.model import Gains, SimConfig
@@ -172,13 +174,19 @@ def run_cmd(
     check_shaft_options(transmission, given + [f"--rrd-compare {k}" for k in sorted(compared)])
     run_output_plan(
         scenario, fmt, out=out, json_file=json_file, rrd=rrd, spawn=spawn, figures=figures
-    ).input("the coefficient file of --shaft-file", shaft_file).check()
+    ).input("the coefficient file of --shaft-file", shaft_file).input(
+        "the hysteresis model of --hysteresis-model", hysteresis_model
+    ).check()
     shaft = load_catalogue(shaft_file).shaft(
         diameter_mm, length_mm, extrapolate=extrapolate, series_hysteresis=series_hysteresis
     )
     cfg = SimConfig(
         shaft=shaft,
-        gains=Gains(ctrl_dt_s=ctrl_dt),
+        gains=Gains(
+            ctrl_dt_s=ctrl_dt,
+            controller=controller,
+            hysteresis_model=opt.read_hysteresis_model(hysteresis_model),
+        ),
         timestep_s=timestep,
         integrator=integrator,
         transmission=transmission,
