@@ -311,6 +311,7 @@ def _register_extensions() -> None:
     importlib.import_module("fsarm_sim.cli.sweep").register(app)
     importlib.import_module("fsarm_sim.cli.discrepancy").register(app)
     importlib.import_module("fsarm_sim.cli.transmissions").register(app)
+    importlib.import_module("fsarm_sim.cli.controllers").register(app)
     importlib.import_module("fsarm_sim.cli.collision").register(app)
     importlib.import_module("fsarm_sim.cli.reproduce").register(app)
     importlib.import_module("fsarm_sim.cli.seed_experiments").register(app)
