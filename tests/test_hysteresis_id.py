@@ -45,6 +45,15 @@ def test_identify_recovers_a_known_model() -> None:
     assert got["k_pos"] == pytest.approx(13.0, rel=0.1)
 
 
+def test_one_bend_leaves_the_bend_dependence_at_zero_and_says_so() -> None:
+    fit = identify(_records(TRUE)[1:2], starts=1, max_nfev=20)  # 45 deg only
+    got = fit.as_dict()
+    assert got["s_pos"] == got["s_neg"] == got["bend_friction_per_rad"] == 0.0
+    assert fit.notes and "one bend only" in fit.notes[0]
+    # the spring is the one at that bend
+    assert got["k_pos"] == pytest.approx(13.0 - 3.0 * math.pi / 4, rel=0.1)
+
+
 def test_identify_refuses_records_that_twist_one_way_only() -> None:
     rec = _records(TRUE)[0]
     rec["theta_m"] = np.abs(rec["theta_m"]) + 0.01

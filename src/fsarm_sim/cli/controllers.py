@@ -175,6 +175,8 @@ def register(app: typer.Typer) -> None:
                 f"mm at bends {', '.join(f'{b:g}' for b in model.bends_deg)} deg"
             )
         how += f"\nfit RMSE {model.rmse_nm:.4g} N*m (eq. 8 on the same records {model.eq8_rmse_nm:.4g})"
+        for note in model.notes:
+            how += f"\nnote: {note}"
         table = number_table("identified hysteresis model", ("parameter", "value"))
         for k, v in model.as_dict().items():
             table.add_row(k, f"{v:.5g}")

@@ -60,6 +60,7 @@ class IdentifiedModel:
     eq8_rmse_nm: float  # eq. 8 (linear per side with its bend trend) on the same records
     samples: int
     bends_deg: tuple[float, ...]
+    notes: tuple[str, ...] = ()  # what the records could not identify, and what was assumed
 
     def as_dict(self) -> dict[str, float]:
         return dict(zip(hm.NAMES, self.values, strict=True))
@@ -134,11 +135,20 @@ _LOWER = np.array([1e-9, -np.inf, 1e-9, -np.inf, 0.0, 0.0, 0.0])
 _UPPER = np.full(7, np.inf)
 
 
-def _inner(A: Array, tau: Array) -> tuple[Array, Array]:
-    scale = np.linalg.norm(A, axis=0)
+_ONE_BEND = np.array([0, 2, 4, 5, 6])  # columns kept when the records hold one bend only
+
+
+def _inner(A: Array, tau: Array, one_bend: bool = False) -> tuple[Array, Array]:
+    """Bounded linear least squares of the seven stiffnesses (the two bend slopes held at 0
+    when ``one_bend``); returns all seven and the residual."""
+    keep = _ONE_BEND if one_bend else np.arange(7)
+    B = A[:, keep]
+    scale = np.linalg.norm(B, axis=0)
     scale[scale == 0.0] = 1.0
-    res = optimize.lsq_linear(A / scale, tau, bounds=(_LOWER * scale, _UPPER), method="bvls")
-    coef = res.x / scale
+    lower = _LOWER[keep] * scale
+    res = optimize.lsq_linear(B / scale, tau, bounds=(lower, _UPPER[keep]), method="bvls")
+    coef = np.zeros(7)
+    coef[keep] = res.x / scale
     return coef, tau - A @ coef
 
 
@@ -151,11 +161,21 @@ def identify(
     xs = [x_all[a:b] for a, b in itertools.pairwise(edges)]
     bs = [b_all[a:b] for a, b in itertools.pairwise(edges)]
     amp = float(np.max(np.abs(x_all)))
+    # one held bend cannot tell the bend dependence: slopes and growth held at 0 (K at that bend)
+    one_bend = float(np.ptp(np.abs(b_all))) < 1e-3
+    notes = (
+        (
+            "the records hold one bend only: the spring's bend slopes and the slip torques' bend "
+            "growth are not identifiable and were set to 0 (the model is that bend's)",
+        )
+        if one_bend
+        else ()
+    )
 
     def residual(p: Array) -> Array:
         d = np.exp(p[:3]) * amp
-        r, mu = math.exp(p[3]), max(float(p[4]), 0.0)
-        return _inner(_design(xs, bs, d, r, mu), tau_all)[1]
+        r, mu = math.exp(p[3]), 0.0 if one_bend else max(float(p[4]), 0.0)
+        return _inner(_design(xs, bs, d, r, mu), tau_all, one_bend)[1]
 
     best: tuple[float, Array] | None = None
     for s in range(starts):
@@ -176,8 +196,8 @@ def identify(
     assert best is not None
     p = best[1]
     d = np.exp(p[:3]) * amp
-    r, mu = math.exp(p[3]), max(float(p[4]), 0.0)
-    coef, res = _inner(_design(xs, bs, d, r, mu), tau_all)
+    r, mu = math.exp(p[3]), 0.0 if one_bend else max(float(p[4]), 0.0)
+    coef, res = _inner(_design(xs, bs, d, r, mu), tau_all, one_bend)
     k = coef[4:7]
     values = (
         *[float(c) for c in coef[:4]],
@@ -194,6 +214,7 @@ def identify(
         eq8_rmse_nm=_eq8_rmse(records),
         samples=int(x_all.size),
         bends_deg=tuple(float(np.degrees(np.mean(b))) for b in bs),
+        notes=notes,
     )
 
 
