@@ -131,3 +131,22 @@ def test_dob_and_paper_pid_are_what_they_say() -> None:
     }
     assert q3["dob"] < 0.5 * q3["default"], q3
     assert q3["paper-pid"] > 2.0 * q3["default"], q3
+
+
+def test_diagnosis_reads_the_controller_back_from_a_sidecar() -> None:
+    """``fsarm diagnose`` rebuilds the run's gains from its sidecar: the controller, its model."""
+    from pathlib import Path
+
+    from fsarm_sim.discrepancy.arm_fit import ArmSidecarError, parse_gains
+
+    vals = list(hm.scaled(hm.default_fractions(), load_catalogue().shaft()))
+    side = {
+        "ctrl_dt_s": 0.001,
+        "gains": {"controller": "hysteresis-comp", "hysteresis_model": vals},
+    }
+    g = parse_gains(side, Path("run.json"))
+    assert g.controller == "hysteresis-comp"
+    assert g.hysteresis_model == pytest.approx(tuple(vals))
+    for bad in ({"controller": 3}, {"controller": "pd"}, {"hysteresis_model": [1.0, 2.0]}):
+        with pytest.raises(ArmSidecarError):
+            parse_gains({"ctrl_dt_s": 0.001, "gains": bad}, Path("run.json"))
