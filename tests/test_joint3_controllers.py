@@ -69,7 +69,16 @@ def test_observer_recovers_a_constant_disturbance() -> None:
     [
         (Gains(controller="pid"), "unknown controller 'pid'"),
         (Gains(dob_bandwidth_rad_s=0.0), "dob_bandwidth_rad_s must be > 0"),
-        (Gains(dob_bandwidth_rad_s=100.0), "at most the torque-loop bandwidth"),
+        (Gains(controller="dob", dob_bandwidth_rad_s=100.0), "at most the torque-loop"),
+        (
+            Gains(
+                controller="dob",
+                ctrl_dt_s=0.01,
+                torque_bandwidth_rad_s=100.0,
+                dob_bandwidth_rad_s=60.0,
+            ),
+            "too fast",
+        ),
         (Gains(hysteresis_model=(1.0, 2.0)), "needs 12 numbers"),
         (Gains(hysteresis_model=(13, -3, 11, -2, 8, 6, 3, 0, 0.2, 0.3, 0.6, 0.4)), "needs f > 0"),
         (Gains(hysteresis_model=(13, -30, 11, -2, 8, 6, 3, 0.1, 0.2, 0.3, 0.6, 0.4)), "stay > 0"),
@@ -80,6 +89,11 @@ def test_observer_recovers_a_constant_disturbance() -> None:
 def test_bad_controller_parameters_are_named_errors(gains: Gains, match: str) -> None:
     with pytest.raises(InvalidParameterError, match=match):
         SimConfig(gains=gains).validate()
+
+
+def test_observer_limits_apply_only_to_the_observer() -> None:
+    """A slow torque loop without the observer stays valid (sweeps over its bandwidth)."""
+    Gains(torque_bandwidth_rad_s=10.0).validate()
 
 
 def test_hysteresis_comp_needs_the_flexible_shaft() -> None:

@@ -109,13 +109,15 @@ class Gains:
                 f"unknown controller {self.controller!r}; known: {', '.join(CONTROLLERS)}"
             )
         wq = self.dob_bandwidth_rad_s
-        if not math.isfinite(wq) or wq <= 0.0 or wq > self.torque_bandwidth_rad_s:
+        if not math.isfinite(wq) or wq <= 0.0:
+            raise InvalidParameterError(f"dob_bandwidth_rad_s must be > 0, got {wq!r}")
+        if self.controller == "dob" and wq > self.torque_bandwidth_rad_s:
             raise InvalidParameterError(
-                f"dob_bandwidth_rad_s must be > 0 and at most the torque-loop bandwidth "
+                f"dob_bandwidth_rad_s must be at most the torque-loop bandwidth "
                 f"{self.torque_bandwidth_rad_s:g} rad/s (the observer assumes the torque loop "
                 f"is ideal below it), got {wq!r}"
             )
-        if wq * self.ctrl_dt_s > 0.5:
+        if self.controller == "dob" and wq * self.ctrl_dt_s > 0.5:
             raise InvalidParameterError(
                 f"dob_bandwidth_rad_s {wq:g} rad/s is too fast for the control period "
                 f"{self.ctrl_dt_s:g} s: w_q * dt must stay <= 0.5"
