@@ -438,7 +438,12 @@ def control_tick(
     """One control tick: joints 1-2 position loops, joint-3 cascade of Fig. 13 (with the
     tendon-sheath transmission: seed 004's dual-encoder position loop in place of the torque PID).
 
-    Reads memory ``mem_in`` (torque-PID integral, previous error, speed-loop integral, init flag),
+    Joint 3's controller structure is ``P_CTRL_KIND`` (``model.Gains.controller``): the torque
+    estimate is eq. 8 or the hysteresis model (:func:`hysteresis_estimate`), and the disturbance
+    observer, when on, adds its estimate to the desired joint torque.
+
+    Reads memory ``mem_in`` (``layout.M_*``: torque-PID integral and previous error, speed-loop
+    integral, init flag, the hysteresis model's elements and last twist, the observer's filter),
     writes ``mem_out``, motor commands ``out`` (joint-1 torque, joint-2 torque, joint-3 rotor torque)
     and ``log``.
     """
