@@ -229,6 +229,8 @@ def run_cmd(
             else ""
         )
     )
+    if controller != "default":
+        what += f", controller {controller}"
     table = Table(title=f"{scenario}: {what}, payload={result.config.payload_kg:g} kg")
     table.add_column("metric")
     for j in ("q1", "q2", "q3"):
