@@ -30,10 +30,11 @@ def main() -> None:
     ap.add_argument("--ctrl-dt", type=float, default=1e-3, help="control period, s")
     ap.add_argument("--window", type=float, default=60.0, help="first/last window, s")
     ap.add_argument("--transmission", default="flexible-shaft", help="joint 3's transmission")
+    ap.add_argument("--controller", default="default", help="joint 3's controller (Gains)")
     args = ap.parse_args()
     cfg = SimConfig(
         timestep_s=args.timestep,
-        gains=Gains(ctrl_dt_s=args.ctrl_dt),
+        gains=Gains(ctrl_dt_s=args.ctrl_dt, controller=args.controller),
         transmission=args.transmission,
     )
     n = round(args.duration / args.ctrl_dt) + 1

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from fsarm_sim.engine import callbacks, native, native_abi
-from fsarm_sim.engine.model import Effects, SimConfig
+from fsarm_sim.engine.model import Effects, Gains, SimConfig
 from fsarm_sim.errors import InvalidParameterError, SimulationWarningError
 from fsarm_sim.kernels import layout as L
 from fsarm_sim.plant.shaft import load_catalogue
@@ -96,6 +96,15 @@ def test_every_scenario_agrees_briefly(scenario: str) -> None:
     cfg = _full(payload_kg=scenarios.get(scenario).payload_kg)
     worst, where = _max_diff(*_run_both(cfg, scenario, 0.3).values())
     assert worst <= 1e-12, f"{scenario}: paths differ by {worst:.3g} in {where}"
+
+
+@pytest.mark.parametrize("controller", ["hysteresis-comp", "dob", "paper-pid"])
+def test_joint3_controllers_agree_bit_for_bit(controller: str) -> None:
+    """Each joint-3 controller option: the native kernels step exactly as the Python ones."""
+    cfg = _full(gains=Gains(controller=controller), payload_kg=5.0)
+    out = _run_both(cfg, "fig14-sine", 0.5)
+    worst, where = _max_diff(out["python"], out["native"])
+    assert worst == 0.0, f"{controller}: paths differ by {worst:.3g} in {where}"
 
 
 @pytest.mark.parametrize("integrator", ["RK4", "implicitfast"])

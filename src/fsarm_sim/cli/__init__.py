@@ -154,6 +154,8 @@ def run_cmd(
     ] = None,
     transmission: opt.Transmission = "flexible-shaft",
     tr_param: opt.TrParam = None,
+    controller: opt.Controller = "default",
+    hysteresis_model: opt.HysteresisModelFile = None,
 ) -> None:
     """Run a scenario headless, print tracking metrics, write its time series."""
     from fsarm_sim.engine.model import Gains, SimConfig
@@ -189,13 +191,19 @@ def run_cmd(
     check_shaft_options(transmission, given + [f"--rrd-compare {k}" for k in sorted(compared)])
     run_output_plan(
         scenario, fmt, out=out, json_file=json_file, rrd=rrd, spawn=spawn, figures=figures
-    ).input("the coefficient file of --shaft-file", shaft_file).check()
+    ).input("the coefficient file of --shaft-file", shaft_file).input(
+        "the hysteresis model of --hysteresis-model", hysteresis_model
+    ).check()
     shaft = load_catalogue(shaft_file).shaft(
         diameter_mm, length_mm, extrapolate=extrapolate, series_hysteresis=series_hysteresis
     )
     cfg = SimConfig(
         shaft=shaft,
-        gains=Gains(ctrl_dt_s=ctrl_dt),
+        gains=Gains(
+            ctrl_dt_s=ctrl_dt,
+            controller=controller,
+            hysteresis_model=opt.read_hysteresis_model(hysteresis_model),
+        ),
         timestep_s=timestep,
         integrator=integrator,
         transmission=transmission,
@@ -249,6 +257,8 @@ def run_cmd(
             else ""
         )
     )
+    if controller != "default":
+        what += f", controller {controller}"
     table = Table(title=f"{scenario}: {what}, payload={result.config.payload_kg:g} kg")
     table.add_column("metric")
     for j in ("q1", "q2", "q3"):
@@ -322,6 +332,7 @@ def _register_extensions() -> None:
     importlib.import_module("fsarm_sim.cli.sweep").register(app)
     importlib.import_module("fsarm_sim.cli.discrepancy").register(app)
     importlib.import_module("fsarm_sim.cli.transmissions").register(app)
+    importlib.import_module("fsarm_sim.cli.controllers").register(app)
     importlib.import_module("fsarm_sim.cli.collision").register(app)
     importlib.import_module("fsarm_sim.cli.reproduce").register(app)
     importlib.import_module("fsarm_sim.cli.seed_experiments").register(app)

@@ -28,3 +28,27 @@ TrParam = Annotated[
     list[str] | None,
     typer.Option(help="override a transmission parameter, NAME=VALUE (repeatable)"),
 ]
+Controller = Annotated[
+    str,
+    typer.Option(
+        help="joint-3 controller: default (eq. 8, speed feedforward, scheduled PID), "
+        "hysteresis-comp (Maxwell-slip torque estimate), dob (disturbance observer), "
+        "paper-pid (seed 000 Fig. 13 as printed)"
+    ),
+]
+HysteresisModelFile = Annotated[
+    Path | None,
+    typer.Option(
+        help="TOML file of the controller's hysteresis model ([model], fsarm identify-hysteresis "
+        "writes it; default: identified on the catalogue prototype's bench records)"
+    ),
+]
+
+
+def read_hysteresis_model(path: Path | None) -> tuple[float, ...]:
+    """The twelve numbers of a hysteresis-model file, or () (the identified default)."""
+    if path is None:
+        return ()
+    from fsarm_sim.engine.hysteresis_model import load_file
+
+    return load_file(path)

@@ -241,10 +241,16 @@ def parse_gains(side: Mapping[str, Any], where: Path) -> Gains:
             if not isinstance(v, bool):
                 raise ArmSidecarError(f"{where}: gains.{k} must be true or false, got {v!r}")
             kw[k] = v
+        elif isinstance(default, str):
+            if not isinstance(v, str):
+                raise ArmSidecarError(f"{where}: gains.{k} must be a string, got {v!r}")
+            kw[k] = v
         elif isinstance(default, tuple):
-            ok = isinstance(v, list | tuple) and len(v) == 3
+            n = len(default) if default else None  # () : any length (hysteresis_model)
+            ok = isinstance(v, list | tuple) and (n is None or len(v) == n)
             if not ok or not all(isinstance(a, int | float) and not isinstance(a, bool) for a in v):
-                raise ArmSidecarError(f"{where}: gains.{k} must be a list of 3 numbers, got {v!r}")
+                size = f"{n} numbers" if n else "numbers"
+                raise ArmSidecarError(f"{where}: gains.{k} must be a list of {size}, got {v!r}")
             kw[k] = tuple(float(a) for a in v)
         else:
             kw[k] = _num(raw, k, where)

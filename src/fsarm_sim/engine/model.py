@@ -22,7 +22,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim.engine import callbacks
+from fsarm_sim.engine import callbacks, hysteresis_model
 from fsarm_sim.engine.lean import idle_off, strip
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError, real_number
 from fsarm_sim.kernels import layout as L
@@ -48,6 +48,14 @@ def model_path(name: str = "fsarm") -> Path:
     return Path(str(resources.files("fsarm_sim.models").joinpath(folder, file)))
 
 
+CONTROLLERS: dict[str, float] = {
+    "default": L.CTRL_DEFAULT,
+    "hysteresis-comp": L.CTRL_HYSTERESIS,
+    "dob": L.CTRL_DOB,
+    "paper-pid": L.CTRL_PAPER_PID,
+}
+
+
 @dataclass(frozen=True)
 class Gains:
     """Controller settings. Defaults were tuned on ``fig14-sine`` (README: Tuning)."""
@@ -69,6 +77,16 @@ class Gains:
     # True: torque-PID gains follow the transmission's stiffness at the current twist and bend;
     # False: fixed gains for its stiffness at zero twist, straight (as seed 001's RTCA PID)
     gain_schedule: bool = True
+    # joint 3's controller structure (CONTROLLERS): "default" (the above), "hysteresis-comp"
+    # (the torque loop on a Maxwell-slip torque estimate, controllers/joint3_hysteresis.py),
+    # "dob" (a disturbance observer on joint 3, controllers/joint3_dob.py) or "paper-pid"
+    # (seed 000 Fig. 13 as printed: no speed feedforward, whatever speed_ff says)
+    controller: str = "default"
+    dob_bandwidth_rad_s: float = 20.0  # the observer's Q-filter cut-off w_q (below w_t)
+    # the controller's Maxwell-slip model of the shaft, 12 numbers (engine.hysteresis_model.NAMES);
+    # empty: the default identified from the catalogue prototype's simulated bench records,
+    # scaled to the controller's shaft
+    hysteresis_model: tuple[float, ...] = ()
 
     def validate(self) -> None:
         values = {
@@ -86,6 +104,25 @@ class Gains:
                 raise InvalidParameterError(f"gain {name} must be a finite number >= 0, got {v!r}")
         if self.ctrl_dt_s <= 0.0:
             raise InvalidParameterError(f"ctrl_dt_s must be > 0, got {self.ctrl_dt_s!r}")
+        if self.controller not in CONTROLLERS:
+            raise InvalidParameterError(
+                f"unknown controller {self.controller!r}; known: {', '.join(CONTROLLERS)}"
+            )
+        wq = self.dob_bandwidth_rad_s
+        if not math.isfinite(wq) or wq <= 0.0:
+            raise InvalidParameterError(f"dob_bandwidth_rad_s must be > 0, got {wq!r}")
+        if self.controller == "dob" and wq > self.torque_bandwidth_rad_s:
+            raise InvalidParameterError(
+                f"dob_bandwidth_rad_s must be at most the torque-loop bandwidth "
+                f"{self.torque_bandwidth_rad_s:g} rad/s (the observer assumes the torque loop "
+                f"is ideal below it), got {wq!r}"
+            )
+        if self.controller == "dob" and wq * self.ctrl_dt_s > 0.5:
+            raise InvalidParameterError(
+                f"dob_bandwidth_rad_s {wq:g} rad/s is too fast for the control period "
+                f"{self.ctrl_dt_s:g} s: w_q * dt must stay <= 0.5"
+            )
+        hysteresis_model.check(self.hysteresis_model)
 
 
 @dataclass(frozen=True)
@@ -165,6 +202,11 @@ class SimConfig:
         self.gains.validate()
         self.effects.validate()
         self.transmission_blocks()  # the transmission's own checks (TransmissionError)
+        if self.gains.controller == "hysteresis-comp" and self.transmission != "flexible-shaft":
+            raise InvalidParameterError(
+                "controller 'hysteresis-comp' models the flexible shaft's hysteresis; joint 3's "
+                f"transmission here is {self.transmission!r} (use default, dob or paper-pid)"
+            )
         if self.timestep_s is not None and (
             not math.isfinite(self.timestep_s) or self.timestep_s <= 0.0
         ):
@@ -624,7 +666,12 @@ def write_params(
     p[L.P_TAU1_MAX], p[L.P_TAU2_MAX], p[L.P_TAU_MOT_MAX] = st.tau_max
     p[L.P_CM_KB], p[L.P_CM_BETA] = cm_sh.kb, cm_sh.beta
     p[L.P_CM_BEND_COMP] = on[g.bend_compensation]
-    p[L.P_SPEED_FF] = on[g.speed_ff]
+    p[L.P_SPEED_FF] = on[g.speed_ff and g.controller != "paper-pid"]
+    p[L.P_CTRL_KIND] = CONTROLLERS[g.controller]
+    p[L.P_DOB_WQ] = g.dob_bandwidth_rad_s
+    if g.controller == "hysteresis-comp":
+        hm = hysteresis_model.resolve(g.hysteresis_model, cm_sh)
+        p[L.P_HM : L.P_HM + L.N_HM] = hm
     p[L.P_GAIN_SCHED] = on[g.gain_schedule]
     p[L.P_SETUP] = L.SETUP_ARM
     p[L.P_RK4] = on[model.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4]

@@ -166,6 +166,36 @@ P_TRC = _.array(
     "controller_transmission", N_TR, "per PARAMS", "the controller's model of the transmission"
 )
 
+# joint 3's controller structure (model.Gains.controller) and the parameters of its options:
+# the disturbance observer's Q filter (controllers/joint3_dob.py) and the controller's own
+# Maxwell-slip model of the shaft (controllers/joint3_hysteresis.py), identified from bench records
+CTRL_DEFAULT = 0.0  # eq. 8 virtual sensor, speed feedforward, scheduled torque PID
+CTRL_HYSTERESIS = 1.0  # the same with the hysteresis-aware torque estimate
+CTRL_DOB = 2.0  # the default plus a disturbance observer on joint 3
+CTRL_PAPER_PID = 3.0  # seed 000 Fig. 13 as printed: eq. 8 and the PID, no speed feedforward
+_j = _.block(
+    "joint3_controller",
+    (
+        Decl("kind", "id", 0.0, "joint-3 controller structure (CTRL_*; Gains.controller)"),
+        Decl("dob_wq", "rad/s", 20.0, "disturbance observer Q-filter cut-off w_q"),
+        Decl("hm_k_pos", "N*m/rad", 0.0, "hysteresis model: spring, winding side, straight"),
+        Decl("hm_s_pos", "N*m/rad^2", 0.0, "hysteresis model: spring slope in |phi_B|, winding"),
+        Decl("hm_k_neg", "N*m/rad", 0.0, "hysteresis model: spring, unwinding side, straight"),
+        Decl("hm_s_neg", "N*m/rad^2", 0.0, "hysteresis model: spring slope, unwinding side"),
+        Decl("hm_k1", "N*m/rad", 0.0, "hysteresis model: element 1 stiffness"),
+        Decl("hm_k2", "N*m/rad", 0.0, "hysteresis model: element 2 stiffness"),
+        Decl("hm_k3", "N*m/rad", 0.0, "hysteresis model: element 3 stiffness"),
+        Decl("hm_f1", "N*m", 0.0, "hysteresis model: element 1 slip torque, straight, winding"),
+        Decl("hm_f2", "N*m", 0.0, "hysteresis model: element 2 slip torque, straight, winding"),
+        Decl("hm_f3", "N*m", 0.0, "hysteresis model: element 3 slip torque, straight, winding"),
+        Decl("hm_rn", "-", 1.0, "hysteresis model: unwinding / winding slip torque"),
+        Decl("hm_mu", "1/rad", 0.0, "hysteresis model: growth of slip torque with |phi_B|"),
+    ),
+)
+P_CTRL_KIND, P_DOB_WQ = _j["kind"], _j["dob_wq"]
+P_HM = _j["hm_k_pos"]  # first of the 12 hysteresis-model slots, in Gains.hysteresis_model order
+N_HM = 12
+
 # arm effects the discrepancy workflow can switch on (0: off); the controllers do not know them
 _p = _.block("payload_error", payload_error.KERNEL_PARAMS)
 P_PAY_DM, P_PAY_L2, P_PAY_L3, P_GRAVITY = _p["dm"], _p["l2"], _p["l3"], _p["gravity"]
@@ -189,7 +219,7 @@ ARM_LAW_BLOCKS: tuple[tuple[str, int, int, int], ...] = tuple(
 )
 
 N_PARAMS = LAYOUT.size
-del _, _s, _b, _c, _e, _g, _u, _p, _k
+del _, _s, _b, _c, _e, _g, _u, _j, _p, _k
 
 STIFFNESS_FLOOR = 0.1  # gain scheduler: stiffness floored at this fraction of P_TR_K0
 
@@ -199,11 +229,19 @@ SETUP_PARALLEL_BENCH = 2.0
 
 # --- data.userdata ---
 U_TICK = 0  # index+1 of the last control tick processed (0: none yet)
-U_MEM = 1  # controller memory: torque-PID integral, previous error, speed-loop integral, init
-U_PRE = 5  # the same memory as it was before the current tick (a tick is re-done from here)
-N_MEM = 4
-U_OUT = 9  # held motor commands: joint 1, joint 2 (joint torque), joint-3 motor (rotor torque)
-U_LOG = 12  # logs of the last control tick
+U_MEM = 1  # controller memory (M_* below)
+N_MEM = 9
+U_PRE = U_MEM + N_MEM  # the same memory as it was before the current tick (a tick is re-done)
+U_OUT = U_PRE + N_MEM  # held motor commands: joint 1, joint 2 (joint torque), joint-3 rotor torque
+U_LOG = U_OUT + 3  # logs of the last control tick
+# controller memory, ``U_MEM + M_*``
+M_PID_I = 0  # torque-PID integral
+M_PID_E = 1  # torque-PID previous error
+M_SPD_I = 2  # speed-loop integral
+M_INIT = 3  # 1 once a tick has run (the previous error and twist are valid)
+M_SLIP = 4  # 3 slots: the hysteresis model's element deflections z_i, rad
+M_TWIST = 7  # the twist at the previous tick (the hysteresis model's increment), rad
+M_DOB = 8  # the disturbance observer's Q-filter state, N*m
 L_TAU_D_JOINT = 0  # joint-3 desired joint torque, N*m
 L_TAU_D_SHAFT = 1  # desired shaft torque, N*m
 L_TAU_MODEL = 2  # modeled shaft torque tau_m (virtual torque sensor), N*m

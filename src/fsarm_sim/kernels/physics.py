@@ -21,6 +21,8 @@ import math
 import numpy as np
 import numpy.typing as npt
 
+from fsarm_sim.controllers.joint3_dob import disturbance, observer_input, observer_step
+from fsarm_sim.controllers.joint3_hysteresis import bend_factor, element_step, spring_torque
 from fsarm_sim.controllers.joint3_torque import scheduled_gains, speed_loop, torque_pid
 from fsarm_sim.controllers.joint_position import clamp, computed_torque
 from fsarm_sim.controllers.tendon_sheath_compliance import (
@@ -52,6 +54,8 @@ from fsarm_sim.kernels.layout import (
     A_PEAK_TWIST,
     A_SQ_ERR,
     A_SQ_TAU_EST,
+    CTRL_DOB,
+    CTRL_HYSTERESIS,
     L_OMEGA_D,
     L_PID_D,
     L_PID_I,
@@ -62,6 +66,13 @@ from fsarm_sim.kernels.layout import (
     L_TAU_D_SHAFT,
     L_TAU_MODEL,
     L_TAU_SHAFT,
+    M_DOB,
+    M_INIT,
+    M_PID_E,
+    M_PID_I,
+    M_SLIP,
+    M_SPD_I,
+    M_TWIST,
     N_ACC,
     N_MEM,
     N_TR,
@@ -86,6 +97,8 @@ from fsarm_sim.kernels.layout import (
     P_CTRL_J1,
     P_CTRL_J2,
     P_CTRL_J3,
+    P_CTRL_KIND,
+    P_DOB_WQ,
     P_DOF_Q1,
     P_DOF_Q2,
     P_DOF_Q3,
@@ -97,6 +110,7 @@ from fsarm_sim.kernels.layout import (
     P_EN_SERIES,
     P_GAIN_SCHED,
     P_GRAVITY,
+    P_HM,
     P_KB,
     P_MADR_Q1,
     P_MADR_Q2,
@@ -424,7 +438,12 @@ def control_tick(
     """One control tick: joints 1-2 position loops, joint-3 cascade of Fig. 13 (with the
     tendon-sheath transmission: seed 004's dual-encoder position loop in place of the torque PID).
 
-    Reads memory ``mem_in`` (torque-PID integral, previous error, speed-loop integral, init flag),
+    Joint 3's controller structure is ``P_CTRL_KIND`` (``model.Gains.controller``): the torque
+    estimate is eq. 8 or the hysteresis model (:func:`hysteresis_estimate`), and the disturbance
+    observer, when on, adds its estimate to the desired joint torque.
+
+    Reads memory ``mem_in`` (``layout.M_*``: torque-PID integral and previous error, speed-loop
+    integral, init flag, the hysteresis model's elements and last twist, the observer's filter),
     writes ``mem_out``, motor commands ``out`` (joint-1 torque, joint-2 torque, joint-3 rotor torque)
     and ``log``.
     """
@@ -476,12 +495,26 @@ def control_tick(
         prm[P_WN3],
         prm[P_ZETA3],
     )
-    tau_d = tau_d_joint / cs
     # virtual torque sensor: eq. 8 on the two encoders and the joint-2 encoder
     theta_m = cm * qpos[int(prm[P_QADR_ROT])]
     theta_s = cs * q3
     trc = prm[P_TRC : P_TRC + N_TR]
-    tau_m = tr_sensor_torque(prm[P_TRANS], trc, theta_m - theta_s, q2)
+    kind = prm[P_CTRL_KIND]
+    if kind == CTRL_HYSTERESIS:
+        tau_m = hysteresis_estimate(prm, theta_m - theta_s, q2, mem_in, mem_out)
+    else:
+        tau_m = tr_sensor_torque(prm[P_TRANS], trc, theta_m - theta_s, q2)
+    if kind == CTRL_DOB:
+        # disturbance observer (controllers/joint3_dob.py): the lumped disturbance joins tau_d
+        m33 = mass[int(prm[P_MADR_Q3])]
+        wq = prm[P_DOB_WQ]
+        y = mem_in[M_DOB]
+        tau_d_joint += disturbance(y, m33, qvel[dof3], wq) if mem_in[M_INIT] > 0.5 else 0.0
+        u = observer_input(cs * tau_m, bias[dof3], m33, qvel[dof3], wq)
+        if mem_in[M_INIT] < 0.5:  # first tick: start the filter at its input (no disturbance)
+            y = u
+        mem_out[M_DOB] = observer_step(y, u, wq, dt)
+    tau_d = tau_d_joint / cs
     k_model = max(
         tr_stiffness(prm[P_TRANS], trc, theta_m - theta_s, q2), STIFFNESS_FLOOR * prm[P_TR_K0]
     )
@@ -501,9 +534,9 @@ def control_tick(
         omega_d, integ, err, p_term, i_term, d_term = torque_pid(
             tau_d,
             tau_m,
-            mem_in[0],
-            mem_in[1],
-            mem_in[3],
+            mem_in[M_PID_I],
+            mem_in[M_PID_E],
+            mem_in[M_INIT],
             dt,
             kp,
             ki,
@@ -513,13 +546,19 @@ def control_tick(
         )
     omega_motor = qvel[int(prm[P_DOF_ROT])]
     tau_mot, s_integ = speed_loop(
-        omega_d / cm, omega_motor, mem_in[2], dt, prm[P_SPD_KP], prm[P_SPD_KI], prm[P_TAU_MOT_MAX]
+        omega_d / cm,
+        omega_motor,
+        mem_in[M_SPD_I],
+        dt,
+        prm[P_SPD_KP],
+        prm[P_SPD_KI],
+        prm[P_TAU_MOT_MAX],
     )
     out[2] = tau_mot
-    mem_out[0] = integ
-    mem_out[1] = err
-    mem_out[2] = s_integ
-    mem_out[3] = 1.0
+    mem_out[M_PID_I] = integ
+    mem_out[M_PID_E] = err
+    mem_out[M_SPD_I] = s_integ
+    mem_out[M_INIT] = 1.0
     log[L_TAU_D_JOINT] = tau_d_joint
     log[L_TAU_D_SHAFT] = tau_d
     log[L_TAU_MODEL] = tau_m
@@ -527,6 +566,24 @@ def control_tick(
     log[L_PID_P] = p_term
     log[L_PID_I] = i_term
     log[L_PID_D] = d_term
+
+
+def hysteresis_estimate(
+    prm: FloatArray, x: float, bend: float, mem_in: FloatArray, mem_out: FloatArray
+) -> float:
+    """The hysteresis-aware virtual torque sensor (controllers/joint3_hysteresis.py) at twist
+    ``x`` and bend ``bend``: advances the model's elements from ``mem_in`` into ``mem_out`` by the
+    twist increment since the last tick (none on the first) and returns the model's torque."""
+    h = P_HM
+    dx = x - mem_in[M_TWIST] if mem_in[M_INIT] > 0.5 else 0.0
+    g = bend_factor(bend, prm[h + 11])
+    tau = spring_torque(x, bend, prm[h], prm[h + 1], prm[h + 2], prm[h + 3])
+    for i in range(3):
+        z = element_step(mem_in[M_SLIP + i], dx, prm[h + 4 + i], prm[h + 7 + i], prm[h + 10], g)
+        mem_out[M_SLIP + i] = z
+        tau += prm[h + 4 + i] * z
+    mem_out[M_TWIST] = x
+    return tau
 
 
 def accumulate_metrics(

@@ -147,7 +147,7 @@ class SetupError(MeasuredDataError):
     """Unknown setup, or a table whose columns belong to another setup."""
 
 
-GainValue = float | bool | tuple[float, ...]
+GainValue = float | bool | str | tuple[float, ...]
 
 
 @dataclass(frozen=True)

@@ -10,12 +10,15 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from fsarm_sim._version import __version__
+from fsarm_sim.engine import hysteresis_model
+from fsarm_sim.engine.model import Gains, SimConfig
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.records import sidecar as rec
 from fsarm_sim.sim.simulation import RunResult
@@ -61,7 +64,7 @@ def run_record(result: RunResult) -> rec.Sidecar:
         ),
         payload_kg=float(cfg.payload_kg),
         ctrl_dt_s=float(cfg.gains.ctrl_dt_s),
-        gains=rec.gains_entry(cfg.gains),
+        gains=rec.gains_entry(resolved_gains(cfg)),
         effects=rec.effects_entry(cfg.effects),
         timestep_s=cfg.timestep_s,
         integrator=cfg.integrator,
@@ -125,3 +128,14 @@ def summary(result: RunResult) -> dict[str, Any]:
 def write_summary(result: RunResult, path: Path) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(summary(result), indent=2) + "\n", "utf-8")
+
+
+def resolved_gains(cfg: SimConfig) -> Gains:
+    """The run's gains as the controller used them: the hysteresis-comp controller's model
+    written out (its identified default resolved for the controller's shaft), so the sidecar
+    replays the run even if the default is re-identified later."""
+    g = cfg.gains
+    if g.controller != "hysteresis-comp" or g.hysteresis_model:
+        return g
+    shaft = cfg.controller_shaft or cfg.shaft
+    return replace(g, hysteresis_model=hysteresis_model.resolve((), shaft))

@@ -16,6 +16,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
+from fsarm_sim.controllers.joint3_hysteresis import initial_elements
 from fsarm_sim.engine import callbacks
 from fsarm_sim.engine.lean import check_springs_off, stiffness_views
 from fsarm_sim.engine.model import ArmStructure, SimConfig, build_model, read_structure
@@ -254,7 +255,13 @@ def initial_state(model: mujoco.MjModel, data: mujoco.MjData, st: ArmStructure) 
     data.act[st.act_branch[0]] = bend
     data.act[st.act_branch[1]] = bend
     if prm[L.P_SPD_KI] > 0.0:
-        data.userdata[L.U_MEM + 2] = st.coef_m * tau_shaft / prm[L.P_SPD_KI]
+        data.userdata[L.U_MEM + L.M_SPD_I] = st.coef_m * tau_shaft / prm[L.P_SPD_KI]
+    if prm[L.P_CTRL_KIND] == L.CTRL_HYSTERESIS:
+        # the controller's hysteresis model starts loaded like the shaft: a static start holds
+        # joint 3's gravity torque, which the controller's model of the arm knows
+        hm = prm[L.P_HM : L.P_HM + L.N_HM]
+        z = initial_elements(twist, bend, tau_shaft, *(float(v) for v in hm))
+        data.userdata[L.U_MEM + L.M_SLIP : L.U_MEM + L.M_SLIP + 3] = z
     data.userdata[L.U_TICK] = 0.0
     data.time = 0.0
 
