@@ -564,11 +564,14 @@ def test_run_outputs_that_do_not_collide_pass(
         "--figures",
         str(tmp_path / "new" / "figs"),
     )
-    err = capsys.readouterr().err
-    assert code == 0, err
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
     assert (tmp_path / "D" / "step-q3.csv").is_file()
     assert (tmp_path / "D" / "summary.json").is_file()
-    assert len(list((tmp_path / "new" / "figs").glob("*.png"))) == 3
+    # every figure is written, or left out with its reason (a short run's bend is held)
+    written = len(list((tmp_path / "new" / "figs").glob("*.png")))
+    left_out = captured.out.count("\nno ") + captured.out.startswith("no ")
+    assert written >= 1 and written + left_out == 3
 
 
 def test_module_names_every_command_that_writes() -> None:
