@@ -69,3 +69,118 @@ def test_records_load_in_the_measured_format(kind: str, tmp_path: Path) -> None:
     assert rec.truth["duration_s"] == G.SHORT_S
     tau = rec.columns["tau_s"]
     assert np.all(np.isfinite(tau)) and float(np.ptp(tau)) > 0
+
+
+# ----------------------------------------------------------------------------- realness
+
+
+def test_an_effect_that_holds_across_segments_passes_and_a_stand_in_does_not() -> None:
+    from fsarm_sim.discrepancy import realness as Real
+
+    rng = np.random.default_rng(1)
+    n = 20000
+    t = np.arange(n) * 1e-3
+    u = np.sin(2 * np.pi * (0.2 + 0.1 * t) * t)
+    v = np.gradient(u, t)
+    sigma = 0.01
+    use = np.ones(n, dtype=bool)
+    c = 0.05 * np.sign(v)  # a friction's contribution, the same size everywhere
+    noise = sigma * rng.standard_normal(n)
+    y_wo = np.zeros(n)
+    ok = Real.check(
+        "coulomb_friction", "shaft", {"f_c_nm": 0.05}, c + noise, c, y_wo, t, use, sigma
+    )
+    assert ok.passed, ok.reasons
+    assert all(abs(s["scale"] - 1.0) < 0.1 for s in ok.segments)
+    # the cause grows over the record (a drift); the friction's best average fit stands in
+    cause = 0.1 * (t / t[-1]) * np.sign(v)
+    fit = 0.05 * np.sign(v)
+    bad = Real.check(
+        "coulomb_friction", "shaft", {"f_c_nm": 0.05}, cause + noise, fit, y_wo, t, use, sigma
+    )
+    assert not bad.passed
+    assert any("size in" in r for r in bad.reasons)
+
+
+def test_parameters_at_a_bound_or_outside_the_range_are_named() -> None:
+    from fsarm_sim.discrepancy.realness import params_at_bounds
+
+    assert params_at_bounds("delay", "input", {"delay_s": 0.01}) == []
+    assert params_at_bounds("delay", "input", {"delay_s": 0.1})  # the fit's upper bound
+    assert params_at_bounds("coulomb_friction", "shaft", {"f_c_nm": 0.0})  # absent
+    assert params_at_bounds("backlash", "coupling", {"width_rad": 0.9, "center_rad": 0.0})
+
+
+# ----------------------------------------------------------------------------- residual search
+
+
+def _sig(residual: np.ndarray, t: np.ndarray, angle: np.ndarray, sigma: float) -> dict:
+    from fsarm_sim.discrepancy.unexplained import Signals, characterise
+
+    y = 15.0 * angle
+    return characterise(
+        Signals(
+            channel="tau_s",
+            unit="N·m",
+            t=t,
+            residual=residual,
+            output=y,
+            sigma=sigma,
+            inputs=[angle],
+            signals={
+                "twist": angle,
+                "twist rate": np.gradient(angle, t),
+                "input acceleration": np.gradient(np.gradient(angle, t), t),
+                "model output": y,
+            },
+            angles={"theta_m": (angle, ["twist"])},
+        )
+    )
+
+
+@pytest.fixture(scope="module")
+def bench_like() -> tuple[np.ndarray, np.ndarray]:
+    t = np.arange(30000) * 1e-3
+    f = 0.1 + 2.9 * t / t[-1]
+    ang = 0.45 * np.sin(2 * np.pi * np.cumsum(f) * 1e-3) / (1 + 0.3 * f)
+    return t, ang
+
+
+def test_coloured_noise_is_not_structure(bench_like: tuple) -> None:
+    from scipy.signal import lfilter
+
+    t, ang = bench_like
+    sigma = 0.01
+    hits = 0
+    for seed in range(6):
+        rng = np.random.default_rng(seed)
+        e = lfilter([1.0], [1.0, -0.9], rng.standard_normal(t.size))
+        sig = _sig(sigma * e / e.std(), t, ang, sigma * 0.3)  # white floor 0.3 x the total
+        hits += bool(sig["structured"])
+    assert hits <= 1
+
+
+def test_the_search_names_a_period_in_an_angle_a_resonance_and_a_saturation(
+    bench_like: tuple,
+) -> None:
+    from scipy.signal import lfilter
+
+    t, ang = bench_like
+    rng = np.random.default_rng(3)
+    sigma = 0.01
+    noise = sigma * rng.standard_normal(t.size)
+    per = 2 * np.pi / 40
+    sig = _sig(0.04 * np.sin(2 * np.pi * ang / per) + noise, t, ang, sigma)
+    top = sig["findings"][0]
+    assert sig["structured"] and top["kind"] == "angle_periodic"
+    assert top["period_rad"] == pytest.approx(per, rel=0.02) and top["signal"] == "theta_m"
+    w, zeta, h = 2 * np.pi * 33.0, 0.03, 1e-3
+    r = np.exp(-zeta * w * h)
+    z = lfilter([1.0], [1.0, -2 * r * np.cos(w * h), r * r], rng.standard_normal(t.size))
+    sig = _sig(0.04 * z / z.std() + noise, t, ang, sigma)
+    top = sig["findings"][0]
+    assert top["kind"] == "resonance" and top["frequency_hz"] == pytest.approx(33.0, rel=0.03)
+    y = 15.0 * ang
+    lim = 0.8 * np.abs(y).max()
+    sig = _sig(np.clip(y, -lim, lim) - y + noise, t, ang, sigma)
+    assert sig["findings"][0]["kind"] == "saturation"
