@@ -421,8 +421,10 @@ def check_real(setup: BenchSetup, diag: BenchDiagnosis) -> None:
         diag.extras = extras
         names = ", ".join(c.effect for c in bad)
         diag.verdict += (
-            f"; stand-in{'s' if len(bad) > 1 else ''} not named: {names} (they shrink the gap but "
-            "do not hold across the record's parts or sit at a bound)"
+            f"; stand-in{'s' if len(bad) > 1 else ''} not named: {names} (shrink"
+            f"{'' if len(bad) > 1 else 's'} the gap but do"
+            f"{'' if len(bad) > 1 else 'es'} not hold across the record's parts or sit"
+            f"{'' if len(bad) > 1 else 's'} at a bound: see stand_ins)"
         )
     diag.extras["stand_ins"] = stand
     diag.extras["realness"] = {"checked": True, "effects": [c.as_dict() for c in checks]}

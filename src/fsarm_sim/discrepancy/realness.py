@@ -48,7 +48,7 @@ ACTIVE = 0.5  # contribution RMS / noise floor from which the effect acts in a s
 Z_AGREE = 4.0  # standard errors within which a segment's scale must agree with 1
 REL_TOL = 0.35  # ... or this relative tolerance (the effect's law is a model, not the truth)
 MIN_SEGMENT_GAIN = 0.0  # noise variances the effect must remove in every segment where it acts
-BOUND_FRACTION = 1e-3
+BOUND_FRACTION = 1e-6  # of the range: a fit pinned at a bound sits on it (clipped)
 ZERO_FRACTION = 1e-9  # a magnitude with a zero lower bound this close to it is at zero
 
 
