@@ -30,8 +30,9 @@ this size, stated per kind):
   angle carries a periodic error, 64 lines per rev (period 2 pi / 64 rad),
 * ``mount_resonance`` - a structural mode of the sensor mount (33 Hz, damping ratio 0.03)
   excited by the input's acceleration,
-* ``thermal_gain`` - the sensor's gain drifting as the strain gauge warms (+6 % over the
-  record, first-order with a time constant of half the record),
+* ``thermal_gain`` - the sensor's gain drifting as the strain gauge warms (first-order with a
+  time constant of half the record, sized so that what a constant gain cannot take up is 4 x
+  the noise RMS),
 * ``stick_slip`` - a train of stick-slip events: torque drops of a decaying 60 Hz burst at
   random times (about one per 2 s),
 * ``sensor_clip`` - the sensor amplifier saturating at 80 % of the peak torque,
@@ -218,8 +219,14 @@ def mount_resonance(b: Bench, y: FloatArray) -> FloatArray:
 
 
 def thermal_gain(b: Bench, y: FloatArray) -> FloatArray:
+    """The gain rises first-order (time constant half the record); sized so that what a
+    constant gain cannot take up is 4 x the noise RMS (~+10-20 % over a record)."""
     dur = float(b.t[-1])
-    return y * (1.0 + 0.06 * (1 - np.exp(-b.t / (0.5 * dur))) / (1 - math.exp(-2.0)))
+    g = (1 - np.exp(-b.t / (0.5 * dur))) / (1 - math.exp(-2.0))
+    d = (g - g.mean()) * y
+    d = d - y * float(np.dot(d, y) / np.dot(y, y))  # what a constant gain cannot take up
+    k = 4.0 * NOISE * b.tau_range / float(np.sqrt(np.mean(d * d)))
+    return y * (1.0 + k * g)
 
 
 def stick_slip(b: Bench, y: FloatArray) -> FloatArray:
@@ -267,7 +274,7 @@ OUTSIDE: dict[str, tuple[Callable[..., FloatArray], dict[str, Any]]] = {
     "encoder_interp": (lambda b, y: y, {"periodic_in": "theta_m", "period_rad": 2 * np.pi / 64}),
     "mount_resonance": (mount_resonance, {"line_hz": 33.0}),
     "thermal_gain": (thermal_gain, {"trend": "gain"}),
-    "stick_slip": (stick_slip, {"localized": True}),
+    "stick_slip": (stick_slip, {"localized": True, "line_hz": 60.0}),  # events ringing at 60 Hz
     "sensor_clip": (sensor_clip, {"saturation": True}),
     "twist_ripple": (twist_ripple, {"periodic_in": "twist"}),
     "quadratic_drag": (quadratic_drag, {"signal": "twist rate"}),

@@ -451,8 +451,10 @@ def unexplained(
     """True when the final model leaves a held-out residual clearly above the noise floor: what
     lies above the noise (output noise and the recorded inputs' own errors together, in
     variance) is at least as large as the noise itself - the size an extra effect must explain
-    to be named (:data:`.selection.MIN_EXPLAINED_EXTRA` = 1 noise variance). Residual RMS above
-    :data:`UNEXPLAINED` x that floor - *and*, given the residual signature ``sig``, the general
+    to be named (:data:`.selection.MIN_EXPLAINED_EXTRA` = 1 noise variance). Without a
+    signature: residual RMS above :data:`UNEXPLAINED` x that floor. Given the residual signature
+    ``sig``: the residual's mean square minus the floors' (output noise, the inputs' errors, the
+    replay's own error) at least ``UNEXPLAINED^2 - 1`` output-noise variances, *and* the general
     search found structure in it (:func:`.residual_search.structured`: a finding significant at
     the false-alarm rate :data:`.residual_search.ALPHA` against noise of the record's own colour
     that explains at least :data:`.residual_search.MIN_STRUCT` noise variances). The floor of
@@ -461,10 +463,12 @@ def unexplained(
     tells apart."""
     rms = math.sqrt(final.mse_held)
     total = math.hypot(ctx.sigma_y, sigma_in)
-    above = bool(rms > UNEXPLAINED * total)
     if sig is None or "structured" not in sig:
-        return above
-    return above and bool(sig["structured"])
+        return bool(rms > UNEXPLAINED * total)
+    # with the structure test: what lies above the floors (output noise, the inputs' errors,
+    # the replay's own error) must be at least (UNEXPLAINED^2 - 1) output-noise variances
+    excess = rms * rms - total * total
+    return bool(excess >= (UNEXPLAINED**2 - 1.0) * ctx.sigma_y**2 and sig["structured"])
 
 
 def verdict(
@@ -485,7 +489,7 @@ def verdict(
     within = ratio <= WITHIN_NOISE
     if unexp is None:
         unexp = unexplained(ctx, final, sigma_in)
-    above = rms > UNEXPLAINED * math.hypot(ctx.sigma_y, sigma_in)
+    above = rms * rms - sigma_in * sigma_in >= UNEXPLAINED**2 * ctx.sigma_y**2
     why_not = (
         "what lies above the white-noise floor holds no structure the residual search finds "
         f"at its {100 * RS.ALPHA:g} % false-alarm rate (coloured noise, quantisation, the "

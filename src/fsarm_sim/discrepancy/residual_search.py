@@ -139,7 +139,8 @@ def spectral_peaks(s: Signals, input_top_hz: float) -> list[dict[str, Any]]:
         hi = i
         while hi + 1 < psel.size and psel[hi + 1] > 0.5 * psel[i]:
             hi += 1
-        used[lo : hi + 1] = True
+        wide = hi - lo + 1  # the peak's skirts: no second peak inside them
+        used[max(0, lo - wide - 2) : hi + wide + 3] = True
         width = float((hi - lo + 1) * df)
         band = slice(max(0, lo - 1), hi + 2)
         excess = float(np.sum(np.maximum(psel[band] - base[band], 0.0)) * df)
