@@ -405,31 +405,33 @@ def saturation(s: Signals) -> dict[str, Any]:
     y = s.output - float(np.median(s.output))
     ay = np.abs(y)
     best: dict[str, Any] = {"kind": "saturation", "significant": False, "explained_var": 0.0}
+    top: tuple[float, float, FloatArray, FloatArray] | None = None  # (ss, c, coef, e)
     for q in SAT_QUANTILES:
         c = float(np.quantile(ay, q))
         hinge = np.sign(y) * np.maximum(ay - c, 0.0)
         x = np.column_stack([np.ones_like(r), hinge])
         coef, *_ = np.linalg.lstsq(x, r, rcond=None)
         fit = x @ coef
-        e = r - fit
         ss = float(np.var(fit))
-        n_eff = _n_eff(e)
-        f_stat = ss / max(float(np.var(e)), 1e-300) * (n_eff - 2)
-        p_val = float(stats.f.sf(f_stat, 1, max(n_eff - 2, 1.0))) * len(SAT_QUANTILES)
-        if coef[1] < -0.2 and ss > best["explained_var"]:
-            level = c + float(np.median(s.output))
-            best = {
-                "kind": "saturation",
-                "level": c,
-                "level_abs": level,
-                "slope_beyond": float(1.0 + coef[1]),
-                "explained_var": ss,
-                "p_value": min(p_val, 1.0),
-                "significant": bool(p_val < _alpha_each()),
-                "text": f"{s.channel} saturates: beyond |{c:.3g}| {s.unit} from its middle it "
-                f"grows at {100 * (1 + coef[1]):.0f} % of the model's rate",
-            }
-    return best
+        if coef[1] < -0.2 and (top is None or ss > top[0]):
+            top = (ss, c, coef, r - fit)
+    if top is None:
+        return best
+    ss, c, coef, e = top
+    n_eff = _n_eff(e)  # the autocorrelation time of what the best hinge leaves (one FFT)
+    f_stat = ss / max(float(np.var(e)), 1e-300) * (n_eff - 2)
+    p_val = float(stats.f.sf(f_stat, 1, max(n_eff - 2, 1.0))) * len(SAT_QUANTILES)
+    return {
+        "kind": "saturation",
+        "level": c,
+        "level_abs": c + float(np.median(s.output)),
+        "slope_beyond": float(1.0 + coef[1]),
+        "explained_var": ss,
+        "p_value": min(p_val, 1.0),
+        "significant": bool(p_val < _alpha_each()),
+        "text": f"{s.channel} saturates: beyond |{c:.3g}| {s.unit} from its middle it "
+        f"grows at {100 * (1 + coef[1]):.0f} % of the model's rate",
+    }
 
 
 # ---------------------------------------------------------------------------- together
