@@ -44,7 +44,8 @@ def signature_right(sig: dict[str, Any] | None, want: dict[str, Any] | None) -> 
         hz = want.get("line_hz")
         if hz and k in ("spectral_line", "resonance") and abs(f["frequency_hz"] - hz) <= 0.03 * hz:
             return True
-        if "periodic_in" in want and k == "angle_periodic" and f["signal"] == want["periodic_in"]:
+        names = [f.get("signal"), *f.get("aliases", [])]  # the same angle under its other names
+        if "periodic_in" in want and k == "angle_periodic" and want["periodic_in"] in names:
             p = want.get("period_rad")
             if p is None or abs(float(f["period_rad"]) - p) <= 0.05 * p:
                 return True
@@ -92,15 +93,12 @@ def score(name: str, truth: dict[str, Any], res: dict[str, Any], dt: float) -> d
         "false_alarm": (not truth["unexplained"]) and unexp,
         "library_for_outside": truth["outside"] is not None and bool(set(named) - set(lib)),
         "signature_right": (
-            signature_right(res.get("residual_signature"), truth["signature"])
+            signature_right(res.get("residual_signature"), G.signature_truth(truth["outside"]))
             if truth["outside"]
             else None
         ),
         "signature": (res.get("residual_signature") or {}).get("summary"),
-        "findings": [
-            {k: v for k, v in f.items() if k != "text"} | {"text": f.get("text")}
-            for f in (res.get("residual_signature") or {}).get("findings", [])[:3]
-        ],
+        "findings": list((res.get("residual_signature") or {}).get("findings", [])[:3]),
     }
     return out
 
@@ -158,6 +156,10 @@ def main() -> None:
     args = ap.parse_args()
     if args.summary:
         rows = [json.loads(s) for s in Path(args.summary).read_text("utf-8").splitlines() if s]
+        for r in rows:  # scored again with this file's rules and the generator's truth
+            if r["truth"]["outside"]:
+                want = G.signature_truth(r["truth"]["outside"])
+                r["signature_right"] = signature_right({"findings": r["findings"]}, want)
         print(summarise(rows))
         return
     recs = [r for r in G.battery(args.set, args.per_kind) if args.only in r.kind.name]

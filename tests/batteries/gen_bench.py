@@ -247,7 +247,7 @@ def sensor_clip(b: Bench, y: FloatArray) -> FloatArray:
 
 
 def twist_ripple(b: Bench, y: FloatArray, x: FloatArray) -> FloatArray:
-    return y + _scaled(b, np.sin(2 * np.pi * x / (0.1 * b.x_ref) + 0.3), 4.0)
+    return y + _scaled(b, np.sin(2 * np.pi * x / (TWIST_RIPPLE_PERIOD * b.x_ref) + 0.3), 4.0)
 
 
 def quadratic_drag(b: Bench, y: FloatArray, x: FloatArray) -> FloatArray:
@@ -283,6 +283,24 @@ OUTSIDE: dict[str, tuple[Callable[..., FloatArray], dict[str, Any]]] = {
     "mains_pickup": (mains_pickup, {"line_hz": 50.0}),
 }
 TWIST_LAWS = ("twist_ripple", "quadratic_drag")
+TWIST_RIPPLE_PERIOD = 0.1  # x the peak twist
+
+
+def x_ref_rad() -> float:
+    """The records' peak twist: 80 % of the stated shaft's rated torque over its stiffness."""
+    from fsarm_sim.records.measured import stated_shaft
+
+    sh = stated_shaft(DIAMETER_MM, LENGTH_MM)
+    return 0.8 * float(sh.rating_nm) / float(sh.k_pos)
+
+
+def signature_truth(outside: str) -> dict[str, Any]:
+    """What a right residual signature names for an outside cause (with the twist ripple's
+    period, which depends on the shaft)."""
+    want = dict(OUTSIDE[outside][1])
+    if outside == "twist_ripple":
+        want["period_rad"] = TWIST_RIPPLE_PERIOD * x_ref_rad()
+    return want
 
 
 # ------------------------------------------------------------------------ kinds and split
@@ -457,7 +475,7 @@ def make_record(kind: Kind, index: int, seed: int = 0) -> Record:
         "library": sorted(kind.library),
         "outside": kind.outside,
         "unexplained": kind.unexplained,
-        "signature": OUTSIDE[kind.outside][1] if kind.outside else None,
+        "signature": signature_truth(kind.outside) if kind.outside else None,
         "trajectory": traj,
         "duration_s": dur,
         "noise": noise,
