@@ -156,6 +156,7 @@ def main() -> None:
     args = ap.parse_args()
     if args.summary:
         rows = [json.loads(s) for s in Path(args.summary).read_text("utf-8").splitlines() if s]
+        rows = list({r["record"]: r for r in rows}.values())  # a record run twice: the last
         for r in rows:  # scored again with this file's rules and the generator's truth
             if r["truth"]["outside"]:
                 want = G.signature_truth(r["truth"]["outside"])
