@@ -244,6 +244,13 @@ def signature_right(r: Result) -> bool | None:
         g0 = r.extra_truth.get("relative_change_over_record", math.nan)
         return bool(g * g0 > 0 and 1 / 1.5 <= g / g0 <= 1.5)
     if kind == "signal":
+        if sig.get("kind") == "angle_periodic":  # the general search's more specific naming
+            top = sig["findings"][0]
+            names = {top["signal"], *top.get("aliases", [])}
+            p0 = r.extra_truth.get("period_rad", math.nan)
+            return bool(
+                names & {"twist", "theta_m", "phi_b"} and abs(top["period_rad"] - p0) <= 0.05 * p0
+            )
         return (
             sig.get("kind") == "signal"
             and bool(sig.get("dependence"))

@@ -37,13 +37,14 @@ at all (``unexplained``).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 from scipy.ndimage import median_filter
 
+from fsarm_sim.discrepancy import residual_search as RS
+from fsarm_sim.discrepancy.residual_search import Signals
 from fsarm_sim.discrepancy.residuals import above_noise_intervals, tau_int
 
 FloatArray = npt.NDArray[np.float64]
@@ -56,20 +57,6 @@ INPUT_BAND_POWER = 0.99  # the input's band: up to the frequency below which thi
 N_BINS = 48  # fine enough for a ripple of a few periods over the signal's range
 WINDOW_S = 0.25
 MIN_SHARE = 0.05  # a description that explains less than this share of the variance is none
-
-
-@dataclass
-class Signals:
-    """A channel's residual and what it may depend on (prepared by the setup)."""
-
-    channel: str
-    unit: str
-    t: FloatArray
-    residual: FloatArray
-    output: FloatArray  # the final model's replay of the channel (for a gain drift)
-    sigma: float  # the channel's noise floor
-    inputs: list[FloatArray]  # the recorded inputs (their spectra flag lines as the input's)
-    signals: dict[str, FloatArray] = field(default_factory=dict)  # name -> signal
 
 
 def _periodogram(x: FloatArray, h: float) -> tuple[FloatArray, FloatArray]:
@@ -322,7 +309,15 @@ def characterise(s: Signals) -> dict[str, Any]:
         )
     cands = [c for c in cands if c[0] >= MIN_SHARE]
     cands.sort(key=lambda c: -c[0])
-    kind, summary = (cands[0][1], cands[0][2]) if cands else ("none", "no structure found")
+    band, _ = input_band(s.inputs, float(s.t[1] - s.t[0]))
+    found = RS.findings(s, band, dep, tr, WINDOW_S)
+    var = float(np.var(r)) or 1.0
+    top = [f for f in found if f["significant"] and f["explained_var"] >= MIN_SHARE * var]
+    if top:  # the general search's strongest significant finding is the headline
+        kind = "spectral_line" if top[0]["kind"] == "spectral_line" else str(top[0]["kind"])
+        summary = str(top[0]["text"])
+    else:
+        kind, summary = "none", "no structure found"
     return {
         "channel": s.channel,
         "unit": s.unit,
@@ -346,6 +341,10 @@ def characterise(s: Signals) -> dict[str, Any]:
             else None
         ),
         "where": where,
+        "findings": [
+            {k: v for k, v in f.items() if k not in ("bin_centres", "bin_means")} for f in found
+        ],
+        "structured": RS.structured(found, s.sigma),
         "method": "spectral lines: Hann periodogram vs its 101-bin running median (> "
         f"{LINE_POWER:g} x), amplitude by least squares at the refined frequency; trends: least "
         "squares on time (offset) and time x model output (gain), standard errors inflated by the "

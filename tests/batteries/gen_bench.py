@@ -1,0 +1,502 @@
+"""An outside bench-record generator for the diagnosis (issue 28), written apart from it.
+
+It imports **nothing** of :mod:`fsarm_sim.discrepancy` (tests/test_discrepancy_heldout.py checks
+its imports): its own blocked series-bench physics, its own input trajectories, its own noise,
+its own effects - library effects (the shared vocabulary of ../shared/specs/measured-data.md) by
+its own laws, and causes outside the library. Only the stated shaft's stiffness per twist sign
+comes from the project (:func:`fsarm_sim.records.measured.stated_shaft`, the catalogue's eq. 3),
+because the sidecar states that shaft and the nominal model is the project's own.
+
+Bench: the series bench with the output blocked (seed 000 Fig. 5): the motor turns the shaft
+input ``theta_m``, the output is held (``theta_s`` = 0), the bend ``phi_b`` = 0, the torque sensor
+reads ``tau_s`` = K(sign of the twist) x twist + what the record's effects add. Noise on
+``tau_s``: white, AR(1) or 1/f (pink, with a white part), total std ``NOISE`` x the clean
+torque's range (0.3 %: a strain-gauge sensor's accuracy, the same order as the project's own
+synthetic records); ``theta_m`` from a 2^14-count encoder; some records also quantise ``tau_s``
+(a 12-bit ADC over +/- 1.25 x the peak torque) or last 10 s instead of 30 s.
+
+Kinds: every kind is a *cause* of a record; :data:`KINDS` lists them with their truth (the
+library effects a right diagnosis names, and whether something outside the library remains:
+``unexplained``). :func:`split` assigns every kind to the development or the held-out set
+*once*, by a fixed seed, within each category (library single effects, library combinations,
+outside causes, outside + library, nulls) - written before any tuning and not to be changed.
+
+The outside causes (each a few times the noise in RMS; numbers are estimates for a bench of
+this size, stated per kind):
+
+* ``mesh_ripple`` - torque ripple at the gear mesh: periodic in theta_m, 24 teeth per rev of the
+  output stage (period 2 pi / 24 rad),
+* ``encoder_interp`` - interpolation error of a sine/cosine encoder on theta_m: the recorded
+  angle carries a periodic error, 64 lines per rev (period 2 pi / 64 rad),
+* ``mount_resonance`` - a structural mode of the sensor mount (33 Hz, damping ratio 0.03)
+  excited by the input's acceleration,
+* ``thermal_gain`` - the sensor's gain drifting as the strain gauge warms (first-order with a
+  time constant of half the record, sized so that what a constant gain cannot take up is 4 x
+  the noise RMS),
+* ``stick_slip`` - a train of stick-slip events: torque drops of a decaying 60 Hz burst at
+  random times (about one per 2 s),
+* ``sensor_clip`` - the sensor amplifier saturating at 80 % of the peak torque,
+* ``twist_ripple`` - a ripple periodic in the twist (the wound shaft's layer pitch; period
+  0.05 rad of twist),
+* ``quadratic_drag`` - a drag quadratic in the twist rate (c |x'| x'),
+* ``flange_inertia`` - the sensor flange's inertia: a torque proportional to the input's
+  acceleration,
+* ``offset_drift`` - a slow drift of the sensor's zero (linear in time),
+* ``mains_pickup`` - a 50 Hz line on the torque channel (an outside cause the project's
+  batteries already hold).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+from scipy.signal import butter, lfilter, sosfiltfilt
+
+FloatArray = npt.NDArray[np.float64]
+
+RATE_HZ = 1000.0
+DURATION_S = 30.0
+SHORT_S = 10.0
+NOISE = 0.003  # total noise std / clean torque range
+ENCODER_COUNTS = 2**14
+ADC_BITS = 12
+SPLIT_SEED = 28
+DIAMETER_MM, LENGTH_MM = 9.0, 450.0
+
+LIBRARY = (
+    "coulomb_friction",
+    "viscous_damping",
+    "backlash",
+    "hysteresis",
+    "nonlinear_stiffness",
+    "delay",
+    "sensor_offset",
+)
+
+
+@dataclass
+class Bench:
+    """One record's clean signals on the fine grid and what the effects need."""
+
+    t: FloatArray
+    u: FloatArray  # true shaft input angle (rad)
+    k_pos: float
+    k_neg: float
+    x_ref: float  # peak twist
+    tau_range: float  # clean nominal torque range (N*m)
+    rng: np.random.Generator
+
+    @property
+    def h(self) -> float:
+        return float(self.t[1] - self.t[0])
+
+    def nominal(self, x: FloatArray) -> FloatArray:
+        return np.where(x >= 0, self.k_pos * x, self.k_neg * x)
+
+
+# ------------------------------------------------------------------------ input trajectories
+
+
+def _envelope(t: FloatArray, ramp: float = 1.0) -> FloatArray:
+    a = np.clip(t / ramp, 0, 1)
+    b = np.clip((t[-1] - t) / ramp, 0, 1)
+    return np.asarray(0.25 * (1 - np.cos(np.pi * a)) * (1 - np.cos(np.pi * b)), dtype=np.float64)
+
+
+def trajectory(kind: str, t: FloatArray, rng: np.random.Generator) -> FloatArray:
+    """A unit-peak input shape (its own, not the project's): sweep, multitone, filtered noise,
+    or ramps with rests."""
+    dur = float(t[-1] - t[0])
+    fs = 1.0 / float(t[1] - t[0])
+    if kind == "sweep":  # linear sweep 0.1 -> 3 Hz, amplitude falling with frequency
+        f = 0.1 + 2.9 * t / dur
+        ph = 2 * np.pi * np.cumsum(f) / fs
+        u = np.sin(ph) / (1 + 0.3 * f)
+    elif kind == "multitone":
+        fr = np.array([0.17, 0.41, 0.83, 1.37, 2.3])
+        ph0 = rng.uniform(0, 2 * np.pi, fr.size)
+        u = sum(np.sin(2 * np.pi * f * t + p) / (1 + f) for f, p in zip(fr, ph0, strict=True))
+    elif kind == "noise":
+        u = sosfiltfilt(butter(3, 1.2, fs=fs, output="sos"), rng.standard_normal(t.size))
+    elif kind == "ramps":  # trapezoids to random levels, 0.8 s ramps, 0.7 s rests
+        seg = 1.5
+        lv = rng.uniform(-1, 1, int(dur / seg) + 2)
+        i = np.minimum((t / seg).astype(int), lv.size - 2)
+        fr = np.clip((t - i * seg) / 0.8, 0, 1)
+        u = lv[i] + (lv[i + 1] - lv[i]) * (0.5 - 0.5 * np.cos(np.pi * fr))
+    else:
+        raise ValueError(f"unknown trajectory {kind!r}")
+    u = np.asarray(u, dtype=np.float64) * _envelope(t)
+    return np.asarray(u / float(np.max(np.abs(u))), dtype=np.float64)
+
+
+# ------------------------------------------------------------------------ library effects
+# each: (bench, twist, torque so far) -> new torque; or a change of a recorded channel
+
+
+def _rate(b: Bench, x: FloatArray) -> FloatArray:
+    return np.asarray(np.gradient(x, b.h), dtype=np.float64)
+
+
+def coulomb(b: Bench, x: FloatArray, y: FloatArray, s: float) -> FloatArray:
+    """Friction of constant magnitude opposing the twist rate (smoothed at 2 % of peak rate)."""
+    v = _rate(b, x)
+    return y + s * 0.035 * b.tau_range * np.tanh(v / (0.02 * float(np.max(np.abs(v)))))
+
+
+def viscous(b: Bench, x: FloatArray, y: FloatArray, s: float) -> FloatArray:
+    v = _rate(b, x)
+    return y + s * 0.04 * b.tau_range * v / float(np.max(np.abs(v)))
+
+
+def backlash_dead(b: Bench, x: FloatArray, y: FloatArray, s: float) -> FloatArray:
+    """A play of half-width w in the coupling (massless: a dead band in the twist)."""
+    w = s * 0.05 * b.x_ref
+    xe = np.sign(x) * np.maximum(np.abs(x) - w, 0.0)
+    return y - b.nominal(x) + b.nominal(xe)
+
+
+def hysteresis_slip(b: Bench, x: FloatArray, y: FloatArray, s: float) -> FloatArray:
+    """Three Maxwell-slip (elasto-plastic) elements in parallel with the shaft."""
+    out = y.copy()
+    for frac_k, frac_d in ((0.08, 0.05), (0.06, 0.15), (0.04, 0.4)):
+        k = s * frac_k * b.k_pos
+        d = frac_d * b.x_ref
+        z = np.empty_like(x)
+        zi = 0.0
+        for i in range(x.size):  # play operator: z follows x within +/- d
+            zi = min(max(zi, x[i] - d), x[i] + d)
+            z[i] = zi
+        out = out + k * (x - z)
+    return out
+
+
+def poly_stiff(b: Bench, x: FloatArray, y: FloatArray, s: float) -> FloatArray:
+    """Stiffening: K x (1 + a (x / x_ref)^2)."""
+    return y + s * 0.12 * b.nominal(x) * (x / b.x_ref) ** 2
+
+
+LAWS: dict[str, Callable[[Bench, FloatArray, FloatArray, float], FloatArray]] = {
+    "coulomb_friction": coulomb,
+    "viscous_damping": viscous,
+    "backlash": backlash_dead,
+    "hysteresis": hysteresis_slip,
+    "nonlinear_stiffness": poly_stiff,
+}
+
+
+# ------------------------------------------------------------------------ outside causes
+
+
+def _scaled(b: Bench, d: FloatArray, rms_over_noise: float) -> FloatArray:
+    """``d`` scaled to ``rms_over_noise`` x the noise std."""
+    r = float(np.sqrt(np.mean(d * d)))
+    return d * (rms_over_noise * NOISE * b.tau_range / r) if r > 0 else d
+
+
+def mesh_ripple(b: Bench, y: FloatArray) -> FloatArray:
+    return y + _scaled(b, np.sin(24 * b.u + 0.7), 4.0)
+
+
+def mount_resonance(b: Bench, y: FloatArray) -> FloatArray:
+    """A lightly damped mode of the mount (33 Hz, zeta 0.03) rung by the drive's broadband
+    vibration (white forcing): a resonance peak of finite width on tau_s."""
+    fr, zeta = 33.0, 0.03
+    w = 2 * np.pi * fr
+    h = b.h
+    # z'' + 2 zeta w z' + w^2 z = f, discretised exactly as a 2-pole resonator (impulse invariance)
+    r = math.exp(-zeta * w * h)
+    wd = w * math.sqrt(1 - zeta * zeta)
+    z = lfilter([1.0], [1.0, -2 * r * math.cos(wd * h), r * r], b.rng.standard_normal(b.t.size))
+    return y + _scaled(b, np.asarray(z, dtype=np.float64), 4.0)
+
+
+def thermal_gain(b: Bench, y: FloatArray) -> FloatArray:
+    """The gain rises first-order (time constant half the record); sized so that what a
+    constant gain cannot take up is 4 x the noise RMS (~+10-20 % over a record)."""
+    dur = float(b.t[-1])
+    g = (1 - np.exp(-b.t / (0.5 * dur))) / (1 - math.exp(-2.0))
+    d = (g - g.mean()) * y
+    d = d - y * float(np.dot(d, y) / np.dot(y, y))  # what a constant gain cannot take up
+    k = 4.0 * NOISE * b.tau_range / float(np.sqrt(np.mean(d * d)))
+    return y * (1.0 + k * g)
+
+
+def stick_slip(b: Bench, y: FloatArray) -> FloatArray:
+    dur = float(b.t[-1])
+    n = max(3, int(dur / 2.0))
+    times = np.sort(b.rng.uniform(1.0, dur - 1.0, n))
+    d = np.zeros_like(y)
+    for t0 in times:
+        a = b.t - t0
+        on = a >= 0
+        d[on] += -np.exp(-a[on] / 0.04) * np.cos(2 * np.pi * 60.0 * a[on])
+    return y + _scaled(b, d, 3.0)
+
+
+def sensor_clip(b: Bench, y: FloatArray) -> FloatArray:
+    lim = 0.8 * float(np.max(np.abs(y)))
+    return np.clip(y, -lim, lim)
+
+
+def twist_ripple(b: Bench, y: FloatArray, x: FloatArray) -> FloatArray:
+    return y + _scaled(b, np.sin(2 * np.pi * x / (TWIST_RIPPLE_PERIOD * b.x_ref) + 0.3), 4.0)
+
+
+def quadratic_drag(b: Bench, y: FloatArray, x: FloatArray) -> FloatArray:
+    v = _rate(b, x)
+    return y + _scaled(b, v * np.abs(v), 4.0)
+
+
+def flange_inertia(b: Bench, y: FloatArray) -> FloatArray:
+    acc = np.gradient(np.gradient(b.u, b.h), b.h)
+    return y + _scaled(b, acc, 4.0)
+
+
+def offset_drift(b: Bench, y: FloatArray) -> FloatArray:
+    return y + _scaled(b, b.t - 0.5 * float(b.t[-1]), 4.0)
+
+
+def mains_pickup(b: Bench, y: FloatArray) -> FloatArray:
+    return y + _scaled(b, np.sin(2 * np.pi * 50.0 * b.t + 1.1), 3.0)
+
+
+# name -> (law, what a right residual signature names: (quantity, value) )
+OUTSIDE: dict[str, tuple[Callable[..., FloatArray], dict[str, Any]]] = {
+    "mesh_ripple": (mesh_ripple, {"periodic_in": "theta_m", "period_rad": 2 * np.pi / 24}),
+    "encoder_interp": (lambda b, y: y, {"periodic_in": "theta_m", "period_rad": 2 * np.pi / 64}),
+    "mount_resonance": (mount_resonance, {"line_hz": 33.0}),
+    "thermal_gain": (thermal_gain, {"trend": "gain"}),
+    "stick_slip": (stick_slip, {"localized": True, "line_hz": 60.0}),  # events ringing at 60 Hz
+    "sensor_clip": (sensor_clip, {"saturation": True}),
+    "twist_ripple": (twist_ripple, {"periodic_in": "twist"}),
+    "quadratic_drag": (quadratic_drag, {"signal": "twist rate"}),
+    "flange_inertia": (flange_inertia, {"signal": "input acceleration"}),
+    "offset_drift": (offset_drift, {"trend": "offset"}),
+    "mains_pickup": (mains_pickup, {"line_hz": 50.0}),
+}
+TWIST_LAWS = ("twist_ripple", "quadratic_drag")
+TWIST_RIPPLE_PERIOD = 0.1  # x the peak twist
+
+
+def x_ref_rad() -> float:
+    """The records' peak twist: 80 % of the stated shaft's rated torque over its stiffness."""
+    from fsarm_sim.records.measured import stated_shaft
+
+    sh = stated_shaft(DIAMETER_MM, LENGTH_MM)
+    return 0.8 * float(sh.rating_nm) / float(sh.k_pos)
+
+
+def signature_truth(outside: str) -> dict[str, Any]:
+    """What a right residual signature names for an outside cause (with the twist ripple's
+    period, which depends on the shaft)."""
+    want = dict(OUTSIDE[outside][1])
+    if outside == "twist_ripple":
+        want["period_rad"] = TWIST_RIPPLE_PERIOD * x_ref_rad()
+    return want
+
+
+# ------------------------------------------------------------------------ kinds and split
+
+
+@dataclass(frozen=True)
+class Kind:
+    name: str
+    category: str  # "library", "library_multi", "outside", "outside_plus", "null"
+    library: tuple[str, ...] = ()  # library effects in the truth
+    outside: str | None = None
+    noise: str = "white"  # "white" | "ar1" | "pink"
+    quantised: bool = False  # tau_s through a 12-bit ADC
+
+    @property
+    def unexplained(self) -> bool:
+        return self.outside is not None
+
+
+def _kinds() -> list[Kind]:
+    out: list[Kind] = [Kind(e, "library", (e,)) for e in LIBRARY]
+    combos = [
+        ("coulomb_friction", "sensor_offset"),
+        ("backlash", "viscous_damping"),
+        ("hysteresis", "delay"),
+        ("nonlinear_stiffness", "coulomb_friction"),
+        ("delay", "sensor_offset"),
+        ("viscous_damping", "nonlinear_stiffness"),
+        ("coulomb_friction", "viscous_damping", "sensor_offset"),
+        ("backlash", "delay", "sensor_offset"),
+        ("nonlinear_stiffness", "hysteresis", "sensor_offset"),
+        ("delay", "viscous_damping", "coulomb_friction"),
+    ]
+    out += [Kind("+".join(c), "library_multi", c) for c in combos]
+    out += [Kind(o, "outside", (), o) for o in OUTSIDE]
+    plus = [
+        ("mesh_ripple", "sensor_offset"),
+        ("mount_resonance", "coulomb_friction"),
+        ("thermal_gain", "backlash"),
+        ("twist_ripple", "delay"),
+    ]
+    out += [Kind(f"{o}+{e}", "outside_plus", (e,), o) for o, e in plus]
+    out += [
+        Kind("null_white", "null"),
+        Kind("null_ar1", "null", noise="ar1"),
+        Kind("null_pink", "null", noise="pink"),
+        Kind("null_quantised", "null", quantised=True),
+        Kind("null_ar1_quantised", "null", noise="ar1", quantised=True),
+        Kind("null_pink_quantised", "null", noise="pink", quantised=True),
+    ]
+    return out
+
+
+KINDS: tuple[Kind, ...] = tuple(_kinds())
+
+
+def split(seed: int = SPLIT_SEED) -> dict[str, str]:
+    """kind name -> "dev" | "heldout": within each category a fixed-seed shuffle, the first
+    half (rounded up) development. Fixed before any tuning (issue 28)."""
+    rng = np.random.default_rng(seed)
+    out: dict[str, str] = {}
+    for cat in ("library", "library_multi", "outside", "outside_plus", "null"):
+        names = [k.name for k in KINDS if k.category == cat]
+        order = rng.permutation(len(names))
+        n_dev = math.ceil(len(names) / 2)
+        for j, i in enumerate(order):
+            out[names[i]] = "dev" if j < n_dev else "heldout"
+    return out
+
+
+# ------------------------------------------------------------------------ one record
+
+
+@dataclass
+class Record:
+    name: str
+    kind: Kind
+    columns: dict[str, FloatArray]
+    sidecar: dict[str, Any]
+    truth: dict[str, Any] = field(default_factory=dict)
+
+
+def _noise(kind: str, n: int, rng: np.random.Generator, fs: float) -> FloatArray:
+    if kind == "white":
+        e = rng.standard_normal(n)
+    elif kind == "ar1":  # phi = 0.9 at 1 kHz: correlation time ~10 ms
+        e = lfilter([1.0], [1.0, -0.9], rng.standard_normal(n))
+    elif kind == "pink":  # 1/f above 0.05 Hz, plus a white part of half its std
+        f = np.fft.rfftfreq(n, 1.0 / fs)
+        spec = rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)
+        spec /= np.sqrt(np.maximum(f, 0.05))
+        p = np.fft.irfft(spec, n)
+        e = p / np.std(p) + 0.5 * rng.standard_normal(n)
+    else:
+        raise ValueError(f"unknown noise {kind!r}")
+    return np.asarray(e / np.std(e), dtype=np.float64)
+
+
+def make_record(kind: Kind, index: int, seed: int = 0) -> Record:
+    """Record number ``index`` of ``kind`` (trajectory, length and effect sizes vary by it)."""
+    from fsarm_sim.records.measured import stated_shaft  # the stated shaft's eq. 3 stiffness
+
+    rng = np.random.default_rng([seed, index, sum(map(ord, kind.name))])
+    trajs = ("sweep", "multitone", "noise", "ramps")
+    traj = trajs[(index + len(kind.name)) % len(trajs)]
+    dur = SHORT_S if index % 4 == 3 else DURATION_S
+    noise = kind.noise
+    if kind.category != "null" and index % 3 == 2:
+        noise = "ar1"  # coloured noise in every category
+    quant = kind.quantised or (kind.category != "null" and index % 5 == 4)
+    over = 10
+    fs = RATE_HZ * over
+    t = np.arange(round(dur * fs) + 1) / fs
+    sh = stated_shaft(DIAMETER_MM, LENGTH_MM)
+    k_pos, k_neg = float(sh.k_pos), float(sh.k_neg)
+    tau_peak = 0.8 * float(sh.rating_nm)
+    x_ref = tau_peak / k_pos
+    u = x_ref * trajectory(traj, t, rng)
+    b = Bench(t, u, k_pos, k_neg, x_ref, 2 * tau_peak, rng)
+    size = float(rng.uniform(0.8, 1.4))
+    # library effects on the torque law
+    delay = 0.0
+    out_offset = 0.0
+    x = u.copy()  # blocked: twist = input angle
+    y = b.nominal(x)
+    for e in kind.library:
+        if e in LAWS:
+            y = LAWS[e](b, x, y, size)
+        elif e == "delay":
+            delay = size * 0.012  # s: the torque channel lags
+        elif e == "sensor_offset":
+            out_offset = size * 0.03 * b.tau_range * (1 if rng.random() < 0.5 else -1)
+    recorded_u = u.copy()
+    if kind.outside is not None:
+        law, _ = OUTSIDE[kind.outside]
+        if kind.outside == "encoder_interp":
+            err = _scaled(b, np.sin(64 * u + 0.4), 4.0) / k_pos  # torque-equivalent 4 x noise
+            recorded_u = u + err
+        elif kind.outside in TWIST_LAWS:
+            y = law(b, y, x)
+        else:
+            y = law(b, y)
+    y = y + out_offset
+    # sample at RATE_HZ; the torque channel delayed
+    idx = np.arange(0, t.size, over)
+    ts = t[idx]
+    y_s = np.interp(ts - delay, t, y) if delay else y[idx]
+    sigma = NOISE * b.tau_range
+    y_s = y_s + sigma * _noise(noise, ts.size, rng, RATE_HZ)
+    if quant:
+        q = 2.5 * tau_peak / 2**ADC_BITS
+        y_s = np.round(y_s / q) * q
+    qa = 2 * np.pi / ENCODER_COUNTS
+    th = np.round(recorded_u[idx] / qa) * qa
+    columns = {
+        "t": ts,
+        "theta_m": th,
+        "theta_s": np.zeros_like(ts),
+        "phi_b": np.zeros_like(ts),
+        "tau_s": y_s,
+    }
+    name = f"{kind.name}_{index}"
+    sidecar = {
+        "setup": "series_bench",
+        "shaft": {"diameter_mm": DIAMETER_MM, "length_mm": LENGTH_MM},
+        "load": {"type": "blocked"},
+        "notes": f"outside battery record {name} (generated by tests/batteries/gen_bench.py)",
+    }
+    truth = {
+        "kind": kind.name,
+        "category": kind.category,
+        "library": sorted(kind.library),
+        "outside": kind.outside,
+        "unexplained": kind.unexplained,
+        "signature": signature_truth(kind.outside) if kind.outside else None,
+        "trajectory": traj,
+        "duration_s": dur,
+        "noise": noise,
+        "quantised": quant,
+    }
+    return Record(name, kind, columns, sidecar, truth)
+
+
+def write_record(rec: Record, folder: Path) -> Path:
+    """``NAME.csv`` + ``NAME.json`` (the measured-data format) and ``NAME.truth.json``."""
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / f"{rec.name}.csv"
+    cols = list(rec.columns)
+    data = np.column_stack([rec.columns[c] for c in cols])
+    np.savetxt(path, data, delimiter=",", header=",".join(cols), comments="", fmt="%.9g")
+    (folder / f"{rec.name}.json").write_text(json.dumps(rec.sidecar, indent=1), encoding="utf-8")
+    (folder / f"{rec.name}.truth.json").write_text(json.dumps(rec.truth, indent=1), "utf-8")
+    return path
+
+
+def battery(which: str, per_kind: int, seed: int = 0) -> list[Record]:
+    """``per_kind`` records of every kind of the ``which`` set ("dev" | "heldout")."""
+    sp = split()
+    return [make_record(k, i, seed) for k in KINDS if sp[k.name] == which for i in range(per_kind)]
