@@ -304,11 +304,12 @@ def test_cli_run_writes_recording_and_figures(
     out = capsys.readouterr().out
     assert "no viewer opened" in out or "viewer started" in out
     assert len(RrdReader(rrd).recordings()) == 1
-    assert sorted(p.name for p in (tmp_path / "figs").iterdir()) == [
-        "step-q3_bending.png",
-        "step-q3_torque_twist.png",
-        "step-q3_tracking.png",
-    ]
+    written = {p.stem.removeprefix("step-q3_") for p in (tmp_path / "figs").iterdir()}
+    left_out = {
+        line.split()[1] for line in out.splitlines() if line.startswith("no ") and "figure" in line
+    }
+    assert "tracking" in written  # the others only where the run moves the shaft enough
+    assert written | left_out == {"bending", "torque_twist", "tracking"}
 
 
 def test_cli_rejects_bad_rate_before_running(
