@@ -154,6 +154,7 @@ def run_cmd(
     ] = None,
     transmission: opt.Transmission = "flexible-shaft",
     tr_param: opt.TrParam = None,
+    uncertainty: opt.Uncertainty = 0,
 ) -> None:
     """Run a scenario headless, print tracking metrics, write its time series."""
     from fsarm_sim.engine.model import Gains, SimConfig
@@ -187,6 +188,10 @@ def run_cmd(
     ]
     compared = {"diameter-mm", "length-mm", "series-hysteresis"} & set(compare_changes)
     check_shaft_options(transmission, given + [f"--rrd-compare {k}" for k in sorted(compared)])
+    if uncertainty:
+        from fsarm_sim.cli.uncertainty import check_run_uncertainty
+
+        check_run_uncertainty(uncertainty, transmission, shaft_file)
     run_output_plan(
         scenario, fmt, out=out, json_file=json_file, rrd=rrd, spawn=spawn, figures=figures
     ).input("the coefficient file of --shaft-file", shaft_file).check()
@@ -297,6 +302,21 @@ def run_cmd(
             series_hysteresis=series_hysteresis,
             backend=backend,
             log_every=log_every,
+        )
+    if uncertainty:
+        from fsarm_sim.cli.uncertainty import run_uncertainty
+
+        run_uncertainty(
+            uncertainty,
+            result,
+            shaft_file=shaft_file,
+            diameter_mm=diameter_mm,
+            length_mm=length_mm,
+            extrapolate=extrapolate,
+            series_hysteresis=series_hysteresis,
+            backend=backend,
+            json_file=json_file,
+            writes=writes,
         )
     review_outputs(
         result,

@@ -28,3 +28,10 @@ TrParam = Annotated[
     list[str] | None,
     typer.Option(help="override a transmission parameter, NAME=VALUE (repeatable)"),
 ]
+Uncertainty = Annotated[
+    int,
+    typer.Option(
+        help="also sample the coefficient file's [uncertainty] ranges N times (Sobol, 2 threads) "
+        "and report the 5-95 % band of every metric; 0: off"
+    ),
+]
