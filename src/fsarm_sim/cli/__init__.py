@@ -346,6 +346,7 @@ def _register_extensions() -> None:
     importlib.import_module("fsarm_sim.cli.reproduce").register(app)
     importlib.import_module("fsarm_sim.cli.seed_experiments").register(app)
     importlib.import_module("fsarm_sim.cli.model_export").register(app)
+    importlib.import_module("fsarm_sim.cli.design").register(app)
 
 
 app.ready()
