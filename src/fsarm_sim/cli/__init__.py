@@ -155,6 +155,7 @@ def run_cmd(
     transmission: opt.Transmission = "flexible-shaft",
     tr_param: opt.TrParam = None,
     uncertainty: opt.Uncertainty = 0,
+    uncertainty_controller: opt.UncertaintyController = "nominal",
 ) -> None:
     """Run a scenario headless, print tracking metrics, write its time series."""
     from fsarm_sim.engine.model import Gains, SimConfig
@@ -191,7 +192,7 @@ def run_cmd(
     if uncertainty:
         from fsarm_sim.cli.uncertainty import check_run_uncertainty
 
-        check_run_uncertainty(uncertainty, transmission, shaft_file)
+        check_run_uncertainty(uncertainty, transmission, shaft_file, uncertainty_controller)
     run_output_plan(
         scenario, fmt, out=out, json_file=json_file, rrd=rrd, spawn=spawn, figures=figures
     ).input("the coefficient file of --shaft-file", shaft_file).check()
@@ -317,6 +318,7 @@ def run_cmd(
             backend=backend,
             json_file=json_file,
             writes=writes,
+            controller=uncertainty_controller,
         )
     review_outputs(
         result,

@@ -44,6 +44,7 @@ def register(app: typer.Typer) -> None:
         shaft_file: opt.ShaftFile = None,
         extrapolate: opt.Extrapolate = False,
         uncertainty: opt.Uncertainty = 0,
+        uncertainty_controller: opt.UncertaintyController = "nominal",
     ) -> None:
         """One page per shaft (HTML, PDF, PNG, JSON): stiffness per side, hysteresis, rating,
         joint-2 relief, inertia, torque bandwidth and output impedance vs bend, tracking at 0
@@ -59,6 +60,7 @@ def register(app: typer.Typer) -> None:
         cat = load_catalogue(shaft_file)
         if uncertainty:
             unc.check_samples(uncertainty)
+            unc.check_controller(uncertainty_controller)
         picks: list[tuple[str | None, float, float]] = []
         names = {s.name: s for s in cat.shafts}
         for wanted in shaft or []:
@@ -91,8 +93,12 @@ def register(app: typer.Typer) -> None:
             values = metric(cat)
             bands, report = None, None
             if uncertainty:
+                if uncertainty_controller == "nominal":
+                    metric = functools.partial(
+                        metric, controller_shaft=cat.shaft(d, ell, extrapolate=extrapolate)
+                    )
                 prop = unc.propagate(metric, cat, uncertainty)
-                report = unc.to_json(prop)
+                report = unc.to_json(prop, controller=uncertainty_controller)
                 bands = report.pop("metrics")
             sheet = ds.datasheet(
                 cat,
@@ -161,6 +167,7 @@ def register(app: typer.Typer) -> None:
         seed: Annotated[int, typer.Option(help="optimiser seed")] = 32,
         shaft_file: opt.ShaftFile = None,
         uncertainty: opt.Uncertainty = 0,
+        uncertainty_controller: opt.UncertaintyController = "nominal",
     ) -> None:
         """Find D and L (continuous, in the validity box) minimising a task objective under
         constraints, by differential evolution over simulations; then the nearest catalogue
@@ -177,6 +184,7 @@ def register(app: typer.Typer) -> None:
             ts.check_objective(pareto)
         if uncertainty:
             unc.check_samples(uncertainty)
+            unc.check_controller(uncertainty_controller)
         plan = OutputPlan().input("the coefficient file of --shaft-file", shaft_file)
         if out is not None:
             plan = plan.folder("--out", out)
@@ -249,6 +257,9 @@ def register(app: typer.Typer) -> None:
                     payload_kg=payload_kg,
                     duration_s=duration,
                     bends_deg=task.bends_deg,
+                    controller_catalogue=load_catalogue(shaft_file)
+                    if uncertainty_controller == "nominal"
+                    else None,
                 )
                 prop = unc.propagate(metric, load_catalogue(shaft_file), uncertainty)
                 band = prop.bands[objective]
@@ -257,7 +268,7 @@ def register(app: typer.Typer) -> None:
                     f"samples: [{band.low:.4g}, {band.high:.4g}] (median {band.median:.4g})",
                     markup=False,
                 )
-                report["uncertainty"] = unc.to_json(prop)
+                report["uncertainty"] = unc.to_json(prop, controller=uncertainty_controller)
         if out is not None:
             text = json.dumps(report, indent=2, default=str)
             console.print(f"result: {write_text(out / 'select.json', text)}", markup=False)

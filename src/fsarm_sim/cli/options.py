@@ -28,6 +28,14 @@ TrParam = Annotated[
     list[str] | None,
     typer.Option(help="override a transmission parameter, NAME=VALUE (repeatable)"),
 ]
+UncertaintyController = Annotated[
+    str,
+    typer.Option(
+        help="with --uncertainty: 'nominal' - the controller keeps the catalogue's eq. 8 while the "
+        "sampled shaft is the plant (a shaft used as catalogued); 'matched' - the controller "
+        "is given each sample's coefficients (a shaft identified on the bench first)"
+    ),
+]
 Uncertainty = Annotated[
     int,
     typer.Option(

@@ -18,12 +18,15 @@ from fsarm_sim.outputs import SafeWriter, write_text
 console = make_console()
 
 
-def check_run_uncertainty(n: int, transmission: str, shaft_file: Path | None) -> None:
+def check_run_uncertainty(
+    n: int, transmission: str, shaft_file: Path | None, controller: str = "nominal"
+) -> None:
     """Refuse bad --uncertainty settings before the run starts."""
     from fsarm_sim.plant.shaft import load_catalogue
-    from fsarm_sim.studies.uncertainty import UncertaintyError, check_samples
+    from fsarm_sim.studies.uncertainty import UncertaintyError, check_controller, check_samples
 
     check_samples(n)
+    check_controller(controller)
     if transmission != "flexible-shaft":
         raise UncertaintyError(
             f"--uncertainty samples the shaft coefficient file's ranges, so it needs "
@@ -72,6 +75,7 @@ def run_uncertainty(
     backend: str,
     json_file: Path | None,
     writes: SafeWriter,
+    controller: str = "nominal",
 ) -> dict[str, Any]:
     """Sample the run's metrics over the declared coefficient ranges, print their band and,
     with ``--json``, write it beside the summary as ``<name>.uncertainty.json``."""
@@ -90,13 +94,14 @@ def run_uncertainty(
         duration_s=result.duration_s,
         payload_kg=result.config.payload_kg,
         backend=backend,
+        controller=controller,
     )
     prop = unc.propagate(metric, cat, n)
-    report = unc.to_json(prop, result.metrics)
+    report = unc.to_json(prop, result.metrics, controller)
     console.print(
         band_table(
             f"{result.scenario}: 5-95 % band over {prop.samples} samples of the coefficient "
-            f"ranges ({', '.join(prop.groups)}; {prop.wall_s:.1f} s)",
+            f"ranges ({', '.join(prop.groups)}; {controller} controller; {prop.wall_s:.1f} s)",
             report,
             unc.RUN_KEYS,
         )

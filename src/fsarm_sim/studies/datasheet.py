@@ -25,7 +25,12 @@ from dataclasses import dataclass
 from typing import Any
 
 from fsarm_sim.errors import FsarmError
-from fsarm_sim.plant.shaft import PROTOTYPE_DIAMETER_MM, PROTOTYPE_LENGTH_MM, Catalogue
+from fsarm_sim.plant.shaft import (
+    PROTOTYPE_DIAMETER_MM,
+    PROTOTYPE_LENGTH_MM,
+    Catalogue,
+    ShaftParams,
+)
 
 STEEL_DENSITY_KG_M3 = 7850.0  # plain carbon steel (handbook value)
 PAPER_RELIEF_NM = 8.0  # seed 000 Sec. V: "about 8 N*m less static torque on joint 2" (prototype)
@@ -69,8 +74,11 @@ def measure(
     length_mm: float,
     settings: Settings = Settings(),
     extrapolate: bool = False,
+    controller_shaft: ShaftParams | None = None,
 ) -> dict[str, float]:
-    """The datasheet's numbers for one shaft (flat keys, SI units with the unit in the label)."""
+    """The datasheet's numbers for one shaft (flat keys, SI units with the unit in the label).
+    ``controller_shaft``: the controller's eq. 8 model when it is not the shaft itself (the
+    nominal shaft while ``catalogue`` is a sampled one, ``--uncertainty-controller nominal``)."""
     shaft = catalogue.shaft(diameter_mm, length_mm, extrapolate=extrapolate)
     out: dict[str, float] = {
         "rating_nm": shaft.rating_nm,
@@ -89,17 +97,12 @@ def measure(
         out[f"relief_nm.{_b(deg)}"] = shaft.static_relief_nm(rad)
     if not settings.simulate:
         return out
-    out.update(_simulated(catalogue, shaft, diameter_mm, length_mm, settings, extrapolate))
+    out.update(_simulated(shaft, settings, controller_shaft))
     return out
 
 
 def _simulated(
-    catalogue: Catalogue,
-    shaft: Any,
-    diameter_mm: float,
-    length_mm: float,
-    settings: Settings,
-    extrapolate: bool,
+    shaft: ShaftParams, settings: Settings, controller_shaft: ShaftParams | None
 ) -> dict[str, float]:
     from fsarm_sim.engine.model import SimConfig
     from fsarm_sim.sim.simulation import run_scenario
@@ -116,7 +119,7 @@ def _simulated(
         out[f"bench_k_sn.{_b(deg)}"] = fit.k_neg
         out[f"bench_rmse_p_nm.{_b(deg)}"] = fit.rmse_pos
         out[f"bench_rmse_n_nm.{_b(deg)}"] = fit.rmse_neg
-    cfg = SimConfig(shaft=shaft)
+    cfg = SimConfig(shaft=shaft, controller_shaft=controller_shaft)
     for deg in settings.bends_deg:
         rad = math.radians(deg)
         bw = torque_bandwidth(cfg, rad, backend=backend, chirp_s=settings.chirp_s)

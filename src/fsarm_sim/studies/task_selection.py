@@ -470,6 +470,7 @@ def shaft_metrics(
     payload_kg: float | None,
     duration_s: float | None,
     bends_deg: Sequence[float] = (45.0,),
+    controller_catalogue: Catalogue | None = None,
 ) -> dict[str, float]:
     """Tracking metrics of one shaft, the worst over the bends (as the search judges a shaft;
     the bends apply to scenarios that hold joint 2): the metric ``fsarm select --uncertainty``
@@ -478,7 +479,11 @@ def shaft_metrics(
     from fsarm_sim.sim import scenarios
     from fsarm_sim.studies.arm_metrics import scenario_holds_joint2, tracking
 
-    cfg = SimConfig(shaft=catalogue.shaft(diameter_mm, length_mm))
+    known = controller_catalogue  # the controller's eq. 8 (None: the sampled shaft's own)
+    cfg = SimConfig(
+        shaft=catalogue.shaft(diameter_mm, length_mm),
+        controller_shaft=None if known is None else known.shaft(diameter_mm, length_mm),
+    )
     sc = scenarios.get(scenario)
     holds = scenario_holds_joint2(scenario, sc.duration_s if duration_s is None else duration_s)
     runs = [

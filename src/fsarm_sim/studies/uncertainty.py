@@ -25,6 +25,9 @@ from fsarm_sim.plant.shaft import Catalogue
 MAX_SAMPLES = 4096
 DEFAULT_SEED = 32
 BAND = (5.0, 95.0)  # percent
+# what the controller knows of a sampled shaft: "nominal" - the catalogue's eq. 8 (the plant
+# differs from what the controller was given); "matched" - the sample's own (identified first)
+CONTROLLER_MODES = ("nominal", "matched")
 
 
 class UncertaintyError(FsarmError, ValueError):
@@ -51,6 +54,15 @@ class Propagation:
     groups: tuple[str, ...]
     seed: int
     wall_s: float
+
+
+def check_controller(mode: str) -> str:
+    if mode not in CONTROLLER_MODES:
+        raise UncertaintyError(
+            f"the controller under uncertainty must be one of {', '.join(CONTROLLER_MODES)}, "
+            f"got {mode!r}"
+        )
+    return mode
 
 
 def check_samples(n: int, what: str = "--uncertainty") -> int:
@@ -169,17 +181,20 @@ def run_metrics(
     duration_s: float | None = None,
     payload_kg: float | None = None,
     backend: str = "native",
+    controller: str = "nominal",
 ) -> dict[str, Any]:
-    """The metrics of ``fsarm run`` (:func:`run_scenario`) with the shaft of ``catalogue``: the
-    metric :func:`propagate` samples for ``fsarm run --uncertainty``."""
+    """The metrics of ``fsarm run`` (:func:`run_scenario`) with the shaft of ``catalogue`` as the
+    plant: the metric :func:`propagate` samples for ``fsarm run --uncertainty``. ``controller``
+    (:data:`CONTROLLER_MODES`): "nominal" keeps ``config``'s shaft as the controller's model."""
     from fsarm_sim.sim.simulation import run_scenario
 
     shaft = catalogue.shaft(
         diameter_mm, length_mm, extrapolate=extrapolate, series_hysteresis=series_hysteresis
     )
+    known = config.controller_shaft or config.shaft
     res = run_scenario(
         scenario,
-        config.with_(shaft=shaft),
+        config.with_(shaft=shaft, controller_shaft=known if controller == "nominal" else None),
         duration_s=duration_s,
         payload_kg=payload_kg,
         backend=backend,  # type: ignore[arg-type]
@@ -201,10 +216,13 @@ RUN_KEYS: tuple[tuple[str, str], ...] = (
 )
 
 
-def to_json(prop: Propagation, nominal: Mapping[str, Any] | None = None) -> dict[str, Any]:
+def to_json(
+    prop: Propagation, nominal: Mapping[str, Any] | None = None, controller: str | None = None
+) -> dict[str, Any]:
     """A JSON-ready report: settings, the band (and nominal value) of every metric."""
     nom = flatten(nominal) if nominal is not None else {}
     return {
+        "controller": controller,
         "samples": prop.samples,
         "failed": prop.failed,
         "errors": list(prop.errors),
