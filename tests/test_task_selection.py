@@ -32,6 +32,9 @@ def test_constraints_exclude_and_pareto_front_is_non_dominated(tmp_path: Path) -
     strict = ts.Task(scenario="fig14-sine", duration_s=0.3, rating_margin=1e6)
     s = ts.select(strict, tmp_path / "s.sqlite", budget=16)
     assert s.best is None and all("rating margin" in e.why for e in s.evaluated)
+    moving = ts.Task(scenario="p2p-payload", bandwidth_floor_hz=5.0)
+    with pytest.raises(ts.SelectionError, match="--bandwidth-floor"):
+        ts.Evaluator(moving, tmp_path / "m.sqlite")
     front, evaluated, _ = ts.pareto(
         TASK, tmp_path / "p.sqlite", ("q3_rmse_deg", "motor_energy_j"), weights=3, budget_each=16
     )

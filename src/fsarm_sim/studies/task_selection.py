@@ -114,6 +114,12 @@ class Evaluator:
         holds = sc is not None and scenario_holds_joint2(
             task.scenario, task.duration_s or sc.duration_s
         )
+        if task.bandwidth_floor_hz > 0.0 and sc is not None and not holds:
+            raise SelectionError(
+                f"--bandwidth-floor: scenario {task.scenario!r} moves joint 2, so the bend of the "
+                "bandwidth test is not the run's; use it with a scenario that holds joint 2 "
+                "(fig14-sine, step-q3)"
+            )
         grid = (
             [f"bend_deg={','.join(repr(b) for b in task.bends_deg)}"]
             if holds or len(outputs) > 1
