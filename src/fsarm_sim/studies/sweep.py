@@ -400,6 +400,12 @@ def _catalogue(spec: SweepSpec) -> tuple[Catalogue, str | None, str]:
     return cat, text, hashlib.sha256(text.encode()).hexdigest()
 
 
+def spec_catalogue(spec: SweepSpec) -> tuple[Catalogue, str | None, str]:
+    """The spec's coefficient file: (catalogue, its TOML text or None for the default, sha256
+    of the text) - what every point's task carries."""
+    return _catalogue(spec)
+
+
 def validate(spec: SweepSpec) -> None:
     """Every check that can fail before the first simulation (raises SweepSpecError)."""
     from fsarm_sim.studies.campaign import BenchSettings, CampaignError

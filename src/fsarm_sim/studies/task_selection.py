@@ -136,7 +136,7 @@ class Evaluator:
         except FsarmError as exc:
             raise SelectionError(f"task: {exc}") from exc
         self.templates = sweep.points(self.spec)
-        self.catalogue, self.text, _ = sweep._catalogue(self.spec)
+        self.catalogue, self.text, _ = sweep.spec_catalogue(self.spec)
         self.task = task
         self.store_path = Path(store_path)
         self.simulations = 0
