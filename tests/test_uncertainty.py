@@ -135,3 +135,20 @@ def test_nominal_controller_sees_the_sampled_plant_matched_does_not() -> None:
     assert blind > 2.0 * nominal
     with pytest.raises(unc.UncertaintyError, match="nominal, matched"):
         unc.check_controller("oracle")
+
+
+def test_sweep_uncertainty_writes_bands_per_point(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    import csv
+
+    store = tmp_path / "s.sqlite"
+    args = ["sweep", "--store", str(store), "--grid", "diameter_mm=6,9", "--set", "length_mm=450"]
+    args += ["--outputs", "relief", "--no-progress", "--uncertainty", "4", "--workers", "1"]
+    assert run_fsarm(monkeypatch, *args) == 0
+    rows = list(csv.DictReader((tmp_path / "s.uncertainty.csv").open()))
+    rating = {float(r["diameter_mm"]): r for r in rows if r["output"] == "rating_nm"}
+    assert set(rating) == {6.0, 9.0}
+    for d, r in rating.items():
+        nominal = CAT.rating_nm(d)
+        assert 0.85 * nominal <= float(r["p05"]) < float(r["p95"]) <= 1.15 * nominal
