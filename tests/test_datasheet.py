@@ -4,6 +4,7 @@ import json
 import math
 from pathlib import Path
 
+import pandas as pd
 import pytest
 
 from fsarm_sim.plant.shaft import load_catalogue
@@ -66,6 +67,12 @@ def test_simulated_numbers_agree_with_fsarm_run_and_transparency(
     assert values["impedance_low_nm_per_rad.90deg"] == pytest.approx(
         row["impedance_low_nm_per_rad"], rel=1e-9
     )
+    bench = tmp_path / "bench"
+    args = ["bench", "series", "--bends", "90", "--workers", "1", "--out", str(bench)]
+    assert run_fsarm(monkeypatch, *args) == 0
+    (row,) = pd.read_csv(bench / "series_table_D9-L450.csv").to_dict("records")
+    for key, col in (("bench_k_sp", "K_sp"), ("bench_k_sn", "K_sn"), ("bench_rmse_p_nm", "RMSE_p")):
+        assert values[f"{key}.90deg"] == pytest.approx(row[col], rel=1e-9)
     # the series test of the datasheet returns eq. 3 (the catalogue's round trip, 000-series-roundtrip)
     assert values["bench_k_sp.90deg"] == pytest.approx(values["k_sp.90deg"], rel=0.02)
 
