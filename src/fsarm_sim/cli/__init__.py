@@ -156,6 +156,8 @@ def run_cmd(
     tr_param: opt.TrParam = None,
     controller: opt.Controller = "default",
     hysteresis_model: opt.HysteresisModelFile = None,
+    uncertainty: opt.Uncertainty = 0,
+    uncertainty_controller: opt.UncertaintyController = "nominal",
 ) -> None:
     """Run a scenario headless, print tracking metrics, write its time series."""
     from fsarm_sim.engine.model import Gains, SimConfig
@@ -189,6 +191,10 @@ def run_cmd(
     ]
     compared = {"diameter-mm", "length-mm", "series-hysteresis"} & set(compare_changes)
     check_shaft_options(transmission, given + [f"--rrd-compare {k}" for k in sorted(compared)])
+    if uncertainty:
+        from fsarm_sim.cli.uncertainty import check_run_uncertainty
+
+        check_run_uncertainty(uncertainty, transmission, shaft_file, uncertainty_controller)
     run_output_plan(
         scenario, fmt, out=out, json_file=json_file, rrd=rrd, spawn=spawn, figures=figures
     ).input("the coefficient file of --shaft-file", shaft_file).input(
@@ -308,6 +314,22 @@ def run_cmd(
             backend=backend,
             log_every=log_every,
         )
+    if uncertainty:
+        from fsarm_sim.cli.uncertainty import run_uncertainty
+
+        run_uncertainty(
+            uncertainty,
+            result,
+            shaft_file=shaft_file,
+            diameter_mm=diameter_mm,
+            length_mm=length_mm,
+            extrapolate=extrapolate,
+            series_hysteresis=series_hysteresis,
+            backend=backend,
+            json_file=json_file,
+            writes=writes,
+            controller=uncertainty_controller,
+        )
     review_outputs(
         result,
         rrd=rrd,
@@ -337,6 +359,7 @@ def _register_extensions() -> None:
     importlib.import_module("fsarm_sim.cli.reproduce").register(app)
     importlib.import_module("fsarm_sim.cli.seed_experiments").register(app)
     importlib.import_module("fsarm_sim.cli.model_export").register(app)
+    importlib.import_module("fsarm_sim.cli.design").register(app)
 
 
 app.ready()

@@ -52,3 +52,18 @@ def read_hysteresis_model(path: Path | None) -> tuple[float, ...]:
     from fsarm_sim.engine.hysteresis_model import load_file
 
     return load_file(path)
+UncertaintyController = Annotated[
+    str,
+    typer.Option(
+        help="with --uncertainty: 'nominal' - the controller keeps the catalogue's eq. 8 while the "
+        "sampled shaft is the plant (a shaft used as catalogued); 'matched' - the controller "
+        "is given each sample's coefficients (a shaft identified on the bench first)"
+    ),
+]
+Uncertainty = Annotated[
+    int,
+    typer.Option(
+        help="also sample the coefficient file's [uncertainty] ranges N times (Sobol, 2 threads) "
+        "and report the 5-95 % band of every metric; 0: off"
+    ),
+]

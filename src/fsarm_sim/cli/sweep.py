@@ -247,6 +247,8 @@ def register(app: typer.Typer) -> None:
         list_fields: Annotated[
             bool, typer.Option(help="list the sweepable fields and exit")
         ] = False,
+        uncertainty: opt.Uncertainty = 0,
+        uncertainty_controller: opt.UncertaintyController = "nominal",
     ) -> None:
         """Sweep shafts, bends, payloads, gains and scenarios; store every point as it finishes."""
         from fsarm_sim.records.store import ResultStore, point_key
@@ -276,6 +278,15 @@ def register(app: typer.Typer) -> None:
             extrapolate=extrapolate or None,
         )
         pts = sw.points(the_spec)
+        if uncertainty:
+            from fsarm_sim.studies import uncertainty as unc
+
+            unc.check_samples(uncertainty)
+            unc.check_controller(uncertainty_controller)
+            if not sw.spec_catalogue(the_spec)[0].uncertainty:
+                raise unc.UncertaintyError(
+                    "--uncertainty: the coefficient file declares no [uncertainty] ranges"
+                )
         if dry_run:
             done = failed = 0
             if store.exists():
@@ -318,12 +329,36 @@ def register(app: typer.Typer) -> None:
             console.print(f"  ... and {len(report.errors) - 5} more", markup=False)
         if out is not None:
             _report(store, out, the_spec.name)
+        if uncertainty:
+            _bands(the_spec, store, uncertainty, uncertainty_controller)
         if report.failed or report.failed_before:
             raise FsarmError(
                 f"{report.failed + report.failed_before} point(s) of {report.name} failed "
                 f"({report.failed} in this run, {report.failed_before} stored by an earlier run); "
                 "they are stored with their error, --retry-failed reruns them"
             )
+
+    def _bands(the_spec: Any, store: Path, n: int, controller: str) -> None:
+        import csv
+
+        from fsarm_sim.outputs import write_text
+        from fsarm_sim.studies import uncertainty as unc
+
+        rows, wall = unc.sweep_bands(the_spec, n, controller=controller)
+        path = store.with_name(store.stem + ".uncertainty.csv")
+        if rows:
+            import io
+
+            buf = io.StringIO()
+            writer = csv.DictWriter(buf, fieldnames=list(rows[0]))
+            writer.writeheader()
+            writer.writerows(rows)
+            write_text(path, buf.getvalue())
+        console.print(
+            f"5-95 % bands over {n} coefficient samples per point ({controller} controller, "
+            f"{wall:.1f} s): {path}",
+            markup=False,
+        )
 
     def _report(store: Path, out: Path, sweep: str | None) -> None:
         from fsarm_sim.studies import sweep as sw

@@ -38,6 +38,7 @@ Parsing is strict (a setting is never silently ignored or misread):
 
 from __future__ import annotations
 
+import dataclasses
 import difflib
 import math
 import os
@@ -158,6 +159,40 @@ class Catalogue:
     # 0: eq. 4 is the elastic K_b itself
     eq2_test_amplitude_rad: float = 0.0
     eq2_test_period_s: float = 0.0
+    # [uncertainty]: the declared plausible range of each coefficient group (empty: none declared)
+    uncertainty: tuple[CoefficientRange, ...] = field(default=())
+
+    def perturbed(self, factors: dict[str, float]) -> Catalogue:
+        """This catalogue with each group of ``factors`` (a name of :data:`UNCERTAINTY_GROUPS`)
+        multiplied by its factor; the calibrated apparent stiffness of the slip elements and the
+        validity box stay (they are not re-calibrated per sample)."""
+        unknown = sorted(set(factors) - set(UNCERTAINTY_GROUPS))
+        if unknown:
+            raise CoefficientFileError(
+                f"unknown coefficient group(s) {unknown}; allowed: {', '.join(UNCERTAINTY_GROUPS)}"
+            )
+        bad = {g: f for g, f in factors.items() if not (math.isfinite(f) and f > 0.0)}
+        if bad:
+            raise CoefficientFileError(f"coefficient factors must be finite and > 0, got {bad}")
+        f = {g: float(factors.get(g, 1.0)) for g in UNCERTAINTY_GROUPS}
+
+        def times(values: tuple[float, ...], k: float) -> tuple[float, ...]:
+            return tuple(v * k for v in values)
+
+        return dataclasses.replace(
+            self,
+            p_pos=times(self.p_pos, f["series"]),
+            p_neg=times(self.p_neg, f["series"]),
+            q_bend=times(self.q_bend, f["bending"]),
+            beta=self.beta * f["stiffening"],
+            conduit_fraction=(
+                self.conduit_fraction[0] * f["conduit"],
+                self.conduit_fraction[1] * f["conduit"],
+            ),
+            slip_f_fraction=_scaled(self.slip_f_fraction, f["slip_torque"]),
+            bend_friction_per_rad=self.bend_friction_per_rad * f["bend_friction"],
+            rating_coefficient=self.rating_coefficient * f["rating"],
+        )
 
     @property
     def bend_limit_rad(self) -> float:
@@ -294,10 +329,33 @@ def check_bend_rad(
         )
 
 
+# [uncertainty]: the coefficient groups a file may give a plausible range for, each a factor on
+# the group's nominal coefficients (Catalogue.perturbed)
+UNCERTAINTY_GROUPS: tuple[str, ...] = (
+    "series",  # eq. 3, both sides (p_pos, p_neg)
+    "bending",  # eq. 4 (q)
+    "stiffening",  # bending.stiffening_per_rad2
+    "conduit",  # bending.conduit.branch_stiffness_fraction
+    "slip_torque",  # series.maxwell_slip.slip_torque_fraction
+    "bend_friction",  # series.maxwell_slip.bend_friction_per_rad
+    "rating",  # rating.coefficient_nm_per_mm3
+)
+
+
+@dataclass(frozen=True)
+class CoefficientRange:
+    """One ``[uncertainty.<group>]`` entry: the factor range on the group's nominal values."""
+
+    group: str
+    low: float
+    high: float
+    reason: str
+
+
 # Every section ("" = the top level, "shafts[]" = each [[shafts]] entry) and the keys it may hold;
 # a key that is itself listed here is a sub-section (a table).
 SCHEMA: dict[str, tuple[str, ...]] = {
-    "": ("meta", "validity", "series", "bending", "rating", "shafts"),
+    "": ("meta", "validity", "series", "bending", "rating", "uncertainty", "shafts"),
     "meta": ("name", "description", "source", "units"),
     "meta.units": ("diameter", "length", "bend", "stiffness"),
     "validity": ("diameter_mm", "length_mm", "bend_rad"),
@@ -330,6 +388,8 @@ SCHEMA: dict[str, tuple[str, ...]] = {
     ),
     "bending.conduit": ("branch_stiffness_fraction", "branch_time_constant_s"),
     "rating": ("coefficient_nm_per_mm3",),
+    "uncertainty": UNCERTAINTY_GROUPS,
+    **{f"uncertainty.{g}": ("relative", "reason") for g in UNCERTAINTY_GROUPS},
     "shafts[]": ("name", "diameter_mm", "length_mm"),
 }
 # [meta].units: the units the coefficients are written in (the only ones accepted), with the
@@ -615,6 +675,7 @@ def parse_catalogue(data: dict[str, Any], source: str) -> Catalogue:
         source,
     )
     test_amp, test_period = _eq2_test(data.get("bending", {}), source)
+    uncertainty = _uncertainty(data.get("uncertainty", {}), source)
     shafts: list[CatalogueShaft] = []
     for i, entry in enumerate(data.get("shafts", [])):
         name = _string(entry.get("name", f"shaft{i}"), f"shafts[{i}].name", source)
@@ -667,7 +728,35 @@ def parse_catalogue(data: dict[str, Any], source: str) -> Catalogue:
         slip_apparent_fraction=(app_p[0], app_p[1], app_n[0], app_n[1]),
         eq2_test_amplitude_rad=test_amp,
         eq2_test_period_s=test_period,
+        uncertainty=uncertainty,
     )
+
+
+def _uncertainty(table: dict[str, Any], source: str) -> tuple[CoefficientRange, ...]:
+    """``[uncertainty.<group>]``: ``relative = [low, high]`` with 0 < low <= 1 <= high (the
+    nominal value inside its own range) and a non-empty ``reason``."""
+    out = []
+    for group in UNCERTAINTY_GROUPS:
+        if group not in table:
+            continue
+        entry = table[group]
+        where = f"uncertainty.{group}"
+        if not isinstance(entry, dict):
+            raise CoefficientFileError(
+                f"{source}: '{where}' must be a table with relative = [low, high] and reason"
+            )
+        for key in ("relative", "reason"):
+            if key not in entry:
+                raise CoefficientFileError(f"{source}: '{where}' lacks '{key}'")
+        low, high = _floats(entry["relative"], 2, f"{where}.relative", source)
+        if not 0.0 < low <= 1.0 <= high:
+            raise CoefficientFileError(
+                f"{source}: '{where}.relative' must be [low, high] factors on the nominal value "
+                f"with 0 < low <= 1 <= high, got {[low, high]}"
+            )
+        reason = _string(entry["reason"], f"{where}.reason", source)
+        out.append(CoefficientRange(group, low, high, reason))
+    return tuple(out)
 
 
 LENGTH_LAWS = ("affine", "inverse")

@@ -126,6 +126,7 @@ def tracking(
         "peak_twist_rad",
         "peak_tau2_nm",
         "tau_estimate_rmse_nm",
+        "motor_energy_j",
     ):
         value = metrics[key]
         assert isinstance(value, float)

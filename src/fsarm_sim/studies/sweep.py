@@ -400,6 +400,12 @@ def _catalogue(spec: SweepSpec) -> tuple[Catalogue, str | None, str]:
     return cat, text, hashlib.sha256(text.encode()).hexdigest()
 
 
+def spec_catalogue(spec: SweepSpec) -> tuple[Catalogue, str | None, str]:
+    """The spec's coefficient file: (catalogue, its TOML text or None for the default, sha256
+    of the text) - what every point's task carries."""
+    return _catalogue(spec)
+
+
 def validate(spec: SweepSpec) -> None:
     """Every check that can fail before the first simulation (raises SweepSpecError)."""
     from fsarm_sim.studies.campaign import BenchSettings, CampaignError
@@ -558,11 +564,19 @@ def evaluate_point(task: Mapping[str, Any]) -> dict[str, Any]:
 
     p = task["point"]
     text = task.get("catalogue_toml")
-    cat = _task_catalogue(text, str(task.get("catalogue_source", "shaft file")))
+    # a sampled catalogue (studies.uncertainty) comes as an object, the sweep's as its text
+    cat = task.get("catalogue") or _task_catalogue(
+        text, str(task.get("catalogue_source", "shaft file"))
+    )
     d, ell, bend = p["diameter_mm"], p["length_mm"], math.radians(p["bend_deg"])
     shaft = cat.shaft(d, ell, extrapolate=p["extrapolate"])
     backend = task.get("backend", "native")
-    cfg = SimConfig(shaft=shaft, gains=_gains(p))
+    known = task.get("controller_catalogue")  # the controller's eq. 8 when not the shaft's own
+    cfg = SimConfig(
+        shaft=shaft,
+        gains=_gains(p),
+        controller_shaft=None if known is None else known.shaft(d, ell, extrapolate=True),
+    )
     out: dict[str, Any] = {
         "k_sp_catalogue": shaft.k_series(bend, 1),
         "k_sn_catalogue": shaft.k_series(bend, -1),
@@ -583,7 +597,7 @@ def evaluate_point(task: Mapping[str, Any]) -> dict[str, Any]:
             p["bend_deg"],
         )
         bench_json = json.dumps({**p["bench"], "backend": backend}, sort_keys=True)
-        pf = _parallel_fit(text, d, ell, p["extrapolate"], bench_json)
+        pf = _parallel_fit(cat, d, ell, p["extrapolate"], bench_json)
         out.update(
             k_sp=sf.k_pos,
             k_sn=sf.k_neg,
@@ -635,18 +649,12 @@ def _task_catalogue(text: str | None, source: str) -> Catalogue:
 
 
 @functools.lru_cache(maxsize=64)
-def _parallel_fit(
-    catalogue_toml: str | None, d: float, ell: float, extrapolate: bool, bench_json: str
-) -> Any:
+def _parallel_fit(cat: Catalogue, d: float, ell: float, extrapolate: bool, bench_json: str) -> Any:
     """The parallel-bench fit of one shaft, cached per process: K_b does not depend on the bend,
-    payload, gains or scenario, so points that share a shaft share it (same inputs, same result)."""
+    payload, gains or scenario, so points that share a shaft share it (same inputs, same result;
+    a Catalogue is immutable and compares by value, so a sampled one is its own entry)."""
     from fsarm_sim.studies.campaign import BenchSettings, fit_parallel, parallel_test
 
-    cat = (
-        load_catalogue()
-        if catalogue_toml is None
-        else parse_catalogue(tomllib.loads(catalogue_toml), "shaft file")
-    )
     s = BenchSettings(**json.loads(bench_json))
     return fit_parallel(parallel_test(cat.shaft(d, ell, extrapolate=extrapolate), False, s), False)
 

@@ -58,6 +58,7 @@ DESCRIPTIONS: dict[str, str] = {
     "peak_motor_torque_nm": "peak joint-3 motor torque",
     "peak_motor_speed_rad_s": "peak joint-3 motor speed",
     "peak_shaft_torque_nm": "peak shaft torque",
+    "motor_energy_j": "joint-3 motor work",
     "k_sp": "series stiffness, winding side (bench)",
     "k_sn": "series stiffness, unwinding side (bench)",
     "kb": "bending stiffness K_b (bench)",
