@@ -52,6 +52,8 @@ def read_hysteresis_model(path: Path | None) -> tuple[float, ...]:
     from fsarm_sim.engine.hysteresis_model import load_file
 
     return load_file(path)
+
+
 UncertaintyController = Annotated[
     str,
     typer.Option(
