@@ -652,7 +652,7 @@ CLAIMS: tuple[Claim, ...] = (
         "gives no size)",
         unit="N·m",
         tolerance=Trend("increasing", tie=0.01),
-        not_implemented="measurement pending",
+        measure="bench_tracking_vs_bend",
         quick=False,
         role="prediction",
         role_why="same ZN gains and set-point delay at every bend; the bend friction is sized "

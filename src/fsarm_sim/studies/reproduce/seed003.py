@@ -358,7 +358,7 @@ CLAIMS: tuple[Claim, ...] = (
                 "beyond the critical angle, F's free-run error is the smallest of A, F, A_L, F_L",
             )
         ),
-        not_implemented="measurement pending",
+        measure="free_run_beyond",
         quick=False,
         role="prediction",
         role_why="the models are fitted one-step on the teaching half (Table 4's procedure); "
@@ -377,7 +377,7 @@ CLAIMS: tuple[Claim, ...] = (
         paper_value=1.0,
         unit="-",
         tolerance=Factor(2.0, partly=4.0),
-        not_implemented="measurement pending",
+        measure="free_run_within_fl",
         quick=False,
         role="prediction",
         role_why="the models are fitted one-step on the teaching half (Table 4's procedure); "
@@ -396,7 +396,7 @@ CLAIMS: tuple[Claim, ...] = (
         tolerance=AllOf(
             ("F's free-run error on trials within the critical angle is below its error beyond",)
         ),
-        not_implemented="measurement pending",
+        measure="free_run_critical",
         quick=False,
         role="prediction",
         role_why="the models are fitted one-step on the teaching half (Table 4's procedure); "
