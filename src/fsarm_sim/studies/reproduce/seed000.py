@@ -768,7 +768,7 @@ CLAIMS: tuple[Claim, ...] = (
         "gains (the paper gives no size; ≥ 10 % counts, an estimate)",
         unit="deg",
         tolerance=Trend("increasing", min_change=0.10, tie=0.01),
-        not_implemented="measurement pending",
+        measure="fig14_loaded",
         quick=False,
         role="prediction",
         role_why="the joint-3 gains were not tuned from the loaded arm's tracking, and nothing "

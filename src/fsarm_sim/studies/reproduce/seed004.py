@@ -268,7 +268,7 @@ CLAIMS: tuple[Claim, ...] = (
         paper_value=0.303,
         unit="rad",
         tolerance=Abs(0.067, partly=0.134),
-        not_implemented="measurement pending",
+        measure="eq23_gap",
         quick=False,
         role="prediction",
         role_why="the bench's sheath parameters were fitted to Tables 1-2's gaps (triangle "
