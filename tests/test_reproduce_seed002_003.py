@@ -40,3 +40,63 @@ def test_not_implemented_claims_say_what_the_paper_lacks() -> None:
                 assert "not give" in c.not_implemented or "neither" in c.not_implemented, c.id
     assert set(measure002.MEASURES) >= {c.measure for c in seed002.CLAIMS if c.measure}
     assert set(measure003.MEASURES) >= {c.measure for c in seed003.CLAIMS if c.measure}
+
+
+class _Throw:
+    def __init__(self, feasible: bool) -> None:
+        self.feasible = feasible
+
+
+def _memo_throws(lowest: dict[float, float]) -> Context:
+    """A context whose throws are feasible from ``lowest[sigma]`` deg/s on (no simulation)."""
+    ctx = Context()
+    for s, lo in lowest.items():
+        speeds = list(measure002.WINDOW_SPEEDS_DEG_S)
+        for v in speeds:
+            ctx.memo[f"002/throw/{s}/{v}/none"] = _Throw(v >= lo)
+        first = next((v for v in speeds if v >= lo), None)
+        if first is not None and first != speeds[0]:
+            lo_v, hi = speeds[speeds.index(first) - 1], first
+            for _ in range(measure002.LOWEST_SPEED_STEPS):
+                mid = 0.5 * (lo_v + hi)
+                ctx.memo[f"002/throw/{s}/{mid}/none"] = _Throw(mid >= lo)
+                if mid >= lo:
+                    hi = mid
+                else:
+                    lo_v = mid
+    return ctx
+
+
+def test_lowest_feasible_speed_is_found_between_the_grid_speeds() -> None:
+    rising = _memo_throws({3.0: 35.0, 7.0: 40.0, 11.0: 50.0, 15.0: 55.0})
+    m = measure002.low_stiffness_needs_faster(rising)
+    assert m.ours == [True, True]
+    assert m.details is not None and 34.0 < m.details["3"] <= 36.0 and m.details["15"] > 54.0
+    # a dip at one preset is not "never falls"; an infeasible preset shows nothing
+    assert measure002.low_stiffness_needs_faster(
+        _memo_throws({3.0: 35.0, 7.0: 50.0, 11.0: 40.0, 15.0: 55.0})
+    ).ours == [True, False]
+    assert measure002.low_stiffness_needs_faster(
+        _memo_throws({3.0: 35.0, 7.0: 40.0, 11.0: 50.0, 15.0: 1e9})
+    ).ours == [False, False]
+
+
+class _Study:
+    def __init__(self, fr: dict[str, dict[str, float]]) -> None:
+        self.free_run_deg = fr
+
+
+def test_free_run_claims_read_both_classes() -> None:
+    ctx = Context()
+    ctx.memo["003/study"] = _Study(
+        {
+            "within ±31.5° (2 trials)": {"A": 10.0, "F": 0.5, "AL": 9.0, "FL": 0.8},
+            "beyond 31.5° (7 trials)": {"A": 300.0, "F": 1.3, "AL": 480.0, "FL": 97.0},
+        }
+    )
+    assert measure003.free_run_beyond(ctx).ours == [True, True, True]
+    assert measure003.free_run_within_fl(ctx).ours == pytest.approx(1.6)
+    assert measure003.free_run_critical(ctx).ours == [True]
+    ctx.memo["003/study"] = _Study({"beyond 31.5° (9 trials)": {"A": 1.0, "F": 1.0}})
+    with pytest.raises(ValueError, match="lacks a class"):
+        measure003.free_run_critical(ctx)

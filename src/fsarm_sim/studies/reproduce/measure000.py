@@ -350,6 +350,50 @@ def fig14_runs(ctx: Context) -> tuple[Any, Any]:
     return ctx.once("000/fig14", run)
 
 
+LOADED_PAYLOAD_KG = 15.0  # Table III: rated payload
+
+
+def fig14_loaded(ctx: Context) -> Measured:
+    """fig14-sine with the default gains, unloaded (:func:`fig14_runs`) and at the rated
+    payload; joint 3's tracking RMSE."""
+
+    def run() -> Any:
+        from fsarm_sim.engine.model import SimConfig
+        from fsarm_sim.sim.simulation import run_scenario
+
+        duration = 4.0 if ctx.quick else None
+        return run_scenario(
+            "fig14-sine",
+            SimConfig(),
+            duration_s=duration,
+            payload_kg=LOADED_PAYLOAD_KG,  # the scenario's own payload (0) otherwise wins
+            backend=ctx.backend,
+        )
+
+    a, _ = fig14_runs(ctx)
+    loaded = ctx.once("000/fig14/loaded", run)
+    rmse = [float(a.metrics["rmse_deg"]["q3"]), float(loaded.metrics["rmse_deg"]["q3"])]
+    shaft = [
+        (
+            float(np.min(np.abs(r.columns["tau_shaft"]))),
+            float(np.max(np.abs(r.columns["tau_shaft"]))),
+        )
+        for r in (a, loaded)
+    ]
+    return Measured(
+        ours=rmse,
+        text=f"q3 RMSE {rmse[0]:.3g}° unloaded → {rmse[1]:.3g}° at {LOADED_PAYLOAD_KG:g} kg "
+        f"(same gains); |shaft torque| {shaft[0][0]:.2g}-{shaft[0][1]:.2g} → "
+        f"{shaft[1][0]:.2g}-{shaft[1][1]:.2g} N·m",
+        details={"payload_kg": [0.0, LOADED_PAYLOAD_KG], "rmse_deg": rmse, "shaft_nm": shaft},
+        note="the default gains (tuned unloaded on fig14-sine); the paper's named causes "
+        "(gearbox non-linearity, non-collocated sensors) are not in the model, and under load "
+        "the shaft works far above its slip elements' torques (shafts.toml: 0.15-0.37 N·m on "
+        "the winding side), whose hysteresis makes most of the unloaded error "
+        "(000-fig14-error-from-hysteresis)",
+    )
+
+
 def fig14_tracking(ctx: Context) -> Measured:
     a, _ = fig14_runs(ctx)
     rmse = float(a.metrics["rmse_deg"]["q3"])
@@ -791,6 +835,7 @@ def unwinding_softer_everywhere(ctx: Context) -> Measured:
 
 
 MEASURES: dict[str, MeasureFn] = {
+    "fig14_loaded": fig14_loaded,
     "bending_assists_gravity": bending_assists_gravity,
     "static_relief_on_arm": static_relief_on_arm,
     "eq7_structure": eq7_structure,

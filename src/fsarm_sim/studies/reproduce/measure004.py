@@ -98,12 +98,15 @@ def position_transmission(
     speed: float,
     tendon_radius: float | None = None,
     overrides: dict[str, float] | None = None,
+    sine_period_s: float | None = None,
 ) -> dict[str, Any]:
     """One validation cycle of seed 004's single TSA on our law, quasi-static (eq. 16:
     acceleration negligible); eq. 19 fitted per direction of motion.
 
     The motor runs a triangle at ``speed`` (rad/s) between -pi/4 and +pi/4 (counted from the
-    start, where theta_1 = theta_2); each motor increment advances the law's friction state z by
+    start, where theta_1 = theta_2) - or, with ``sine_period_s``, Sec. III's sine
+    ``theta_1 = pi/4 sin(2 pi t / period - pi/2)`` over the same strokes (each step lasts as long
+    as the sine takes over it; ``speed`` is then its peak speed, for the record); each motor increment advances the law's friction state z by
     :func:`tendon_sheath.friction_step` over the tendon's sliding (the motor's step plus the
     joint's, solved together) and its duration, then solves the joint-end torque ``tau(x, z) = M g l cos(theta_2)``,
     ``theta_2 = theta_1 - x``, for the twist x."""
@@ -146,13 +149,20 @@ def position_transmission(
         step = (end - start) / n
         for _ in range(n):
             th1 += step
+            if sine_period_s is not None:  # the sine's speed at the step's middle
+                mid = th1 - x0 - 0.5 * step
+                dt = STEP_RAD / ((2.0 * math.pi / sine_period_s) * math.sqrt(a * a - mid * mid))
             # the tendon slides with the sum of its ends' travels (tendon_sheath.state_rate):
             # the motor's step and the joint's, solved together, the root nearest the joint
             # held (phases C/F; a root far from it is another equilibrium of the load)
             z_start = z
 
             def joint_gap(
-                j: float, z_start: float = z_start, step: float = step, x: float = x
+                j: float,
+                z_start: float = z_start,
+                step: float = step,
+                x: float = x,
+                dt: float = dt,
             ) -> float:
                 """The joint step that z(j) implies, minus j (0 at the solution)."""
                 act[0] = float(ts.friction_step(block, x, step, 0.0, z_start, dt, j))
@@ -455,7 +465,31 @@ def pull_only(ctx: Context) -> Measured:
     )
 
 
+SEC3_WRAP_RAD = math.pi / 2.0  # Sec. III: "The whole bending angle ... is designed to pi/2 rad"
+SEC3_PERIOD_S = 90.0  # Sec. III: theta_1 = pi/4 sin(pi/45 t - pi/2): 2 pi / (pi/45) = 90 s
+
+
+def eq23_gap(ctx: Context) -> Measured:
+    """Sec. III's validation run (the sine, bend pi/2) on the bench; eq. 19 fitted per
+    direction as eq. 23 was; the branches' gap at theta_2 = 0."""
+    peak = AMPLITUDE_RAD * 2.0 * math.pi / SEC3_PERIOD_S
+    r = ctx.once(
+        "004/eq23",
+        lambda: position_transmission(SEC3_WRAP_RAD, peak, sine_period_s=SEC3_PERIOD_S),
+    )
+    f = r["fits"]
+    return Measured(
+        ours=r["gap"],
+        text=f"gap {r['gap']:.3g} rad: up {f['up']['P']:.3g}θ² + {f['up']['Q']:.3g}θ + "
+        f"{f['up']['M']:.3g}, down {f['down']['P']:.3g}θ² + {f['down']['Q']:.3g}θ + "
+        f"{f['down']['M']:.3g} (M.E. {r['max_error']:.3g} rad)",
+        details={"fits": f},
+        note=NOTE.replace("motor triangle", "motor sine (Sec. III, period 90 s)"),
+    )
+
+
 MEASURES: dict[str, MeasureFn] = {
+    "eq23_gap": eq23_gap,
     "pull_only": pull_only,
     "bandwidth_vs_wrap": bandwidth_vs_wrap,
     "gap_vs_bend": gap_vs_bend,

@@ -756,4 +756,22 @@ CLAIMS: tuple[Claim, ...] = (
         role_why="eq. 4 / G is normalised at the declared 8 s test only (000-bending-roundtrip); "
         "nothing was chosen at 2 s or 120 s",
     ),
+    Claim(
+        id="000-fig14-load-needs-retuning",
+        paper=P,
+        title="with the same gains, joint 3 tracks worse under load",
+        locator="Sec. IV, Fig. 14",
+        quote="non-linearity in hypoid and planetary gearboxes, along with non-collocated "
+        "feedback sensors, can lead to instability at high disturbances, requiring adjustment "
+        "of tuning parameters for different loads",
+        paper_text="fig14-sine q3 tracking error rises from no load to the rated 15 kg at fixed "
+        "gains (the paper gives no size; ≥ 10 % counts, an estimate)",
+        unit="deg",
+        tolerance=Trend("increasing", min_change=0.10, tie=0.01),
+        measure="fig14_loaded",
+        quick=False,
+        role="prediction",
+        role_why="the joint-3 gains were not tuned from the loaded arm's tracking, and nothing "
+        "was chosen from this statement",
+    ),
 )

@@ -640,4 +640,23 @@ CLAIMS: tuple[Claim, ...] = (
         role="consistency",
         role_why="transcription",
     ),
+    Claim(
+        id="001-tracking-worse-with-bend",
+        paper=P,
+        title="torque-control accuracy falls as the shaft is bent (1 Hz, 6 N·m tracking)",
+        locator="Sec. 6 (discussion of Sec. 4.1)",
+        quote="as the flexible shaft is bent, the performance of the controller decreased both in "
+        "terms of torque control accuracy and transparency probably due to the losses of energy "
+        "caused by the friction increase within the internal layers of the flexible shaft",
+        paper_text="tracking RMSE rises with bend: straight → R = 450, 300, 150 mm (the paper "
+        "gives no size)",
+        unit="N·m",
+        tolerance=Trend("increasing", tie=0.01),
+        measure="bench_tracking_vs_bend",
+        quick=False,
+        role="prediction",
+        role_why="same ZN gains and set-point delay at every bend; the bend friction is sized "
+        "from the model-accuracy NRMSE (001-model-accuracy-falls-with-bend), nothing was chosen "
+        "from the tracking error at a bend",
+    ),
 )

@@ -338,4 +338,68 @@ CLAIMS: tuple[Claim, ...] = (
         role="prediction",
         role_why="nothing in the model was chosen from it",
     ),
+    Claim(
+        id="003-free-run-beyond-nonlinear-better",
+        paper=P,
+        title="beyond the critical angle the non-linearised models' long-term simulations follow "
+        "the trajectory better than the linearised ones, model F best",
+        locator="Sec. 7.2, Fig. 15",
+        quote="If the critical angle is exceeded (Fig. 15), the simulations based on "
+        "non-linearised models are not satisfactorily accurate but - contrary to linearised ones "
+        "- they follow the general trends of real output shaft trajectory for some period of "
+        "time. This period is the longest in the case of model F",
+        paper_text="eq. 7 free run on the verifying trials beyond 31.5°: error of F < F_L, "
+        "A < A_L, and F the smallest of A, F, A_L, F_L",
+        unit="-",
+        tolerance=AllOf(
+            (
+                "beyond the critical angle, F's free-run error is below F_L's",
+                "beyond the critical angle, A's free-run error is below A_L's",
+                "beyond the critical angle, F's free-run error is the smallest of A, F, A_L, F_L",
+            )
+        ),
+        measure="free_run_beyond",
+        quick=False,
+        role="prediction",
+        role_why="the models are fitted one-step on the teaching half (Table 4's procedure); "
+        "nothing was chosen from their long-term simulations",
+    ),
+    Claim(
+        id="003-free-run-within-fl-like-f",
+        paper=P,
+        title="within the stable range the linearised F_L serves as a long-term simulator like F",
+        locator="Sec. 7.2, Fig. 13",
+        quote="provided the critical angle is not exceeded - the most complex model F can be "
+        "successfully used as a long-term simulator. The same is true even for its partially "
+        "linearised form F_L",
+        paper_text="eq. 7 free run on the verifying trials within ±31.5°: F_L's error close to "
+        "F's (within ×2, an estimate of 'the same is true'; the paper gives no number)",
+        paper_value=1.0,
+        unit="-",
+        tolerance=Factor(2.0, partly=4.0),
+        measure="free_run_within_fl",
+        quick=False,
+        role="prediction",
+        role_why="the models are fitted one-step on the teaching half (Table 4's procedure); "
+        "nothing was chosen from their long-term simulations",
+    ),
+    Claim(
+        id="003-free-run-critical-angle-matters",
+        paper=P,
+        title="model F simulates movements within the critical angle better than beyond it",
+        locator="Sec. 7.2, Figs. 13 and 15",
+        quote="provided the critical angle is not exceeded - the most complex model F can be "
+        "successfully used as a long-term simulator ... If the critical angle is exceeded (Fig. "
+        "15), the simulations based on non-linearised models are not satisfactorily accurate",
+        paper_text="F's free-run error: within ±31.5° < beyond 31.5°",
+        unit="-",
+        tolerance=AllOf(
+            ("F's free-run error on trials within the critical angle is below its error beyond",)
+        ),
+        measure="free_run_critical",
+        quick=False,
+        role="prediction",
+        role_why="the models are fitted one-step on the teaching half (Table 4's procedure); "
+        "nothing was chosen from their long-term simulations",
+    ),
 )
