@@ -208,7 +208,7 @@ REFUSED: list[tuple[str, list[str], str]] = [
         "lower --rate or --duration",
     ),
     ("synth-rate-slow", ["synth", "{t}/s.csv", "--rate", "1"], "--rate"),
-    ("synth-setup", ["synth", "{t}/s.csv", "--setup", "bogus"], "--setup must be"),
+    ("synth-setup", ["synth", "{t}/s.csv", "--setup", "bogus"], "'--setup': 'bogus' is not one of"),
     (
         "synth-sidecar-over-model",
         ["synth", "{t}/x.csv", "--model", "{t}/x.json"],
@@ -287,7 +287,11 @@ REFUSED: list[tuple[str, list[str], str]] = [
         "--speeds must be finite and > 0 deg/s",
     ),
     ("qa-throws-preset", ["qa-throws", "--presets", "4"], "Table IV of seed 002 has rows"),
-    ("qa-throws-adjust", ["qa-throws", "--adjust", "x"], "--adjust must be none, drive or ideal"),
+    (
+        "qa-throws-adjust",
+        ["qa-throws", "--adjust", "x"],
+        "'--adjust': 'x' is not one of 'none', 'drive', 'ideal'",
+    ),
     ("qa-throws-arm", ["qa-throws", "--lever-arms", "9"], "--lever-arms must be within"),
     # shaft options a transmission would ignore (they used to change nothing, silently)
     (

@@ -13,6 +13,7 @@ from typing import Annotated, Any
 
 import typer
 
+from fsarm_sim.choices import BenchLoad, BenchTrajectory, Setup
 from fsarm_sim.cli.console import make_console
 from fsarm_sim.outputs import OutputPlan, SafeWriter, write_text
 from fsarm_sim.records.measured import stated_shaft
@@ -148,8 +149,8 @@ def register(app: typer.Typer) -> None:
             Path, typer.Argument(help="output NAME(.csv|.parquet); NAME.json beside it")
         ],
         setup: Annotated[
-            str, typer.Option(help="series_bench, parallel_bench or arm")
-        ] = "series_bench",
+            Setup, typer.Option(help="the record's setup", case_sensitive=False)
+        ] = Setup.SERIES_BENCH,
         scenario: Annotated[
             str, typer.Option(help="arm: the scenario run (see `fsarm scenarios`)")
         ] = "fig14-sine",
@@ -169,7 +170,8 @@ def register(app: typer.Typer) -> None:
             Path | None, typer.Option("--model", help="truth model file (instead of --effect)")
         ] = None,
         load: Annotated[
-            str | None, typer.Option(help="series bench: blocked or inertia [default: blocked]")
+            BenchLoad | None,
+            typer.Option(help="series bench's load [default: blocked]", case_sensitive=False),
         ] = None,
         inertia: Annotated[
             float | None, typer.Option(help="stated load inertia, kg*m^2 [default: 0.01]")
@@ -209,11 +211,8 @@ def register(app: typer.Typer) -> None:
             ),
         ] = None,
         trajectory: Annotated[
-            str | None,
-            typer.Option(
-                help="benches: chirp, multisine, triangle, random, steps, biased_sine "
-                "[default: chirp]"
-            ),
+            BenchTrajectory | None,
+            typer.Option(help="benches: the input [default: chirp]", case_sensitive=False),
         ] = None,
         amplitude: Annotated[
             float | None, typer.Option(help="benches: input amplitude, rad")
@@ -277,9 +276,7 @@ def register(app: typer.Typer) -> None:
         ).input("the trajectory file of --input-file", input_file).check()
         err = make_console(stderr=True)
         writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
-        load = load or "blocked"
-        if setup != "arm" and load not in ("blocked", "inertia"):
-            raise InvalidParameterError(f"--load must be blocked or inertia, got {load!r}")
+        load = load or BenchLoad.BLOCKED
         shaft = stated_shaft(diameter_mm, length_mm)
         rec: synth.Recording | ArmRecording
         if setup == "arm":
@@ -292,7 +289,7 @@ def register(app: typer.Typer) -> None:
             )
         else:
             if input_file is not None and duration is None:
-                t_in, _ = synth.read_input_file(input_file, setup)
+                t_in, _ = synth.read_input_file(input_file, str(setup))
                 # whole sample periods of the file's span (a rounded-up last sample would lie
                 # past the file's end)
                 r = rate if rate is not None else synth.Recording.rate_hz
@@ -301,7 +298,7 @@ def register(app: typer.Typer) -> None:
                 "duration_s": duration,
                 "rate_hz": rate,
                 "noise": noise,
-                "trajectory": trajectory,
+                "trajectory": None if trajectory is None else str(trajectory),
                 "bend_rad": None if bend_deg is None else math.radians(bend_deg),
                 "input_file": None if input_file is None else str(input_file),
             }
@@ -312,7 +309,7 @@ def register(app: typer.Typer) -> None:
                 **{k: v for k, v in stated.items() if v is not None},
             )
         cols, side, hidden = synth.synthesize_setup(
-            setup,
+            str(setup),
             effect or [],
             model_file=model,
             shaft=shaft,

@@ -12,6 +12,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
+from fsarm_sim.choices import Executor, Pool, ShaftKind
 from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console, number_table
 from fsarm_sim.errors import FsarmError
@@ -120,7 +121,10 @@ def register(app: typer.Typer) -> None:
     @app.command("select-shaft")
     def select_shaft_cmd(
         k_des: Annotated[float, typer.Option(help="desired stiffness K_des, N·m/rad")],
-        kind: Annotated[str, typer.Option(help="series (eq. 3) or parallel (eq. 4)")] = "series",
+        kind: Annotated[
+            ShaftKind,
+            typer.Option(help="series (eq. 3) or parallel (eq. 4)", case_sensitive=False),
+        ] = ShaftKind.SERIES,
         bend_deg: Annotated[float, typer.Option(help="series: bend angle for K_des, deg")] = 0.0,
         torque_nm: Annotated[
             float,
@@ -157,7 +161,7 @@ def register(app: typer.Typer) -> None:
             )
         req = SelectionRequest(
             k_des=k_des,
-            kind=kind,  # type: ignore[arg-type]
+            kind=str(kind),  # type: ignore[arg-type]
             bend_rad=math.radians(bend_deg),
             torque_nm=torque_nm,
             length_range_mm=lrange,
@@ -222,12 +226,13 @@ def register(app: typer.Typer) -> None:
         ] = None,
         name: Annotated[str | None, typer.Option(help="sweep name stored with each point")] = None,
         executor: Annotated[
-            str,
+            Executor,
             typer.Option(
                 help="auto (threads when every point is a native simulation, else the process "
-                "pool), local (process pool), threads (this process) or dask"
+                "pool), local (process pool), threads (this process) or dask",
+                case_sensitive=False,
             ),
-        ] = "auto",
+        ] = Executor.AUTO,
         workers: Annotated[int | None, typer.Option(help="workers (default: all cores)")] = None,
         scheduler: Annotated[
             str | None, typer.Option(help="Dask scheduler address, e.g. tcp://host:8786")
@@ -292,7 +297,7 @@ def register(app: typer.Typer) -> None:
         report = sw.run_sweep(
             the_spec,
             store,
-            executor=executor,
+            executor=str(executor),
             workers=workers,
             scheduler=scheduler,
             retry_failed=retry_failed,
@@ -494,11 +499,13 @@ def register(app: typer.Typer) -> None:
             bool | None, typer.Option(help="Maxwell-slip hysteresis on/off (default: catalogue's)")
         ] = None,
         executor: Annotated[
-            str,
+            Pool,
             typer.Option(
-                help="local (process pool), threads (this process; best for many short runs) or dask"
+                help="local (process pool), threads (this process; best for many short runs) "
+                "or dask",
+                case_sensitive=False,
             ),
-        ] = "local",
+        ] = Pool.LOCAL,
         workers: Annotated[
             int | None, typer.Option(help="worker processes (default: all cores)")
         ] = None,
@@ -551,7 +558,7 @@ def register(app: typer.Typer) -> None:
                 shafts=chosen,
                 bends_deg=bend_list,
                 settings=s,
-                executor=executor,
+                executor=str(executor),
                 workers=workers,
                 scheduler=scheduler,
                 on_done=(lambda _o: bar.advance(task_id)) if bar is not None else None,
