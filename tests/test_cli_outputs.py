@@ -754,7 +754,7 @@ def test_design_experiment_saves_before_it_prints(
     """Both files of design-experiment exist although standard output is full."""
     from fsarm_sim.discrepancy import design
 
-    def quick(ds: object) -> dict[str, object]:  # the design itself is tested elsewhere
+    def quick(ds: object, **_: object) -> dict[str, object]:  # the design: tested elsewhere
         t = np.linspace(0.0, 1.0, 20)
         best = {"design": "sine", "expected_margin": 1.0}
         best |= {"expected_margin_if_A": 1.0, "expected_margin_if_B": 1.0}
