@@ -203,11 +203,12 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Torque-loop bandwidth and output impedance vs bend (seed 001 Sec. 4.1.2, 4.2)."""
         from fsarm_sim.engine.model import Gains, SimConfig
-        from fsarm_sim.studies.transparency import DEFAULT_BENDS_DEG, versus_bend
+        from fsarm_sim.studies.transparency import DEFAULT_BENDS_DEG, bend_note, versus_bend
 
         OutputPlan().file("--json", json_file).check()
         cfg = SimConfig(transmission=str(transmission), gains=Gains(gain_schedule=not fixed_gains))
-        points = versus_bend(cfg, tuple(bend) if bend else DEFAULT_BENDS_DEG)
+        bends = tuple(bend) if bend else DEFAULT_BENDS_DEG
+        points = versus_bend(cfg, bends)
         mode = "fixed" if fixed_gains else "scheduled"
         table = number_table(
             f"{transmission}: torque loop vs bend ({mode} gains)",
@@ -227,6 +228,9 @@ def register(app: typer.Typer) -> None:
                 "bend, so these rows differ only where joint 2's pose changes the arm",
                 markup=False,
             )
+        note = bend_note(cfg, bends)
+        if note:
+            console.print(note, markup=False)
         if json_file is not None:
             text = json.dumps(
                 [
