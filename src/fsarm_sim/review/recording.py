@@ -532,7 +532,8 @@ class LoopView:
 # one full-width column, at most PANELS_PER_TAB per tab, each with a y range of its data and a
 # legend in the corner the data leave free (room is made above or below the data where none is).
 PANELS_PER_TAB = 4
-PLOT_PX = (560.0, 150.0)  # nominal plot area of a panel (a 1600 x 1000 window), visual only
+COLUMN_PX = (560.0, 800.0)  # the panels' column in a 1600 x 1000 window (below its tabs)
+PANEL_CHROME_PX = 50.0  # a panel's title bar and time axis; visual only
 LEGEND_ROW_PX = 19.0  # one legend entry's height (Rerun's default font), visual only
 LEGEND_CHAR_PX = 7.0  # one character's width in a legend entry, visual only
 LEGEND_PAD_PX = 30.0  # a legend entry's colour mark and margins, visual only
@@ -564,7 +565,14 @@ class SeriesLayout:
 CORNERS = ("RightTop", "LeftTop", "RightBottom", "LeftBottom")
 
 
-def series_layout(curves: Sequence[Curve], plot_px: tuple[float, float] = PLOT_PX) -> SeriesLayout:
+def plot_px(panels_in_tab: int) -> tuple[float, float]:
+    """The nominal plot area of one of ``panels_in_tab`` panels stacked in the column."""
+    return COLUMN_PX[0], COLUMN_PX[1] / max(1, panels_in_tab) - PANEL_CHROME_PX
+
+
+def series_layout(
+    curves: Sequence[Curve], plot_px: tuple[float, float] = plot_px(PANELS_PER_TAB)
+) -> SeriesLayout:
     """The y range and legend corner of a panel showing ``curves``: the corner whose legend box
     covers the fewest data points; where every corner covers some, the range grows on that side
     by the legend's height, so that the legend stands beside the data, never on it."""
@@ -597,11 +605,11 @@ def series_layout(curves: Sequence[Curve], plot_px: tuple[float, float] = PLOT_P
     return SeriesLayout((lo, hi), corner, (w, h))
 
 
-def series_view(panel: Panel, curves: Sequence[Curve]) -> rrb.TimeSeriesView:
+def series_view(panel: Panel, curves: Sequence[Curve], panels_in_tab: int) -> rrb.TimeSeriesView:
     """The panel's TimeSeriesView laid out by :func:`series_layout`."""
     import rerun.blueprint as rrb
 
-    lay = series_layout(curves)
+    lay = series_layout(curves, plot_px(panels_in_tab))
     legend = (
         rrb.PlotLegend(visible=False)
         if lay.corner is None
@@ -692,7 +700,10 @@ def blueprint(
             columns.append(rrb.Vertical(*views, row_shares=rows))
             shares.append(share)
     tabs = [
-        rrb.Vertical(*(series_view(p, (curves or {}).get(p.name, ())) for p in members), name=name)
+        rrb.Vertical(
+            *(series_view(p, (curves or {}).get(p.name, ()), len(members)) for p in members),
+            name=name,
+        )
         for name, members in panel_tabs(panels)
     ]
     if tabs:
