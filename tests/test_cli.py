@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import pandas as pd
@@ -131,3 +132,21 @@ def test_transparency_says_when_the_bend_cannot_matter(
     args = ["transparency", "--transmission", transmission, "--bend", "0"]
     assert run_fsarm(monkeypatch, *args) == 0
     assert ("is not routed over joint 2" in capsys.readouterr().out) is noted
+
+
+def test_campaign_coefficient_changes_have_no_nan() -> None:
+    """A coefficient the catalogue holds at 0 (eq. 3's p4 under the inverse-length law) has no
+    relative change: it is said as it is, never as ``+nan %``."""
+    from fsarm_sim.cli.sweep import coefficient_change
+
+    assert coefficient_change("p1", 0.021, 1.4, 1.37) == "p1: +2.1 %"
+    assert coefficient_change("p4", math.nan, 0.0, 0.0) == "p4: 0 in both (held at 0, not fitted)"
+    assert "nan" not in coefficient_change("p4", math.nan, -0.003, 0.0)
+
+
+def test_a_negative_fitted_inertia_is_explained() -> None:
+    from fsarm_sim.cli.sweep import inertia_note
+
+    assert inertia_note([0.001, 0.002]) == ""
+    note = inertia_note([0.001, -0.0014])
+    assert "not identifiable" in note and "-0.0014" in note

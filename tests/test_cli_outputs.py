@@ -208,7 +208,7 @@ REFUSED: list[tuple[str, list[str], str]] = [
         "lower --rate or --duration",
     ),
     ("synth-rate-slow", ["synth", "{t}/s.csv", "--rate", "1"], "--rate"),
-    ("synth-setup", ["synth", "{t}/s.csv", "--setup", "bogus"], "--setup must be"),
+    ("synth-setup", ["synth", "{t}/s.csv", "--setup", "bogus"], "'--setup': 'bogus' is not one of"),
     (
         "synth-sidecar-over-model",
         ["synth", "{t}/x.csv", "--model", "{t}/x.json"],
@@ -287,7 +287,11 @@ REFUSED: list[tuple[str, list[str], str]] = [
         "--speeds must be finite and > 0 deg/s",
     ),
     ("qa-throws-preset", ["qa-throws", "--presets", "4"], "Table IV of seed 002 has rows"),
-    ("qa-throws-adjust", ["qa-throws", "--adjust", "x"], "--adjust must be none, drive or ideal"),
+    (
+        "qa-throws-adjust",
+        ["qa-throws", "--adjust", "x"],
+        "'--adjust': 'x' is not one of 'none', 'drive', 'ideal'",
+    ),
     ("qa-throws-arm", ["qa-throws", "--lever-arms", "9"], "--lever-arms must be within"),
     # shaft options a transmission would ignore (they used to change nothing, silently)
     (
@@ -755,7 +759,7 @@ def test_design_experiment_saves_before_it_prints(
     """Both files of design-experiment exist although standard output is full."""
     from fsarm_sim.discrepancy import design
 
-    def quick(ds: object) -> dict[str, object]:  # the design itself is tested elsewhere
+    def quick(ds: object, **_: object) -> dict[str, object]:  # the design: tested elsewhere
         t = np.linspace(0.0, 1.0, 20)
         best = {"design": "sine", "expected_margin": 1.0}
         best |= {"expected_margin_if_A": 1.0, "expected_margin_if_B": 1.0}

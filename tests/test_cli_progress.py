@@ -30,3 +30,22 @@ def test_check_dynamics_reports_each_step_in_order() -> None:
         "done",
     ]
     assert [s[1] for s in seen] == list(range(6)) and {s[2] for s in seen} == {5}
+
+
+@pytest.mark.parametrize(
+    ("setup", "record_step"),
+    [("series_bench", "simulating the bench"), ("arm", "running the scenario")],
+)
+def test_synth_reports_its_steps(setup: str, record_step: str) -> None:
+    from fsarm_sim.discrepancy import synth
+    from fsarm_sim.discrepancy.arm_synth import ArmRecording
+
+    seen: list[tuple[str, int, int]] = []
+    rec = (
+        synth.Recording(duration_s=0.5)
+        if setup != "arm"
+        else ArmRecording(scenario="step-q3", duration_s=0.1)
+    )
+    cols, _, _ = synth.synthesize_setup(setup, recording=rec, progress=lambda *a: seen.append(a))
+    assert seen == [("the truth model", 0, 2), (record_step, 1, 2)]
+    assert len(cols["t"]) > 10

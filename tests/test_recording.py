@@ -337,3 +337,41 @@ def test_the_transmissions_own_states_get_their_panel(
     qa = run_scenario("step-q3", SimConfig(transmission="qa-joint"), duration_s=0.2)
     assert set(qa.states) == {"sigma_rad", "z_friction", "conduit_branch1", "conduit_branch2"}
     assert next(p.name for p in recording.state_panels(qa)) == "transmission_states"
+
+
+def _legend_box_points(lay: recording.SeriesLayout, curves: list[recording.Curve]) -> int:
+    """Data points inside the legend's box (plot coordinates 0..1 on both axes)."""
+    assert lay.corner is not None
+    t = np.concatenate([c[0] for c in curves])
+    y = np.concatenate([c[1] for c in curves])
+    u = (t - t.min()) / (t.max() - t.min())
+    v = (y - lay.y_range[0]) / (lay.y_range[1] - lay.y_range[0])
+    w, h = lay.legend_share
+    in_x = u >= 1 - w if lay.corner.startswith("Right") else u <= w
+    in_y = v >= 1 - h if lay.corner.endswith("Top") else v <= h
+    return int(np.count_nonzero(in_x & in_y))
+
+
+def test_legend_stands_off_the_data() -> None:
+    """A legend goes to a corner the data leave free; where none is free (a signal filling the
+    whole plot), the y range grows so the legend has rows of its own. The range holds the data."""
+    t = np.linspace(0.0, 7.0, 701)
+    rising = [(t, t / 7.0, "ramp"), (t, t / 7.0 - 0.1, "ramp ref")]  # free: top left
+    lay = recording.series_layout(rising)
+    assert lay.corner == "LeftTop" and _legend_box_points(lay, rising) == 0
+    assert lay.y_range[0] < -0.1 and lay.y_range[1] > 1.0
+    noise = np.random.default_rng(0).uniform(-1.0, 1.0, (3, len(t)))
+    full = [(t, noise[k], f"signal {k}") for k in range(3)]  # every corner has data
+    lay = recording.series_layout(full)
+    assert lay.corner is not None and _legend_box_points(lay, full) == 0
+    assert lay.y_range[1] - lay.y_range[0] > 2.5  # grown beyond the data's 2.0 (+ margins)
+    one = recording.series_layout([(t, np.sin(t), "q3")])
+    assert one.corner is None  # one curve: the title names it, no legend over it
+
+
+def test_panels_stand_in_tabs_of_a_group() -> None:
+    tabs = recording.panel_tabs(recording.ARM_PANELS)
+    assert [name for name, _ in tabs] == ["tracking", "shaft", "control"]
+    assert all(1 <= len(ps) <= recording.PANELS_PER_TAB for _, ps in tabs)
+    assert [p for _, ps in tabs for p in ps] == list(recording.ARM_PANELS)
+    assert recording.shown_panels(recording.ARM_PANELS) == list(recording.ARM_PANELS[:4])

@@ -199,3 +199,14 @@ def test_cli_diagnose_writes_a_recording(
         "/loops/residual_after/after_final/trace",
     ):
         assert p in paths, p
+
+
+def test_a_signal_keeps_its_colour_in_every_configuration() -> None:
+    """Configurations differ by shade and width; a signal's hue stays (q1 is blue in each)."""
+    from fsarm_sim.review.comparison import RUN_STYLES, _shade
+
+    blue = (31, 119, 180)
+    shades = [_shade(blue, k) for k in range(len(RUN_STYLES))]
+    assert shades[0] == blue and len(set(shades)) == len(shades)
+    for c in shades:  # the same hue: blue stays the largest channel, red the smallest
+        assert c[2] >= c[1] >= c[0]

@@ -76,3 +76,19 @@ def test_internal_friction_growing_with_bend_makes_the_joint_less_transparent() 
 def test_bad_impedance_requests_are_named_errors(kwargs: dict[str, float]) -> None:
     with pytest.raises(InvalidParameterError):
         output_impedance(SimConfig(), **kwargs)  # type: ignore[arg-type]
+
+
+def test_bend_note_says_where_the_rtca_holds_mu_flat() -> None:
+    """The RTCA's mu is held beyond L_bend / R_mu (58.4°): a table reaching past it says so;
+    one that does not, and a transmission without such a hold, say nothing."""
+    from fsarm_sim.engine.model import SimConfig
+    from fsarm_sim.plant.transmissions import rtca
+    from fsarm_sim.studies.transparency import bend_note
+
+    assert math.degrees(rtca.bend_held_from_rad()) == pytest.approx(58.44, abs=0.01)
+    assert rtca.mu(rtca.bend_held_from_rad(), 1.0) == pytest.approx(rtca.mu(2.0, 1.0))
+    assert rtca.mu(0.5 * rtca.bend_held_from_rad(), 1.0) > rtca.mu(2.0, 1.0)
+    note = bend_note(SimConfig(transmission="rtca"), (0.0, 30.0, 60.0, 90.0))
+    assert "58.4°" in note and "60, 90°" in note
+    assert bend_note(SimConfig(transmission="rtca"), (0.0, 30.0)) == ""
+    assert bend_note(SimConfig(), (0.0, 90.0)) == ""

@@ -85,7 +85,7 @@ def fig14_shot(tmp_path_factory: pytest.TempPathFactory) -> tuple[viewer_check.S
     cols = recording.with_derived(result.columns)
     n_loops = sum(recording.loop_is_informative(lp, cols) for lp in recording.ARM_LOOPS)
     # 3-D arm + metadata + loops + time series
-    expected = 2 + n_loops + len(recording.run_panels(result))
+    expected = 2 + n_loops + len(recording.shown_panels(recording.run_panels(result)))
     shot = viewer_check.screenshot(path, expected_views=expected, timeout_s=150.0)
     (path.parent / "fig14-sine.png").write_bytes(shot.png)
     keep = os.environ.get("FSARM_VIEWER_SHOTS")

@@ -9,7 +9,7 @@ top-level ``controllers/`` folder, installed as ``fsarm_sim.controllers``.
 
 Read top-down, the layers are the package's folders (since 0.3.0):
 
-* base - named errors, declared parameter blocks, checked paths and output paths, task
+* base - the command's fixed choices (enums), named errors, declared parameter blocks, checked paths and output paths, task
   executors, the lazily completed command app, the seed papers' declared claims (data: the
   calibration targets);
 * laws (``plant/``, ``controllers/``) - physical laws and pure controllers: no MuJoCo,
@@ -36,6 +36,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
         (
             "_layers",
             "_version",
+            "choices",
             "data",
             "errors",
             "executors",

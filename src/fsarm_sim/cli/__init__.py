@@ -13,6 +13,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
+from fsarm_sim import choices
 from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console, number_table
 from fsarm_sim.errors import FsarmError
@@ -113,8 +114,9 @@ def run_cmd(
         Path | None, typer.Option("--json", help="write a JSON summary here")
     ] = None,
     fmt: Annotated[
-        str, typer.Option("--format", help="time-series format: csv or parquet")
-    ] = "csv",
+        choices.TimeseriesFormat,
+        typer.Option("--format", help="time-series format", case_sensitive=False),
+    ] = choices.TimeseriesFormat.CSV,
     shaft_file: opt.ShaftFile = None,
     extrapolate: opt.Extrapolate = False,
     series_hysteresis: Annotated[
@@ -125,14 +127,15 @@ def run_cmd(
         ),
     ] = None,
     integrator: Annotated[
-        str | None, typer.Option(help="Euler, RK4, implicit or implicitfast")
+        choices.Integrator | None,
+        typer.Option(help="MuJoCo's integrator [default: the model's]", case_sensitive=False),
     ] = None,
     timestep: Annotated[
         float | None, typer.Option(help="physics timestep, s (default 0.001)")
     ] = None,
     ctrl_dt: Annotated[float, typer.Option(help="control period, s")] = 0.001,
     log_every: Annotated[int, typer.Option(help="log one row every N control ticks")] = 1,
-    backend: opt.Backend = "native",
+    backend: opt.Backend = choices.Backend.NATIVE,
     rrd: Annotated[
         Path | None, typer.Option(help="write a Rerun recording (.rrd) of the run here")
     ] = None,
@@ -152,23 +155,20 @@ def run_cmd(
             "length-mm, payload-kg, backend; repeatable) and record both into --rrd"
         ),
     ] = None,
-    transmission: opt.Transmission = "flexible-shaft",
+    transmission: opt.Transmission = choices.Transmission.FLEXIBLE_SHAFT,
     tr_param: opt.TrParam = None,
-    controller: opt.Controller = "default",
+    controller: opt.Controller = choices.Controller.DEFAULT,
     hysteresis_model: opt.HysteresisModelFile = None,
     uncertainty: opt.Uncertainty = 0,
-    uncertainty_controller: opt.UncertaintyController = "nominal",
+    uncertainty_controller: opt.UncertaintyController = choices.UncertaintyController.NOMINAL,
 ) -> None:
     """Run a scenario headless, print tracking metrics, write its time series."""
+    from fsarm_sim.cli.review import check_review_options, review_outputs, run_output_plan
     from fsarm_sim.engine.model import Gains, SimConfig
     from fsarm_sim.outputs import SafeWriter
     from fsarm_sim.plant.shaft import load_catalogue
     from fsarm_sim.records.timeseries import write_summary, write_timeseries
     from fsarm_sim.sim.simulation import run_scenario
-
-    if backend not in ("python", "native"):
-        raise FsarmError(f"--backend must be 'python' or 'native', got {backend!r}")
-    from fsarm_sim.cli.review import check_review_options, review_outputs, run_output_plan
 
     check_review_options(rrd_rate)
     from fsarm_sim.cli.review import parse_compare
@@ -190,13 +190,15 @@ def run_cmd(
         if getattr(ctx.get_parameter_source(name), "name", "") == "COMMANDLINE"
     ]
     compared = {"diameter-mm", "length-mm", "series-hysteresis"} & set(compare_changes)
-    check_shaft_options(transmission, given + [f"--rrd-compare {k}" for k in sorted(compared)])
+    check_shaft_options(str(transmission), given + [f"--rrd-compare {k}" for k in sorted(compared)])
     if uncertainty:
         from fsarm_sim.cli.uncertainty import check_run_uncertainty
 
-        check_run_uncertainty(uncertainty, transmission, shaft_file, uncertainty_controller)
+        check_run_uncertainty(
+            uncertainty, str(transmission), shaft_file, str(uncertainty_controller)
+        )
     run_output_plan(
-        scenario, fmt, out=out, json_file=json_file, rrd=rrd, spawn=spawn, figures=figures
+        scenario, str(fmt), out=out, json_file=json_file, rrd=rrd, spawn=spawn, figures=figures
     ).input("the coefficient file of --shaft-file", shaft_file).input(
         "the hysteresis model of --hysteresis-model", hysteresis_model
     ).check()
@@ -207,12 +209,12 @@ def run_cmd(
         shaft=shaft,
         gains=Gains(
             ctrl_dt_s=ctrl_dt,
-            controller=controller,
+            controller=str(controller),
             hysteresis_model=opt.read_hysteresis_model(hysteresis_model),
         ),
         timestep_s=timestep,
-        integrator=integrator,
-        transmission=transmission,
+        integrator=None if integrator is None else str(integrator),
+        transmission=str(transmission),
         transmission_params=parse_params(tr_param or []),
     )
     if backend == "native":
@@ -228,7 +230,7 @@ def run_cmd(
             cfg,
             duration_s=duration,
             payload_kg=payload_kg,
-            backend=backend,  # type: ignore[arg-type]
+            backend=str(backend),  # type: ignore[arg-type]
             log_every_ticks=log_every,
             keep_partial=True,  # a long run cut by Ctrl-C keeps its finished part
         )
@@ -238,7 +240,7 @@ def run_cmd(
     # the finished work is saved before anything is printed
     writes = SafeWriter(lambda msg: err_console.print(f"[bold yellow]warning:[/] {escape(msg)}"))
     path = writes.write(
-        out, lambda d: write_timeseries(result, d, fmt), "the time series (--out)", folder=True
+        out, lambda d: write_timeseries(result, d, str(fmt)), "the time series (--out)", folder=True
     )
 
     def summary(p: Path) -> Path:
@@ -311,7 +313,7 @@ def run_cmd(
             shaft_file=shaft_file,
             extrapolate=extrapolate,
             series_hysteresis=series_hysteresis,
-            backend=backend,
+            backend=str(backend),
             log_every=log_every,
         )
     if uncertainty:
@@ -328,7 +330,7 @@ def run_cmd(
             backend=backend,
             json_file=json_file,
             writes=writes,
-            controller=uncertainty_controller,
+            controller=str(uncertainty_controller),
         )
     review_outputs(
         result,
@@ -382,7 +384,16 @@ def main() -> None:
     with guarded_streams() as (out, _):
         try:
             with app.core_only() if core else contextlib.nullcontext():
-                app()
+                # not standalone: Typer's usage errors come here, to be printed as one line
+                returned = app(standalone_mode=False, prog_name="fsarm")
+            code = returned if isinstance(returned, int) else 0
+        except typer.TyperException as exc:  # a usage error: bad choice, missing argument...
+            code = exc.exit_code
+            if type(exc).__name__ != "NoArgsIsHelpError":  # (that one printed the help)
+                _error_line(_usage_message(exc))
+        except typer.Abort:
+            _error_line("aborted")
+            code = 1
         except FsarmError as exc:
             _error_line(str(exc).strip())
             code = 2
@@ -399,6 +410,13 @@ def main() -> None:
         )
         code = code or 2
     raise SystemExit(code)
+
+
+def _usage_message(exc: typer.TyperException) -> str:
+    """A usage error as one line, with where to read the command's options."""
+    ctx = getattr(exc, "ctx", None)
+    where = f" (see `{ctx.command_path} --help`)" if ctx is not None else ""
+    return " ".join(exc.format_message().split()) + where
 
 
 def _error_line(message: str) -> None:

@@ -19,9 +19,9 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
+from fsarm_sim.choices import Backend, Transmission
 from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console, number_table
-from fsarm_sim.errors import FsarmError
 from fsarm_sim.outputs import OutputPlan, safe_write, write_text
 
 if TYPE_CHECKING:
@@ -35,7 +35,7 @@ def _fmt(x: float | None, scale: float = 1.0, digits: int = 3) -> str:
 def register(app: typer.Typer) -> None:
     @app.command("collision")
     def collision_cmd(
-        transmission: opt.Transmission = "flexible-shaft",
+        transmission: opt.Transmission = Transmission.FLEXIBLE_SHAFT,
         tr_param: opt.TrParam = None,
         series_hysteresis: Annotated[
             bool | None,
@@ -44,7 +44,7 @@ def register(app: typer.Typer) -> None:
                 "(default: the coefficient file's, on)"
             ),
         ] = None,
-        backend: opt.Backend = "native",
+        backend: opt.Backend = Backend.NATIVE,
         json_file: Annotated[
             Path | None, typer.Option("--json", help="write the results as JSON here")
         ] = None,
@@ -55,19 +55,17 @@ def register(app: typer.Typer) -> None:
         from fsarm_sim.plant.shaft import load_catalogue
         from fsarm_sim.studies.collision import run_battery
 
-        if backend not in ("python", "native"):
-            raise FsarmError(f"--backend must be 'python' or 'native', got {backend!r}")
         OutputPlan().file("--json", json_file).check()
         check_shaft_options(
-            transmission, [] if series_hysteresis is None else ["--[no-]series-hysteresis"]
+            str(transmission), [] if series_hysteresis is None else ["--[no-]series-hysteresis"]
         )
         cfg = SimConfig(
             shaft=load_catalogue().shaft(series_hysteresis=series_hysteresis),
-            transmission=transmission,
+            transmission=str(transmission),
             transmission_params=parse_params(tr_param or []),
         )
         cfg.validate()
-        bat = run_battery(cfg, backend)  # type: ignore[arg-type]
+        bat = run_battery(cfg, str(backend))  # type: ignore[arg-type]
         console = make_console()
         cal = bat.calibration
         console.print(

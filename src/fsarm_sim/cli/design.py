@@ -10,6 +10,7 @@ from typing import Annotated
 
 import typer
 
+from fsarm_sim import choices
 from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console
 from fsarm_sim.outputs import OutputPlan
@@ -44,7 +45,7 @@ def register(app: typer.Typer) -> None:
         shaft_file: opt.ShaftFile = None,
         extrapolate: opt.Extrapolate = False,
         uncertainty: opt.Uncertainty = 0,
-        uncertainty_controller: opt.UncertaintyController = "nominal",
+        uncertainty_controller: opt.UncertaintyController = choices.UncertaintyController.NOMINAL,
     ) -> None:
         """One page per shaft (HTML, PDF, PNG, JSON): stiffness per side, hysteresis, rating,
         joint-2 relief, inertia, torque bandwidth and output impedance vs bend, tracking at 0
@@ -60,7 +61,7 @@ def register(app: typer.Typer) -> None:
         cat = load_catalogue(shaft_file)
         if uncertainty:
             unc.check_samples(uncertainty)
-            unc.check_controller(uncertainty_controller)
+            unc.check_controller(str(uncertainty_controller))
         picks: list[tuple[str | None, float, float]] = []
         names = {s.name: s for s in cat.shafts}
         for wanted in shaft or []:
@@ -98,7 +99,7 @@ def register(app: typer.Typer) -> None:
                         metric, controller_shaft=cat.shaft(d, ell, extrapolate=extrapolate)
                     )
                 prop = unc.propagate(metric, cat, uncertainty)
-                report = unc.to_json(prop, controller=uncertainty_controller)
+                report = unc.to_json(prop, controller=str(uncertainty_controller))
                 bands = report.pop("metrics")
             sheet = ds.datasheet(
                 cat,
@@ -167,7 +168,7 @@ def register(app: typer.Typer) -> None:
         seed: Annotated[int, typer.Option(help="optimiser seed")] = 32,
         shaft_file: opt.ShaftFile = None,
         uncertainty: opt.Uncertainty = 0,
-        uncertainty_controller: opt.UncertaintyController = "nominal",
+        uncertainty_controller: opt.UncertaintyController = choices.UncertaintyController.NOMINAL,
     ) -> None:
         """Find D and L (continuous, in the validity box) minimising a task objective under
         constraints, by differential evolution over simulations; then the nearest catalogue
@@ -184,7 +185,7 @@ def register(app: typer.Typer) -> None:
             ts.check_objective(pareto)
         if uncertainty:
             unc.check_samples(uncertainty)
-            unc.check_controller(uncertainty_controller)
+            unc.check_controller(str(uncertainty_controller))
         plan = OutputPlan().input("the coefficient file of --shaft-file", shaft_file)
         if out is not None:
             plan = plan.folder("--out", out)
@@ -268,7 +269,7 @@ def register(app: typer.Typer) -> None:
                     f"samples: [{band.low:.4g}, {band.high:.4g}] (median {band.median:.4g})",
                     markup=False,
                 )
-                report["uncertainty"] = unc.to_json(prop, controller=uncertainty_controller)
+                report["uncertainty"] = unc.to_json(prop, controller=str(uncertainty_controller))
         if out is not None:
             text = json.dumps(report, indent=2, default=str)
             console.print(f"result: {write_text(out / 'select.json', text)}", markup=False)

@@ -13,6 +13,7 @@ from typing import Annotated, Any
 
 import typer
 
+from fsarm_sim.choices import BenchLoad, BenchTrajectory, Setup
 from fsarm_sim.cli.console import make_console
 from fsarm_sim.outputs import OutputPlan, SafeWriter, write_text
 from fsarm_sim.records.measured import stated_shaft
@@ -103,17 +104,21 @@ def register(app: typer.Typer) -> None:
         plays (`fsarm synth --input-file` reads it too)."""
         import json
 
-        from fsarm_sim.discrepancy import design as D
-        from fsarm_sim.discrepancy import synth
-        from fsarm_sim.discrepancy.report import json_clean
-        from fsarm_sim.records.measured import dataset_files, load_dataset
+        from fsarm_sim.cli.progress import steps
 
-        table, side = dataset_files(data)
-        OutputPlan().input(f"the dataset {table}", table).input(
-            f"the sidecar of the dataset {table}", side
-        ).file("--out", out).file("--json", json_file).check()
-        ds = load_dataset(data)
-        res = D.design(ds)
+        with steps("design-experiment") as progress:
+            progress("loading the models", 0, 1)
+            from fsarm_sim.discrepancy import design as D
+            from fsarm_sim.discrepancy import synth
+            from fsarm_sim.discrepancy.report import json_clean
+            from fsarm_sim.records.measured import dataset_files, load_dataset
+
+            table, side = dataset_files(data)
+            OutputPlan().input(f"the dataset {table}", table).input(
+                f"the sidecar of the dataset {table}", side
+            ).file("--out", out).file("--json", json_file).check()
+            ds = load_dataset(data)
+            res = D.design(ds, progress=progress)
         # both files saved before anything is printed
         writes = SafeWriter(lambda msg: typer.echo(f"warning: {msg}", err=True))
         written = writes.write(
@@ -148,8 +153,8 @@ def register(app: typer.Typer) -> None:
             Path, typer.Argument(help="output NAME(.csv|.parquet); NAME.json beside it")
         ],
         setup: Annotated[
-            str, typer.Option(help="series_bench, parallel_bench or arm")
-        ] = "series_bench",
+            Setup, typer.Option(help="the record's setup", case_sensitive=False)
+        ] = Setup.SERIES_BENCH,
         scenario: Annotated[
             str, typer.Option(help="arm: the scenario run (see `fsarm scenarios`)")
         ] = "fig14-sine",
@@ -169,7 +174,8 @@ def register(app: typer.Typer) -> None:
             Path | None, typer.Option("--model", help="truth model file (instead of --effect)")
         ] = None,
         load: Annotated[
-            str | None, typer.Option(help="series bench: blocked or inertia [default: blocked]")
+            BenchLoad | None,
+            typer.Option(help="series bench's load [default: blocked]", case_sensitive=False),
         ] = None,
         inertia: Annotated[
             float | None, typer.Option(help="stated load inertia, kg*m^2 [default: 0.01]")
@@ -209,11 +215,8 @@ def register(app: typer.Typer) -> None:
             ),
         ] = None,
         trajectory: Annotated[
-            str | None,
-            typer.Option(
-                help="benches: chirp, multisine, triangle, random, steps, biased_sine "
-                "[default: chirp]"
-            ),
+            BenchTrajectory | None,
+            typer.Option(help="benches: the input [default: chirp]", case_sensitive=False),
         ] = None,
         amplitude: Annotated[
             float | None, typer.Option(help="benches: input amplitude, rad")
@@ -233,98 +236,101 @@ def register(app: typer.Typer) -> None:
         ] = None,
     ) -> None:
         """Write a SYNTHETIC measured-format dataset with chosen hidden effects and noise."""
-        from fsarm_sim.discrepancy import synth
-        from fsarm_sim.discrepancy.arm_synth import ArmRecording
-        from fsarm_sim.errors import InvalidParameterError
-        from fsarm_sim.records.measured import output_files, write_dataset
+        from fsarm_sim.cli.progress import steps
 
-        for opt, v in (
-            ("--inertia", inertia),
-            ("--true-inertia", true_inertia),
-            ("--stiffness-scale", stiffness_scale),
-            ("--amplitude", amplitude),
-        ):
-            if v is not None and not (math.isfinite(v) and v > 0):
-                raise InvalidParameterError(f"{opt} must be a finite number > 0, got {v!r}")
-        for opt, v in (("--noise", noise), ("--noise-rad", noise_rad)):
-            if v is not None and not (math.isfinite(v) and v >= 0):
-                raise InvalidParameterError(f"{opt} must be a finite number >= 0, got {v!r}")
-        if rate is not None and not (math.isfinite(rate) and rate > 0):
-            raise InvalidParameterError(f"--rate must be a finite number > 0 Hz, got {rate!r}")
-        if setup == "arm":  # what only a bench reads: refused rather than silently ignored
-            given = [
-                opt
-                for opt, v in (
-                    ("--load", load),
-                    ("--inertia", inertia),
-                    ("--true-inertia", true_inertia),
-                    ("--noise", noise),
-                    ("--trajectory", trajectory),
-                    ("--amplitude", amplitude),
-                    ("--bend-deg", bend_deg),
-                    ("--input-file", input_file),
+        with steps("synth") as progress:
+            progress("loading the models", 0, 3)
+            from fsarm_sim.discrepancy import synth
+            from fsarm_sim.discrepancy.arm_synth import ArmRecording
+            from fsarm_sim.errors import InvalidParameterError
+            from fsarm_sim.records.measured import output_files, write_dataset
+
+            for opt, v in (
+                ("--inertia", inertia),
+                ("--true-inertia", true_inertia),
+                ("--stiffness-scale", stiffness_scale),
+                ("--amplitude", amplitude),
+            ):
+                if v is not None and not (math.isfinite(v) and v > 0):
+                    raise InvalidParameterError(f"{opt} must be a finite number > 0, got {v!r}")
+            for opt, v in (("--noise", noise), ("--noise-rad", noise_rad)):
+                if v is not None and not (math.isfinite(v) and v >= 0):
+                    raise InvalidParameterError(f"{opt} must be a finite number >= 0, got {v!r}")
+            if rate is not None and not (math.isfinite(rate) and rate > 0):
+                raise InvalidParameterError(f"--rate must be a finite number > 0 Hz, got {rate!r}")
+            if setup == "arm":  # what only a bench reads: refused rather than silently ignored
+                given = [
+                    opt
+                    for opt, v in (
+                        ("--load", load),
+                        ("--inertia", inertia),
+                        ("--true-inertia", true_inertia),
+                        ("--noise", noise),
+                        ("--trajectory", trajectory),
+                        ("--amplitude", amplitude),
+                        ("--bend-deg", bend_deg),
+                        ("--input-file", input_file),
+                    )
+                    if v is not None
+                ]
+                if given:
+                    raise InvalidParameterError(
+                        f"{', '.join(given)} set the benches' recordings; an arm record runs a "
+                        "scenario (--scenario, --duration, --rate, --noise-rad, --seed)"
+                    )
+            table_out, side_out = output_files(out)
+            OutputPlan().file("OUT", table_out).file("the sidecar of OUT", side_out).input(
+                "the truth model of --model", model
+            ).input("the trajectory file of --input-file", input_file).check()
+            err = make_console(stderr=True)
+            writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
+            load = load or BenchLoad.BLOCKED
+            shaft = stated_shaft(diameter_mm, length_mm)
+            rec: synth.Recording | ArmRecording
+            if setup == "arm":
+                rec = ArmRecording(
+                    scenario=scenario,
+                    duration_s=duration,
+                    noise_rad=noise_rad,
+                    seed=seed,
+                    rate_hz=rate,
                 )
-                if v is not None
-            ]
-            if given:
-                raise InvalidParameterError(
-                    f"{', '.join(given)} set the benches' recordings; an arm record runs a "
-                    "scenario (--scenario, --duration, --rate, --noise-rad, --seed)"
+            else:
+                if input_file is not None and duration is None:
+                    t_in, _ = synth.read_input_file(input_file, str(setup))
+                    # whole sample periods of the file's span (a rounded-up last sample would lie
+                    # past the file's end)
+                    r = rate if rate is not None else synth.Recording.rate_hz
+                    duration = math.floor(float(t_in[-1] - t_in[0]) * r + 1e-6) / r
+                stated: dict[str, Any] = {
+                    "duration_s": duration,
+                    "rate_hz": rate,
+                    "noise": noise,
+                    "trajectory": None if trajectory is None else str(trajectory),
+                    "bend_rad": None if bend_deg is None else math.radians(bend_deg),
+                    "input_file": None if input_file is None else str(input_file),
+                }
+                # what is not given takes synth.Recording's defaults
+                rec = synth.Recording(
+                    amplitude=amplitude,
+                    seed=seed,
+                    **{k: v for k, v in stated.items() if v is not None},
                 )
-        table_out, side_out = output_files(out)
-        OutputPlan().file("OUT", table_out).file("the sidecar of OUT", side_out).input(
-            "the truth model of --model", model
-        ).input("the trajectory file of --input-file", input_file).check()
-        err = make_console(stderr=True)
-        writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
-        load = load or "blocked"
-        if setup != "arm" and load not in ("blocked", "inertia"):
-            raise InvalidParameterError(f"--load must be blocked or inertia, got {load!r}")
-        shaft = stated_shaft(diameter_mm, length_mm)
-        rec: synth.Recording | ArmRecording
-        if setup == "arm":
-            rec = ArmRecording(
-                scenario=scenario,
-                duration_s=duration,
-                noise_rad=noise_rad,
-                seed=seed,
-                rate_hz=rate,
+            cols, side, hidden = synth.synthesize_setup(
+                str(setup),
+                effect or [],
+                model_file=model,
+                shaft=shaft,
+                stiffness_scale=stiffness_scale,
+                load_inertia_kgm2=(
+                    (synth.DEFAULT_LOAD_INERTIA_KGM2 if inertia is None else inertia)
+                    if (setup == "series_bench" and load == "inertia")
+                    else None
+                ),
+                true_inertia_kgm2=true_inertia,
+                recording=rec,
+                progress=lambda step, done, total: progress(step, done + 1, total + 1),
             )
-        else:
-            if input_file is not None and duration is None:
-                t_in, _ = synth.read_input_file(input_file, setup)
-                # whole sample periods of the file's span (a rounded-up last sample would lie
-                # past the file's end)
-                r = rate if rate is not None else synth.Recording.rate_hz
-                duration = math.floor(float(t_in[-1] - t_in[0]) * r + 1e-6) / r
-            stated: dict[str, Any] = {
-                "duration_s": duration,
-                "rate_hz": rate,
-                "noise": noise,
-                "trajectory": trajectory,
-                "bend_rad": None if bend_deg is None else math.radians(bend_deg),
-                "input_file": None if input_file is None else str(input_file),
-            }
-            # what is not given takes synth.Recording's defaults
-            rec = synth.Recording(
-                amplitude=amplitude,
-                seed=seed,
-                **{k: v for k, v in stated.items() if v is not None},
-            )
-        cols, side, hidden = synth.synthesize_setup(
-            setup,
-            effect or [],
-            model_file=model,
-            shaft=shaft,
-            stiffness_scale=stiffness_scale,
-            load_inertia_kgm2=(
-                (synth.DEFAULT_LOAD_INERTIA_KGM2 if inertia is None else inertia)
-                if (setup == "series_bench" and load == "inertia")
-                else None
-            ),
-            true_inertia_kgm2=true_inertia,
-            recording=rec,
-        )
         written = writes.write(out, lambda p: write_dataset(p, cols, side), "the dataset (OUT)")
         if written is not None:
             typer.echo(

@@ -1,5 +1,7 @@
 """Options several commands share, defined once (type, flag and help), so that ``--shaft-file``
-or ``--backend`` reads and behaves the same in every command. A command still states its own
+or ``--backend`` reads and behaves the same in every command. A fixed set of choices is an enum of
+:mod:`fsarm_sim.choices` (listed by ``--help``, accepted in any case); commands hand the
+library its plain string (``str(backend)``). A command still states its own
 default where it uses one: ``diameter_mm: DiameterMm = 9.0``."""
 
 from __future__ import annotations
@@ -8,6 +10,11 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
+
+from fsarm_sim.choices import Backend as BackendChoice
+from fsarm_sim.choices import Controller as ControllerChoice
+from fsarm_sim.choices import Transmission as TransmissionChoice
+from fsarm_sim.choices import UncertaintyController as UncertaintyControllerChoice
 
 DiameterMm = Annotated[float, typer.Option(help="shaft diameter D, mm")]
 LengthMm = Annotated[float, typer.Option(help="shaft length L, mm")]
@@ -19,21 +26,26 @@ Extrapolate = Annotated[
     bool, typer.Option(help="allow D/L outside the coefficient file's validity range")
 ]
 Backend = Annotated[
-    str, typer.Option(help="callback path: native (compiled) or python (the reference)")
+    BackendChoice,
+    typer.Option(
+        help="callback path: native (compiled) or python (the reference)", case_sensitive=False
+    ),
 ]
 Transmission = Annotated[
-    str, typer.Option(help="joint 3's transmission (see `fsarm transmissions`)")
+    TransmissionChoice,
+    typer.Option(help="joint 3's transmission (see `fsarm transmissions`)", case_sensitive=False),
 ]
 TrParam = Annotated[
     list[str] | None,
     typer.Option(help="override a transmission parameter, NAME=VALUE (repeatable)"),
 ]
 Controller = Annotated[
-    str,
+    ControllerChoice,
     typer.Option(
         help="joint-3 controller: default (eq. 8, speed feedforward, scheduled PID), "
         "hysteresis-comp (Maxwell-slip torque estimate), dob (disturbance observer), "
-        "paper-pid (seed 000 Fig. 13 as printed)"
+        "paper-pid (seed 000 Fig. 13 as printed)",
+        case_sensitive=False,
     ),
 ]
 HysteresisModelFile = Annotated[
@@ -55,11 +67,12 @@ def read_hysteresis_model(path: Path | None) -> tuple[float, ...]:
 
 
 UncertaintyController = Annotated[
-    str,
+    UncertaintyControllerChoice,
     typer.Option(
         help="with --uncertainty: 'nominal' - the controller keeps the catalogue's eq. 8 while the "
         "sampled shaft is the plant (a shaft used as catalogued); 'matched' - the controller "
-        "is given each sample's coefficients (a shaft identified on the bench first)"
+        "is given each sample's coefficients (a shaft identified on the bench first)",
+        case_sensitive=False,
     ),
 ]
 Uncertainty = Annotated[

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 from rich.console import Console
 
+from fsarm_sim.choices import FigureFormat
 from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console
 from fsarm_sim.errors import InvalidParameterError
@@ -175,8 +176,10 @@ def register(app: typer.Typer) -> None:
             typer.Option(help="scenario to draw (repeatable; default: every registered one)"),
         ] = None,
         fmt: Annotated[
-            list[str] | None,
-            typer.Option("--format", help="png, svg or pdf (repeatable; default png)"),
+            list[FigureFormat] | None,
+            typer.Option(
+                "--format", help="figure format (repeatable) [default: png]", case_sensitive=False
+            ),
         ] = None,
         dpi: Annotated[int, typer.Option(help="resolution of raster formats")] = 110,
         width: Annotated[float, typer.Option(help="figure width, inches")] = 6.4,
@@ -201,7 +204,7 @@ def register(app: typer.Typer) -> None:
         names = scenario or list(scenarios.REGISTRY)
         for n in names:
             scenarios.get(n)  # unknown names fail before any run
-        formats = fmt or ["png"]
+        formats = [str(f) for f in fmt] if fmt else ["png"]
         check_output(formats, dpi)
         OutputPlan().folder(
             "--out",

@@ -14,6 +14,8 @@ from typing import Annotated, Any
 
 import typer
 
+from fsarm_sim.choices import StiffnessAdjust
+
 # the studies are imported inside the commands, so that registering them keeps `fsarm` quick
 
 
@@ -88,8 +90,9 @@ def register(app: typer.Typer) -> None:
             str, typer.Option(help="motor speeds θ'_d [deg/s], comma-separated")
         ] = "60,75,90,100,120",
         adjust: Annotated[
-            str, typer.Option(help="stiffness adjustment eq. 20: none, drive or ideal")
-        ] = "none",
+            StiffnessAdjust,
+            typer.Option(help="stiffness adjustment, eq. 20", case_sensitive=False),
+        ] = StiffnessAdjust.NONE,
         lever_arms: Annotated[
             str, typer.Option(help="impact lever arms r [m] for the Sec. VII impact (empty: none)")
         ] = "",
@@ -110,7 +113,8 @@ def register(app: typer.Typer) -> None:
             raise qx.QaExperimentError("--presets and --speeds need at least one number each")
         for v in vel:
             qx.check_speed_deg_s(v, "--speeds")
-        qx.check_adjust(adjust, "--adjust")
+        mode = str(adjust)
+        qx.check_adjust(mode, "--adjust")
         for r in arms:
             qx.check_lever_arm(r, "--lever-arms")
         benches = [(s, qx.bench(s)) for s in sig]  # a preset outside Table IV's range fails here
@@ -121,7 +125,7 @@ def register(app: typer.Typer) -> None:
         )
         for s, b in benches:
             for v in vel:
-                t = qx.best_throw(b, v, adjust=adjust)
+                t = qx.best_throw(b, v, adjust=mode)
                 rows.append(asdict(t))
                 if not t.feasible:
                     typer.echo(
@@ -142,7 +146,7 @@ def register(app: typer.Typer) -> None:
                     impacts.append(asdict(imp))
                     line.append(f"σ {s:g}°: {imp.peak_joint_torque_nm:.1f}")
                 typer.echo(f"  r = {r:g} m: " + ", ".join(line))
-        _write_json(json_file, {"adjust": adjust, "throws": rows, "impacts": impacts})
+        _write_json(json_file, {"adjust": mode, "throws": rows, "impacts": impacts})
 
     @app.command("rtca-fig12")
     def rtca_fig12_cmd(

@@ -12,6 +12,8 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
+from fsarm_sim import choices
+from fsarm_sim.choices import Executor, Pool, ShaftKind
 from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console, number_table
 from fsarm_sim.errors import FsarmError
@@ -46,6 +48,23 @@ def _print_series_table(name: str, fits: Any) -> None:
     for r in rows:
         table.add_row(*(f"{r[c]:.4g}" for c in cols))
     console.print(table)
+    note = inertia_note([float(r["eq1_J"]) for r in rows])
+    if note:
+        console.print(note, markup=False)
+
+
+def inertia_note(fitted_j: list[float]) -> str:
+    """What a negative eq. 1 inertia in a series table means (empty when none is negative)."""
+    if not any(j < 0.0 for j in fitted_j):
+        return ""
+    return (
+        f"note: eq1_J < 0 (down to {min(fitted_j):.3g} kg·m²) is no inertia: eq. 1's J is not "
+        "identifiable from this test. The output is blocked, so the measured torque carries "
+        "only the shaft's own inertia (the built-in coefficient file sets it to 0: "
+        "series.dynamic.inertia_kgm2; seed 000 gives none); at the chirp's frequencies the "
+        "acceleration column is nearly -ω²·twist, so the fitted J trades against K and takes "
+        "up what eq. 1 lacks (the hysteresis' lag). Read J as undetermined, not as a value."
+    )
 
 
 def _print_parallel_table(name: str, fits: Any) -> None:
@@ -100,10 +119,22 @@ def _print_comparisons(comparisons: Any, fits: Any) -> None:
     console.print(table)
     for eq, c in comparisons.items():
         parts = ", ".join(
-            f"{n}: {100 * r:+.2g} %"
-            for n, r in zip(fits[eq].names, c.coefficient_rel_error, strict=True)
+            coefficient_change(n, r, f, cat)
+            for n, r, f, cat in zip(
+                fits[eq].names, c.coefficient_rel_error, c.refit, c.catalogue, strict=True
+            )
         )
         console.print(f"  {eq} coefficients (refit − catalogue)/catalogue: {parts}", markup=False)
+
+
+def coefficient_change(name: str, rel: float, refit: float, catalogue: float) -> str:
+    """A coefficient's (refit − catalogue)/catalogue; one the catalogue holds at 0 (eq. 3's p4
+    under the inverse-length law) has no relative change: its refit is said as it is."""
+    if catalogue != 0.0:
+        return f"{name}: {100 * rel:+.2g} %"
+    if refit == 0.0:
+        return f"{name}: 0 in both (held at 0, not fitted)"
+    return f"{name}: catalogue 0, refit {refit:+.3g}"
 
 
 def _write_folder(out: Path, write: Any, what: str) -> None:
@@ -120,7 +151,10 @@ def register(app: typer.Typer) -> None:
     @app.command("select-shaft")
     def select_shaft_cmd(
         k_des: Annotated[float, typer.Option(help="desired stiffness K_des, N·m/rad")],
-        kind: Annotated[str, typer.Option(help="series (eq. 3) or parallel (eq. 4)")] = "series",
+        kind: Annotated[
+            ShaftKind,
+            typer.Option(help="series (eq. 3) or parallel (eq. 4)", case_sensitive=False),
+        ] = ShaftKind.SERIES,
         bend_deg: Annotated[float, typer.Option(help="series: bend angle for K_des, deg")] = 0.0,
         torque_nm: Annotated[
             float,
@@ -157,7 +191,7 @@ def register(app: typer.Typer) -> None:
             )
         req = SelectionRequest(
             k_des=k_des,
-            kind=kind,  # type: ignore[arg-type]
+            kind=str(kind),  # type: ignore[arg-type]
             bend_rad=math.radians(bend_deg),
             torque_nm=torque_nm,
             length_range_mm=lrange,
@@ -222,12 +256,13 @@ def register(app: typer.Typer) -> None:
         ] = None,
         name: Annotated[str | None, typer.Option(help="sweep name stored with each point")] = None,
         executor: Annotated[
-            str,
+            Executor,
             typer.Option(
                 help="auto (threads when every point is a native simulation, else the process "
-                "pool), local (process pool), threads (this process) or dask"
+                "pool), local (process pool), threads (this process) or dask",
+                case_sensitive=False,
             ),
-        ] = "auto",
+        ] = Executor.AUTO,
         workers: Annotated[int | None, typer.Option(help="workers (default: all cores)")] = None,
         scheduler: Annotated[
             str | None, typer.Option(help="Dask scheduler address, e.g. tcp://host:8786")
@@ -248,7 +283,7 @@ def register(app: typer.Typer) -> None:
             bool, typer.Option(help="list the sweepable fields and exit")
         ] = False,
         uncertainty: opt.Uncertainty = 0,
-        uncertainty_controller: opt.UncertaintyController = "nominal",
+        uncertainty_controller: opt.UncertaintyController = choices.UncertaintyController.NOMINAL,
     ) -> None:
         """Sweep shafts, bends, payloads, gains and scenarios; store every point as it finishes."""
         from fsarm_sim.records.store import ResultStore, point_key
@@ -282,7 +317,7 @@ def register(app: typer.Typer) -> None:
             from fsarm_sim.studies import uncertainty as unc
 
             unc.check_samples(uncertainty)
-            unc.check_controller(uncertainty_controller)
+            unc.check_controller(str(uncertainty_controller))
             if not sw.spec_catalogue(the_spec)[0].uncertainty:
                 raise unc.UncertaintyError(
                     "--uncertainty: the coefficient file declares no [uncertainty] ranges"
@@ -303,7 +338,7 @@ def register(app: typer.Typer) -> None:
         report = sw.run_sweep(
             the_spec,
             store,
-            executor=executor,
+            executor=str(executor),
             workers=workers,
             scheduler=scheduler,
             retry_failed=retry_failed,
@@ -330,7 +365,7 @@ def register(app: typer.Typer) -> None:
         if out is not None:
             _report(store, out, the_spec.name)
         if uncertainty:
-            _bands(the_spec, store, uncertainty, uncertainty_controller)
+            _bands(the_spec, store, uncertainty, str(uncertainty_controller))
         if report.failed or report.failed_before:
             raise FsarmError(
                 f"{report.failed + report.failed_before} point(s) of {report.name} failed "
@@ -529,11 +564,13 @@ def register(app: typer.Typer) -> None:
             bool | None, typer.Option(help="Maxwell-slip hysteresis on/off (default: catalogue's)")
         ] = None,
         executor: Annotated[
-            str,
+            Pool,
             typer.Option(
-                help="local (process pool), threads (this process; best for many short runs) or dask"
+                help="local (process pool), threads (this process; best for many short runs) "
+                "or dask",
+                case_sensitive=False,
             ),
-        ] = "local",
+        ] = Pool.LOCAL,
         workers: Annotated[
             int | None, typer.Option(help="worker processes (default: all cores)")
         ] = None,
@@ -586,7 +623,7 @@ def register(app: typer.Typer) -> None:
                 shafts=chosen,
                 bends_deg=bend_list,
                 settings=s,
-                executor=executor,
+                executor=str(executor),
                 workers=workers,
                 scheduler=scheduler,
                 on_done=(lambda _o: bar.advance(task_id)) if bar is not None else None,

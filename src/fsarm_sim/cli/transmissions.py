@@ -11,6 +11,8 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
+from fsarm_sim.choices import Transmission
+from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console, number_table
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.outputs import OutputPlan, SafeWriter, safe_write, write_text
@@ -91,7 +93,8 @@ def register(app: typer.Typer) -> None:
     @app.command("transmissions")
     def transmissions_cmd(
         name: Annotated[
-            str | None, typer.Argument(help="show one transmission's parameters")
+            Transmission | None,
+            typer.Argument(help="show one transmission's parameters", case_sensitive=False),
         ] = None,
     ) -> None:
         """List joint 3's transmissions (or one with its parameters and their sources)."""
@@ -112,7 +115,7 @@ def register(app: typer.Typer) -> None:
                 )
             console.print(table)
             return
-        tr = transmissions.get(name)
+        tr = transmissions.get(str(name))
         table = Table(title=f"{name}: {tr.title}")
         for col in ("parameter", "value", "unit", "source"):
             table.add_column(col)
@@ -124,7 +127,8 @@ def register(app: typer.Typer) -> None:
     def compare_cmd(
         scenario: Annotated[str, typer.Option(help="scenario to run")] = "fig14-sine",
         only: Annotated[
-            list[str] | None, typer.Option(help="compare only these (repeatable)")
+            list[Transmission] | None,
+            typer.Option(help="compare only these (repeatable)", case_sensitive=False),
         ] = None,
         payload_kg: Annotated[float | None, typer.Option(help="payload, kg")] = None,
         duration: Annotated[float | None, typer.Option(help="simulated time, s")] = None,
@@ -153,7 +157,7 @@ def register(app: typer.Typer) -> None:
         OutputPlan().file("--json", json_file).check()
         base = SimConfig(gains=Gains(**parse_gains(gain or [])))  # type: ignore[arg-type]
         rows = compare(
-            only or None,
+            [str(t) for t in only] if only else None,
             scenario,
             payload_kg=payload_kg,
             duration_s=duration,
@@ -188,9 +192,7 @@ def register(app: typer.Typer) -> None:
 
     @app.command("transparency")
     def transparency_cmd(
-        transmission: Annotated[
-            str, typer.Option(help="joint 3's transmission")
-        ] = "flexible-shaft",
+        transmission: opt.Transmission = Transmission.FLEXIBLE_SHAFT,
         bend: Annotated[
             list[float] | None, typer.Option(help="bend angles, deg (repeatable)")
         ] = None,
@@ -201,11 +203,12 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Torque-loop bandwidth and output impedance vs bend (seed 001 Sec. 4.1.2, 4.2)."""
         from fsarm_sim.engine.model import Gains, SimConfig
-        from fsarm_sim.studies.transparency import DEFAULT_BENDS_DEG, versus_bend
+        from fsarm_sim.studies.transparency import DEFAULT_BENDS_DEG, bend_note, versus_bend
 
         OutputPlan().file("--json", json_file).check()
-        cfg = SimConfig(transmission=transmission, gains=Gains(gain_schedule=not fixed_gains))
-        points = versus_bend(cfg, tuple(bend) if bend else DEFAULT_BENDS_DEG)
+        cfg = SimConfig(transmission=str(transmission), gains=Gains(gain_schedule=not fixed_gains))
+        bends = tuple(bend) if bend else DEFAULT_BENDS_DEG
+        points = versus_bend(cfg, bends)
         mode = "fixed" if fixed_gains else "scheduled"
         table = number_table(
             f"{transmission}: torque loop vs bend ({mode} gains)",
@@ -225,6 +228,9 @@ def register(app: typer.Typer) -> None:
                 "bend, so these rows differ only where joint 2's pose changes the arm",
                 markup=False,
             )
+        note = bend_note(cfg, bends)
+        if note:
+            console.print(note, markup=False)
         if json_file is not None:
             text = json.dumps(
                 [

@@ -26,6 +26,7 @@ the twist never crosses is an offset), the record cannot tell them apart; anothe
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -154,13 +155,21 @@ def _tie(diag: BenchDiagnosis) -> tuple[int, Any, Any, Any, str, str]:
     return best[1], best[2], best[3][1], best[4][1], best[3][0].label, best[4][0].label
 
 
-def design(ds: Dataset, diag: BenchDiagnosis | None = None) -> dict[str, Any]:
+def design(
+    ds: Dataset,
+    diag: BenchDiagnosis | None = None,
+    progress: Callable[[str, int, int], None] | None = None,
+) -> dict[str, Any]:
     """The separating experiment of a bench record (module docstring): a dict with the near-tie,
-    every design's expected margins, and the best design's input (``t``, ``u``)."""
+    every design's expected margins, and the best design's input (``t``, ``u``).
+    ``progress(step, done, total)`` is called before the diagnosis and before each candidate
+    input."""
     if ds.setup not in synth.INPUT_COLUMNS:
         raise InvalidParameterError(
             f"design-experiment designs bench inputs (series_bench, parallel_bench), not {ds.setup!r}"
         )
+    if progress is not None:
+        progress("diagnosing the record", 0, 1)
     diag = diag if diag is not None else bench_diagnose(ds)
     setup = diag.setup
     assert isinstance(setup, BenchSetup)
@@ -174,7 +183,9 @@ def design(ds: Dataset, diag: BenchDiagnosis | None = None) -> dict[str, Any]:
     rows: list[dict[str, Any]] = []
     cands: list[tuple[Design | None, np.ndarray]] = [(None, np.asarray(u_rec, dtype=np.float64))]
     cands += [(d, input_of(d, t, ds.setup, seed=k)) for k, d in enumerate(designs(amp))]
-    for d, u in cands:
+    for k, (d, u) in enumerate(cands):
+        if progress is not None:
+            progress("both fits on each candidate input", k + 1, len(cands) + 1)
         m_b, k_b, m0_a, k0 = wrong_fit_mse(fa.model, ds, t, u, base.structure, fb)
         m_a, k_a, m0_b, _ = wrong_fit_mse(fb.model, ds, t, u, base.structure, fa)
         marg_a = expected_margin(m_b, sigma, n_held, k_a - k_b)  # A true, B fitted

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -469,6 +469,7 @@ def synthesize_setup(
     load_inertia_kgm2: float | None = None,
     true_inertia_kgm2: float | None = None,
     recording: Any = None,
+    progress: Callable[[str, int, int], None] | None = None,
 ) -> tuple[dict[str, FloatArray], dict[str, Any], list[str]]:
     """``fsarm synth``: (columns, sidecar, hidden effect labels) of a SYNTHETIC record of any
     setup - the benches by the replay engine (:func:`synthesize`), the arm by the simulator
@@ -479,8 +480,14 @@ def synthesize_setup(
     acting load inertia) with ``effects`` in the effect text of
     :mod:`fsarm_sim.discrepancy.effect_text`, one parser for every setup. ``recording``: a
     :class:`Recording` (benches) or an ``ArmRecording`` (arm); None: the defaults. ``shaft``:
-    the stated shaft (default: the catalogue's 9 x 450 mm, eq. 8).
+    the stated shaft (default: the catalogue's 9 x 450 mm, eq. 8). ``progress(step, done,
+    total)`` is called before each of its two steps (the truth model, the record).
     """
+
+    def report(step: str, done: int) -> None:
+        if progress is not None:
+            progress(step, done, 2)
+
     if setup not in SETUPS:
         raise InvalidParameterError(
             f"--setup must be {', '.join(SETUPS[:-1])} or {SETUPS[-1]}, got {setup!r}"
@@ -488,14 +495,17 @@ def synthesize_setup(
     if setup == registry.ARM:
         from fsarm_sim.discrepancy import arm_modelfile, arm_synth
 
+        report("the truth model", 0)
         if model_file is not None:
             arm_truth = arm_modelfile.load_arm_model(model_file)[0]
         else:
             arm_truth = arm_synth.truth_model(list(effects), stiffness_scale=stiffness_scale)
         rec = recording if recording is not None else arm_synth.ArmRecording()
+        report("running the scenario", 1)
         cols, side = arm_synth.synthesize_arm(arm_truth, rec, shaft)
         return cols, side, list(arm_truth.labels)
     bench_rec = recording if recording is not None else Recording()
+    report("the truth model", 0)
     if model_file is not None:
         truth = load_model(model_file)
     else:
@@ -510,6 +520,7 @@ def synthesize_setup(
         amp = bench_rec.amplitude
         amp = amp if amp is not None else default_amplitude(truth, sh)
         truth.effects.extend(parse_effect(text, setup, amp) for text in effects)
+    report("simulating the bench", 1)
     cols, side = synthesize(truth, bench_rec, shaft)
     return cols, side, [e.label for e in truth.effects]
 

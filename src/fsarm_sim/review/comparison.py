@@ -2,7 +2,8 @@
 
 Each configuration gets a tag (``with-slip``, ``D7``, ...): its time series are logged under
 ``signals/<panel>/<tag>/<column>`` (so every panel shows the configurations over each other, the
-legend naming them), its loop as ``loops/<loop>/<tag>/...`` in the shared loop panel, each with
+legend naming them; a signal keeps its colour in every configuration, which differ by shade and
+line width), its loop as ``loops/<loop>/<tag>/...`` in the shared loop panel, each with
 its own colour, beside the catalogue's model curve of each distinct shaft. The 3-D view shows the
 first configuration's arm; the metadata page lists every configuration.
 
@@ -75,10 +76,19 @@ def check_tags(tags: Sequence[str]) -> None:
         raise InvalidParameterError(f"configuration names must differ, got {list(tags)}")
 
 
+# the k-th configuration's style of a series: its colour mixed with white (> 0) or black (< 0)
+# by this share, and its line width (UI points); visual only
+RUN_STYLES: tuple[tuple[float, float], ...] = ((0.0, 1.5), (0.55, 3.0), (-0.4, 1.5), (0.8, 4.0))
+
+
 def _shade(color: tuple[int, int, int], k: int) -> tuple[int, int, int]:
-    """The k-th configuration's version of a series colour: the same for k = 0, then the
-    configuration's colour (a panel's series stay told apart by their names)."""
-    return color if k == 0 else CONFIG_COLORS[k]
+    """The k-th configuration's shade of a series colour: every signal keeps its own colour in
+    every configuration (q1 is blue in each), the configurations differ by shade and width
+    (:data:`RUN_STYLES`)."""
+    mix = RUN_STYLES[k][0]
+    target = 255.0 if mix > 0 else 0.0
+    a = abs(mix)
+    return tuple(round((1.0 - a) * c + a * target) for c in color)  # type: ignore[return-value]
 
 
 @dataclass(frozen=True)
@@ -116,6 +126,7 @@ def log_runs(
     )
     all_cols = []
     panels_shown: dict[str, R.Panel] = {}
+    curves: dict[str, list[R.Curve]] = {}
     for k, r in enumerate(runs):
         cols = first_cols if k == 0 else R.with_derived(r.result.columns)
         rows = R.decimate(cols["t"], rate_hz)
@@ -126,7 +137,12 @@ def log_runs(
                 f"{p.name}/{entity_name(r.tag)}",
                 p.title,
                 tuple(
-                    replace(s, label=f"{r.tag}: {s.label}", color=_shade(s.color, k))
+                    replace(
+                        s,
+                        label=f"{s.label} · {r.tag}",
+                        color=_shade(s.color, k),
+                        width=RUN_STYLES[k][1],
+                    )
                     for s in p.series
                     if k == 0 or not (s.column.endswith("_ref") or "limit" in s.column)
                 ),
@@ -134,6 +150,8 @@ def log_runs(
             for p in R.ARM_PANELS
         ]
         R.log_scalar_panels(rec, cols, panels, rows)
+        for base, tagged in zip(R.ARM_PANELS, panels, strict=True):
+            curves.setdefault(base.name, []).extend(R.panel_curves(tagged, cols))
         for p in R.informative_panels(cols, R.ARM_PANELS):
             panels_shown.setdefault(p.name, p)
     views = []
@@ -166,7 +184,7 @@ def log_runs(
         log_loop_panel(rec, lp, traces, image)
         views.append(R.LoopView(lp.entity, lp.title, image.width, image.height))
     ordered = [p for p in R.ARM_PANELS if p.name in panels_shown]
-    return R.blueprint(ordered, views)
+    return R.blueprint(ordered, views, curves=curves)
 
 
 def record_runs(
@@ -269,6 +287,7 @@ def record_series_comparison(
     try:
         rec.log("run/metadata", rr.TextDocument(markdown, media_type="text/markdown"), static=True)
         shown = []
+        curves: dict[str, list[R.Curve]] = {}
         for p in panels:
             series = tuple(
                 R.Series(_slug(k), k, 1.0, p.colors.get(k, SERIES_COLORS[i % len(SERIES_COLORS)]))
@@ -281,6 +300,7 @@ def record_series_comparison(
             panel = R.Panel(p.name, p.title, series)
             R.log_scalar_panels(rec, cols, [panel], rows)
             shown.append(panel)
+            curves[panel.name] = R.panel_curves(panel, cols)
         views = []
         for lp in loops:
             loop = Loop(lp.name, lp.title, "x", lp.x_label, 1.0, "y", lp.y_label)
@@ -299,7 +319,9 @@ def record_series_comparison(
             log_loop_panel(rec, loop, runs, image)
             views.append(R.LoopView(loop.entity, loop.title, image.width, image.height))
         rec.send_blueprint(
-            R.blueprint(shown, views, with_3d=False), make_active=True, make_default=True
+            R.blueprint(shown, views, with_3d=False, curves=curves),
+            make_active=True,
+            make_default=True,
         )
         rec.flush()
     finally:

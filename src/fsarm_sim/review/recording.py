@@ -98,6 +98,7 @@ class Series:
     label: str
     scale: float = 1.0
     color: tuple[int, int, int] = BLUE
+    width: float = 1.5  # line width, UI points
 
 
 @dataclass(frozen=True)
@@ -110,6 +111,7 @@ class Panel:
     title: str
     series: tuple[Series, ...]
     informative: Callable[[Columns], bool] | None = None
+    group: str = "signals"  # the blueprint's tab (consecutive panels of a group share one)
 
     @property
     def entity(self) -> str:
@@ -131,33 +133,39 @@ ARM_PANELS: tuple[Panel, ...] = (
         "joint 1 [deg]",
         (_deg("q1_ref", "q1 ref", GREY), _deg("q1", "q1", BLUE)),
         informative=lambda c: 1 in moving_joints(c),
+        group="tracking",
     ),
     Panel(
         "joint2",
         "joint 2 [deg]",
         (_deg("q2_ref", "q2 ref", GREY), _deg("q2", "q2", BLUE)),
         informative=lambda c: 2 in moving_joints(c),
+        group="tracking",
     ),
     Panel(
         "joint3",
         "joint 3 [deg]",
         (_deg("q3_ref", "q3 ref", GREY), _deg("q3", "q3", BLUE)),
         informative=lambda c: 3 in moving_joints(c),
+        group="tracking",
     ),
     Panel(
         "errors",
         "tracking error q - q_ref [deg]",
         (_deg("e1", "e1", BLUE), _deg("e2", "e2", ORANGE), _deg("e3", "e3", GREEN)),
+        group="tracking",
     ),
     Panel(
         "shaft_angles",
         "shaft input θ_m / output θ_s [rad]",
         (Series("theta_m", "θ_m", 1.0, BLUE), Series("theta_s", "θ_s", 1.0, ORANGE)),
+        group="shaft",
     ),
     Panel(
         "twist_bend",
         "twist Δθ and bend φ_B [deg]",
         (_deg("twist", "twist Δθ", BLUE), _deg("phi_b", "bend φ_B", ORANGE)),
+        group="shaft",
     ),
     Panel(
         "shaft_torque",
@@ -167,6 +175,7 @@ ARM_PANELS: tuple[Panel, ...] = (
             Series("tau_model", "modeled τ_m", 1.0, ORANGE),
             Series("tau_d_shaft", "desired τ_d", 1.0, GREY),
         ),
+        group="shaft",
     ),
     Panel(
         "bending",
@@ -176,6 +185,7 @@ ARM_PANELS: tuple[Panel, ...] = (
             Series("tau_conduit", "conduit part", 1.0, ORANGE),
         ),
         informative=bending_shown,
+        group="shaft",
     ),
     Panel(
         "pid",
@@ -185,11 +195,13 @@ ARM_PANELS: tuple[Panel, ...] = (
             Series("pid_i", "I", 1.0, ORANGE),
             Series("pid_d", "D", 1.0, GREEN),
         ),
+        group="control",
     ),
     Panel(
         "speed",
         "shaft-input speed [rad/s]",
         (Series("omega_d", "ω_d", 1.0, GREY), Series("omega_m", "ω_m", 1.0, BLUE)),
+        group="control",
     ),
     Panel(
         "motor_torque",
@@ -199,11 +211,13 @@ ARM_PANELS: tuple[Panel, ...] = (
             Series("tau_motor_limit_pos", "+limit", 1.0, RED),
             Series("tau_motor_limit_neg", "-limit", 1.0, RED),
         ),
+        group="control",
     ),
     Panel(
         "joint_torques",
         "joint 1 / 2 torque commands [N·m]",
         (Series("tau1", "τ1", 1.0, BLUE), Series("tau2", "τ2", 1.0, ORANGE)),
+        group="control",
     ),
 )
 
@@ -222,6 +236,7 @@ def state_panels(result: RunResult) -> tuple[Panel, ...]:
                 "transmission_states",
                 f"{result.config.transmission} states (data.act)",
                 tuple(Series(f"state_{n}", n, 1.0, colors[i % 4]) for i, n in enumerate(own)),
+                group="states",
             )
         )
     if branches:
@@ -231,6 +246,7 @@ def state_panels(result: RunResult) -> tuple[Panel, ...]:
                 "conduit branch states (bending hysteresis, data.act)",
                 tuple(Series(f"state_{n}", n, 1.0, colors[i % 4]) for i, n in enumerate(branches)),
                 informative=bending_shown,
+                group="states",
             )
         )
     return tuple(out)
@@ -297,7 +313,9 @@ def log_scalar_panels(
                 continue
             path = f"{panel.entity}/{s.column}"
             rec.log(
-                path, rr.SeriesLines(colors=[s.color], names=[s.label], widths=[1.5]), static=True
+                path,
+                rr.SeriesLines(colors=[s.color], names=[s.label], widths=[s.width]),
+                static=True,
             )
             values = np.asarray(cols[s.column], dtype=np.float64)[rows] * s.scale
             rec.send_columns(
@@ -508,15 +526,138 @@ class LoopView:
     height: int
 
 
+# --- time-series views: what each panel needs to be read at a glance. Rerun draws a plot's
+# legend over the data and labels the time axis only where ticks have room (its time ticks step
+# 1 s, 10 s, ...: a 7 s run in a quarter-width panel got "+0s" alone). So the panels stand in
+# one full-width column, at most PANELS_PER_TAB per tab, each with a y range of its data and a
+# legend in the corner the data leave free (room is made above or below the data where none is).
+PANELS_PER_TAB = 4
+COLUMN_PX = (560.0, 800.0)  # the panels' column in a 1600 x 1000 window (below its tabs)
+PANEL_CHROME_PX = 50.0  # a panel's title bar and time axis; visual only
+LEGEND_ROW_PX = 19.0  # one legend entry's height (Rerun's default font), visual only
+LEGEND_CHAR_PX = 7.0  # one character's width in a legend entry, visual only
+LEGEND_PAD_PX = 30.0  # a legend entry's colour mark and margins, visual only
+Y_MARGIN = 0.06  # share of the data's span left free above and below it
+
+Curve = tuple[Array, Array, str]  # (t, y as shown, legend name) of one series in a panel
+
+
+def panel_curves(panel: Panel, cols: Columns, time_column: str = "t") -> list[Curve]:
+    """The series of ``panel`` that ``cols`` holds, as shown (scaled), with their names."""
+    t = np.asarray(cols[time_column], dtype=np.float64)
+    return [
+        (t, np.asarray(cols[s.column], dtype=np.float64) * s.scale, s.label)
+        for s in panel.series
+        if s.column in cols
+    ]
+
+
+@dataclass(frozen=True)
+class SeriesLayout:
+    """How a time-series view shows its curves: the y range, the legend's corner (``None``: no
+    legend, one curve names itself by the title) and the share of the plot the legend covers."""
+
+    y_range: tuple[float, float]
+    corner: str | None
+    legend_share: tuple[float, float]
+
+
+CORNERS = ("RightTop", "LeftTop", "RightBottom", "LeftBottom")
+
+
+def plot_px(panels_in_tab: int) -> tuple[float, float]:
+    """The nominal plot area of one of ``panels_in_tab`` panels stacked in the column."""
+    return COLUMN_PX[0], COLUMN_PX[1] / max(1, panels_in_tab) - PANEL_CHROME_PX
+
+
+def series_layout(
+    curves: Sequence[Curve], plot_px: tuple[float, float] = plot_px(PANELS_PER_TAB)
+) -> SeriesLayout:
+    """The y range and legend corner of a panel showing ``curves``: the corner whose legend box
+    covers the fewest data points; where every corner covers some, the range grows on that side
+    by the legend's height, so that the legend stands beside the data, never on it."""
+    finite = [(t[m], y[m]) for t, y, _ in curves if (m := np.isfinite(y) & np.isfinite(t)).any()]
+    if not finite:
+        return SeriesLayout((-1.0, 1.0), None, (0.0, 0.0))
+    ts = np.concatenate([t for t, _ in finite])
+    ys = np.concatenate([y for _, y in finite])
+    lo, hi = float(ys.min()), float(ys.max())
+    span = hi - lo if hi > lo else max(abs(hi), 1.0) * 0.1
+    lo, hi = lo - Y_MARGIN * span, hi + Y_MARGIN * span
+    if len(curves) < 2:
+        return SeriesLayout((lo, hi), None, (0.0, 0.0))
+    longest = max(len(name) for _, _, name in curves)
+    w = min(0.9, (LEGEND_PAD_PX + LEGEND_CHAR_PX * longest) / plot_px[0])
+    h = min(0.6, (LEGEND_ROW_PX * len(curves) + 8.0) / plot_px[1])
+    t0, t1 = float(ts.min()), float(ts.max())
+    u = (ts - t0) / (t1 - t0) if t1 > t0 else np.zeros_like(ts)
+    v = (ys - lo) / (hi - lo)
+
+    def covered(corner: str) -> int:
+        in_x = u >= 1.0 - w if corner.startswith("Right") else u <= w
+        in_y = v >= 1.0 - h if corner.endswith("Top") else v <= h
+        return int(np.count_nonzero(in_x & in_y))
+
+    corner = min(CORNERS, key=covered)  # ties: the first (top right, where Rerun puts it)
+    if covered(corner):
+        grow = (hi - lo) * h / (1.0 - h)  # the legend's rows beyond the data
+        lo, hi = (lo, hi + grow) if corner.endswith("Top") else (lo - grow, hi)
+    return SeriesLayout((lo, hi), corner, (w, h))
+
+
+def series_view(panel: Panel, curves: Sequence[Curve], panels_in_tab: int) -> rrb.TimeSeriesView:
+    """The panel's TimeSeriesView laid out by :func:`series_layout`."""
+    import rerun.blueprint as rrb
+
+    lay = series_layout(curves, plot_px(panels_in_tab))
+    legend = (
+        rrb.PlotLegend(visible=False)
+        if lay.corner is None
+        else rrb.PlotLegend(corner=getattr(rrb.Corner2D, lay.corner), visible=True)
+    )
+    return rrb.TimeSeriesView(
+        origin=panel.entity,
+        name=panel.title,
+        axis_y=rrb.ScalarAxis(range=lay.y_range, zoom_lock=False),
+        plot_legend=legend,
+    )
+
+
+def panel_tabs(panels: Sequence[Panel]) -> list[tuple[str, list[Panel]]]:
+    """The panels as tabs: consecutive panels of a group share one, at most
+    :data:`PANELS_PER_TAB` each (a larger group is split: ``control 1``, ``control 2``)."""
+    groups: list[tuple[str, list[Panel]]] = []
+    for p in panels:
+        if groups and groups[-1][0] == p.group:
+            groups[-1][1].append(p)
+        else:
+            groups.append((p.group, [p]))
+    tabs = []
+    for name, members in groups:
+        chunks = [members[i : i + PANELS_PER_TAB] for i in range(0, len(members), PANELS_PER_TAB)]
+        for k, chunk in enumerate(chunks):
+            tabs.append((f"{name} {k + 1}" if len(chunks) > 1 else name, chunk))
+    return tabs
+
+
+def shown_panels(panels: Sequence[Panel]) -> list[Panel]:
+    """The panels a reader sees on opening the recording (the first tab's)."""
+    tabs = panel_tabs(panels)
+    return tabs[0][1] if tabs else []
+
+
 def blueprint(
     panels: Sequence[Panel],
     loops: Sequence[LoopView],
     *,
     with_3d: bool = True,
     metadata: str | None = "run/metadata",
+    curves: Mapping[str, Sequence[Curve]] | None = None,
 ) -> rrb.Blueprint:
-    """The layout: 3-D arm and metadata, the loop panels (framed to their plot), one time-series
-    view per panel in a grid; Rerun's side panels start collapsed (the views get the room)."""
+    """The layout: 3-D arm and metadata, the loop panels (framed to their plot), the time-series
+    panels in tabs of one column (:func:`panel_tabs`), each laid out from its ``curves`` (panel
+    name -> curves; :func:`series_layout`); Rerun's side panels start collapsed (the views get
+    the room)."""
     import rerun.blueprint as rrb
 
     loop_views = [
@@ -558,9 +699,15 @@ def blueprint(
             ]
             columns.append(rrb.Vertical(*views, row_shares=rows))
             shares.append(share)
-    series_views = [rrb.TimeSeriesView(origin=p.entity, name=p.title) for p in panels]
-    if series_views:
-        columns.append(rrb.Grid(*series_views, grid_columns=2 if len(series_views) > 4 else 1))
+    tabs = [
+        rrb.Vertical(
+            *(series_view(p, (curves or {}).get(p.name, ()), len(members)) for p in members),
+            name=name,
+        )
+        for name, members in panel_tabs(panels)
+    ]
+    if tabs:
+        columns.append(tabs[0] if len(tabs) == 1 else rrb.Tabs(*tabs, active_tab=0))
         shares.append(3.0)
     return rrb.Blueprint(
         rrb.Horizontal(*columns, column_shares=shares),
@@ -617,7 +764,8 @@ def log_arm_run(
     cols.update(state_columns(result))
     log_scalar_panels(rec, cols, panels, rows)
     views = log_arm_loops(rec, result, cols, rows)
-    return blueprint(informative_panels(cols, panels), views)
+    shown = informative_panels(cols, panels)
+    return blueprint(shown, views, curves={p.name: panel_curves(p, cols) for p in shown})
 
 
 def state_columns(result: RunResult) -> dict[str, Array]:

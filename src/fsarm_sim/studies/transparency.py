@@ -120,6 +120,26 @@ class BendPoint:
     impedance: Impedance
 
 
+def bend_note(config: SimConfig, bends_deg: tuple[float, ...]) -> str:
+    """Why rows of a bend table repeat, where the transmission's law holds the bend's effect
+    flat beyond some bend (the RTCA's mu, :func:`fsarm_sim.plant.transmissions.rtca.
+    bend_held_from_rad`) and the table reaches past it; empty otherwise."""
+    tr = config.transmission_model()
+    held = getattr(tr.module, "bend_held_from_rad", None)
+    if held is None:
+        return ""
+    limit_deg = math.degrees(held(tr.block(dict(config.transmission_params))))
+    beyond = sorted(b for b in bends_deg if abs(b) >= limit_deg)
+    if not beyond:
+        return ""
+    return (
+        f"note: {tr.name}'s bend scaling mu (eq. 3-5) falls linearly with the curvature up to "
+        f"|φ_B| = {limit_deg:.1f}° (R = 250 mm, the largest published loss) and is held there, "
+        f"not extrapolated: the rows at {', '.join(f'{b:g}' for b in beyond)}° differ only by "
+        "the bend-dependent friction and the arm's pose"
+    )
+
+
 def versus_bend(
     config: SimConfig,
     bends_deg: tuple[float, ...] = DEFAULT_BENDS_DEG,

@@ -603,6 +603,13 @@ def bend_radius_m(bend_rad: float, tr: FloatArray | None = None) -> float:
     return math.inf if bend_rad == 0.0 else float(tr[I_L_BEND] / abs(bend_rad))
 
 
+def bend_held_from_rad(tr: FloatArray | None = None) -> float:
+    """The bend beyond which the law no longer reads it: mu reaches the R = R_mu values at
+    ``|phi_B| = L_bend / R_mu`` (1.02 rad = 58.4 deg by default) and is held there."""
+    tr = default_block() if tr is None else tr
+    return float(tr[I_L_BEND] / R_MU_M)
+
+
 def mu(bend_rad: float, sign: float, tr: FloatArray | None = None) -> float:
     """mu(phi_B, sign) of eq. 5 as implemented (see the module docstring)."""
     if sign not in (1.0, -1.0):
