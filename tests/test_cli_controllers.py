@@ -37,7 +37,7 @@ def test_run_records_the_controller_and_its_model(
 @pytest.mark.parametrize(
     ("extra", "message"),
     [
-        (["--controller", "pd"], "unknown controller 'pd'"),
+        (["--controller", "pd"], "'pd' is not one of 'default', 'hysteresis-comp', 'dob'"),
         (["--controller", "hysteresis-comp", "--hysteresis-model", "nofile.toml"], "nofile"),
     ],
 )
