@@ -19,10 +19,8 @@ never a ``RecursionError``.
 from __future__ import annotations
 
 import errno
-import json
 import os
 import stat
-import tomllib
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -149,6 +147,8 @@ def _check_nesting(value: Any, source: str, error: type[FsarmError]) -> Any:
 def bounded_toml(text: str, source: str, error: type[FsarmError]) -> dict[str, Any]:
     """``tomllib.loads`` with the nesting depth bounded (:data:`MAX_NESTING`); a
     ``TOMLDecodeError`` is left to the caller."""
+    import tomllib  # here, not at import: the command's start-up does not need it
+
     try:
         data = tomllib.loads(text)
     except RecursionError:
@@ -159,6 +159,8 @@ def bounded_toml(text: str, source: str, error: type[FsarmError]) -> dict[str, A
 def bounded_json(text: str, source: str, error: type[FsarmError]) -> Any:
     """``json.loads`` with the nesting depth bounded (:data:`MAX_NESTING`); a
     ``JSONDecodeError`` is left to the caller."""
+    import json
+
     try:
         data = json.loads(text)
     except RecursionError:
