@@ -8,8 +8,10 @@ command's work.
 
 from __future__ import annotations
 
+import json
 import sys
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
+from pathlib import Path
 from typing import Any
 
 from rich.console import Console
@@ -32,3 +34,19 @@ def number_table(title: str, columns: Iterable[str]) -> Table:
     for col in columns:
         table.add_column(escape(col), justify="right")
     return table
+
+
+def write_rows_json(
+    json_file: Path | None, rows: Sequence[Any], console: Console, err: Console
+) -> None:
+    """Write a comparison's rows (each with ``as_dict()``) to ``--json`` through a SafeWriter
+    (a failed write is rescued and warned about) and say where they went."""
+    from fsarm_sim.outputs import SafeWriter, write_text
+
+    writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
+    if json_file is not None:
+        text = json.dumps([r.as_dict() for r in rows], indent=2)
+        where = writes.write(json_file, lambda p: write_text(p, text), "the rows (--json)")
+        if where is not None:
+            console.print(f"rows: {where}", markup=False)
+    writes.finish()

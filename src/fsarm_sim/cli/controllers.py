@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from fsarm_sim.cli.console import make_console, number_table
+from fsarm_sim.cli.console import make_console, number_table, write_rows_json
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.outputs import OutputPlan, SafeWriter, write_text
 
@@ -137,13 +136,7 @@ def register(app: typer.Typer) -> None:
         for r in rows:
             for f in r.failures:
                 err.print(f"{r.shaft} {r.controller}: {f}", markup=False)
-        writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
-        if json_file is not None:
-            text = json.dumps([r.as_dict() for r in rows], indent=2)
-            where = writes.write(json_file, lambda p: write_text(p, text), "the rows (--json)")
-            if where is not None:
-                console.print(f"rows: {where}", markup=False)
-        writes.finish()
+        write_rows_json(json_file, rows, console, err)
 
     @app.command("identify-hysteresis")
     def identify_hysteresis_cmd(

@@ -13,9 +13,9 @@ from rich.table import Table
 
 from fsarm_sim.choices import Transmission
 from fsarm_sim.cli import options as opt
-from fsarm_sim.cli.console import make_console, number_table
+from fsarm_sim.cli.console import make_console, number_table, write_rows_json
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.outputs import OutputPlan, SafeWriter, safe_write, write_text
+from fsarm_sim.outputs import OutputPlan, safe_write, write_text
 
 console = make_console()
 
@@ -179,13 +179,7 @@ def register(app: typer.Typer) -> None:
         for note in notes:
             console.print(f"[red]failed[/] {escape(note)}")
         err = make_console(stderr=True)
-        writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
-        if json_file is not None:
-            text = json.dumps([r.as_dict() for r in rows], indent=2)
-            where = writes.write(json_file, lambda p: write_text(p, text), "the rows (--json)")
-            if where is not None:
-                console.print(f"rows: {where}", markup=False)
-        writes.finish()
+        write_rows_json(json_file, rows, console, err)
         if notes:
             err.print(f"{len(notes)} of {len(rows)} transmission(s) failed", markup=False)
             raise typer.Exit(code=1)
