@@ -132,9 +132,14 @@ def register(app: typer.Typer) -> None:
 
     @app.command("select")
     def select_cmd(
-        scenario: Annotated[
-            str | None,
-            typer.Argument(help="the task: a scenario (`fsarm scenarios`), or --trajectory-file"),
+        scenario_choice: Annotated[
+            choices.Scenario | None,
+            typer.Argument(
+                metavar="[SCENARIO]",
+                help="the task: a scenario (`fsarm scenarios`), or --trajectory-file",
+                case_sensitive=False,
+                show_default=False,
+            ),
         ] = None,
         objective: Annotated[
             str, typer.Option(help="q3_rmse_deg, motor_energy_j or peak_motor_torque_nm")
@@ -192,6 +197,7 @@ def register(app: typer.Typer) -> None:
         from fsarm_sim.studies import task_selection as ts
         from fsarm_sim.studies import uncertainty as unc
 
+        scenario = None if scenario_choice is None else str(scenario_choice)
         ts.check_objective(objective)
         if (scenario is None) == (trajectory_file is None):
             raise ts.SelectionError(
