@@ -98,7 +98,15 @@ def shafts_cmd(
 @app.command("run")
 def run_cmd(
     ctx: typer.Context,
-    scenario: Annotated[str, typer.Argument(help="scenario name (see `fsarm scenarios`)")],
+    scenario_choice: Annotated[
+        choices.Scenario,
+        typer.Argument(
+            metavar="SCENARIO",
+            help="scenario (`fsarm scenarios` describes them)",
+            case_sensitive=False,
+            show_default=False,
+        ),
+    ],
     diameter_mm: opt.DiameterMm = 9.0,
     length_mm: opt.LengthMm = 450.0,
     payload_kg: Annotated[
@@ -163,6 +171,7 @@ def run_cmd(
     uncertainty_controller: opt.UncertaintyController = choices.UncertaintyController.NOMINAL,
 ) -> None:
     """Run a scenario headless, print tracking metrics, write its time series."""
+    scenario = str(scenario_choice)
     from fsarm_sim.cli.review import check_review_options, review_outputs, run_output_plan
     from fsarm_sim.engine.model import Gains, SimConfig
     from fsarm_sim.outputs import SafeWriter

@@ -132,7 +132,15 @@ def register(app: typer.Typer) -> None:
 
     @app.command("select")
     def select_cmd(
-        scenario: Annotated[str, typer.Argument(help="the task: a scenario (`fsarm scenarios`)")],
+        scenario_choice: Annotated[
+            choices.Scenario | None,
+            typer.Argument(
+                metavar="[SCENARIO]",
+                help="the task: a scenario (`fsarm scenarios`), or --trajectory-file",
+                case_sensitive=False,
+                show_default=False,
+            ),
+        ] = None,
         objective: Annotated[
             str, typer.Option(help="q3_rmse_deg, motor_energy_j or peak_motor_torque_nm")
         ] = "q3_rmse_deg",
@@ -169,6 +177,15 @@ def register(app: typer.Typer) -> None:
         shaft_file: opt.ShaftFile = None,
         uncertainty: opt.Uncertainty = 0,
         uncertainty_controller: opt.UncertaintyController = choices.UncertaintyController.NOMINAL,
+        trajectory_file: Annotated[
+            Path | None,
+            typer.Option(
+                help="the task as your trajectory: .csv or .parquet, columns t (s, from 0), "
+                "q1_ref q2_ref q3_ref (rad), optional qd1_ref..qd3_ref (rad/s) and "
+                "qdd1_ref..qdd3_ref (rad/s^2) (an `fsarm run` record works as it is); payload "
+                "0 kg unless --payload-kg",
+            ),
+        ] = None,
     ) -> None:
         """Find D and L (continuous, in the validity box) minimising a task objective under
         constraints, by differential evolution over simulations; then the nearest catalogue
@@ -180,7 +197,12 @@ def register(app: typer.Typer) -> None:
         from fsarm_sim.studies import task_selection as ts
         from fsarm_sim.studies import uncertainty as unc
 
+        scenario = None if scenario_choice is None else str(scenario_choice)
         ts.check_objective(objective)
+        if (scenario is None) == (trajectory_file is None):
+            raise ts.SelectionError(
+                "give the task as a scenario name or as --trajectory-file FILE (one of the two)"
+            )
         if pareto is not None:
             ts.check_objective(pareto)
         if uncertainty:
@@ -189,7 +211,14 @@ def register(app: typer.Typer) -> None:
         plan = OutputPlan().input("the coefficient file of --shaft-file", shaft_file)
         if out is not None:
             plan = plan.folder("--out", out)
+        if trajectory_file is not None:
+            plan = plan.input("the trajectory file of --trajectory-file", trajectory_file)
         plan.check()
+        if trajectory_file is not None:
+            from fsarm_sim.studies import trajectory_file as tf
+
+            scenario = tf.scenario_name(trajectory_file)
+        assert scenario is not None
         task = ts.Task(
             scenario=scenario,
             payload_kg=payload_kg,

@@ -13,7 +13,7 @@ from typing import Annotated, Any
 
 import typer
 
-from fsarm_sim.choices import BenchLoad, BenchTrajectory, Setup
+from fsarm_sim.choices import BenchLoad, BenchTrajectory, Scenario, Setup
 from fsarm_sim.cli.console import make_console
 from fsarm_sim.outputs import OutputPlan, SafeWriter, write_text
 from fsarm_sim.records.measured import stated_shaft
@@ -156,8 +156,11 @@ def register(app: typer.Typer) -> None:
             Setup, typer.Option(help="the record's setup", case_sensitive=False)
         ] = Setup.SERIES_BENCH,
         scenario: Annotated[
-            str, typer.Option(help="arm: the scenario run (see `fsarm scenarios`)")
-        ] = "fig14-sine",
+            Scenario,
+            typer.Option(
+                help="arm: the scenario run (see `fsarm scenarios`)", case_sensitive=False
+            ),
+        ] = Scenario.FIG14_SINE,
         noise_rad: Annotated[
             float, typer.Option(help="arm: angle noise std, rad (plus 17-bit quantisation)")
         ] = 2e-5,
@@ -289,7 +292,7 @@ def register(app: typer.Typer) -> None:
             rec: synth.Recording | ArmRecording
             if setup == "arm":
                 rec = ArmRecording(
-                    scenario=scenario,
+                    scenario=str(scenario),
                     duration_s=duration,
                     noise_rad=noise_rad,
                     seed=seed,

@@ -13,6 +13,7 @@ import typer
 
 from fsarm_sim.choices import Backend as BackendChoice
 from fsarm_sim.choices import Controller as ControllerChoice
+from fsarm_sim.choices import Scenario as ScenarioChoice
 from fsarm_sim.choices import Transmission as TransmissionChoice
 from fsarm_sim.choices import UncertaintyController as UncertaintyControllerChoice
 
@@ -81,4 +82,8 @@ Uncertainty = Annotated[
         help="also sample the coefficient file's [uncertainty] ranges N times (Sobol, 2 threads) "
         "and report the 5-95 % band of every metric; 0: off"
     ),
+]
+ScenarioOption = Annotated[
+    ScenarioChoice,
+    typer.Option(help="scenario to run (`fsarm scenarios` describes them)", case_sensitive=False),
 ]

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 from rich.console import Console
 
-from fsarm_sim.choices import FigureFormat
+from fsarm_sim.choices import FigureFormat, Scenario
 from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console
 from fsarm_sim.errors import InvalidParameterError
@@ -172,8 +172,11 @@ def register(app: typer.Typer) -> None:
     def figures_cmd(
         out: Annotated[Path, typer.Option(help="folder for the figures")] = Path("figures"),
         scenario: Annotated[
-            list[str] | None,
-            typer.Option(help="scenario to draw (repeatable; default: every registered one)"),
+            list[Scenario] | None,
+            typer.Option(
+                help="scenario to draw (repeatable; default: every registered one)",
+                case_sensitive=False,
+            ),
         ] = None,
         fmt: Annotated[
             list[FigureFormat] | None,
@@ -201,7 +204,7 @@ def register(app: typer.Typer) -> None:
         for v, name in ((width, "--width"), (height, "--height")):
             if not math.isfinite(v) or not 0.5 <= v <= 40.0:
                 raise InvalidParameterError(f"{name} must be between 0.5 and 40 inches, got {v!r}")
-        names = scenario or list(scenarios.REGISTRY)
+        names = [str(s) for s in scenario] if scenario else list(scenarios.REGISTRY)
         for n in names:
             scenarios.get(n)  # unknown names fail before any run
         formats = [str(f) for f in fmt] if fmt else ["png"]

@@ -11,7 +11,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
-from fsarm_sim.choices import Transmission
+from fsarm_sim.choices import Scenario, Transmission
 from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console, number_table, write_rows_json
 from fsarm_sim.errors import InvalidParameterError
@@ -125,7 +125,7 @@ def register(app: typer.Typer) -> None:
 
     @app.command("compare-transmissions")
     def compare_cmd(
-        scenario: Annotated[str, typer.Option(help="scenario to run")] = "fig14-sine",
+        scenario: opt.ScenarioOption = Scenario.FIG14_SINE,
         only: Annotated[
             list[Transmission] | None,
             typer.Option(help="compare only these (repeatable)", case_sensitive=False),
@@ -158,7 +158,7 @@ def register(app: typer.Typer) -> None:
         base = SimConfig(gains=Gains(**parse_gains(gain or [])))  # type: ignore[arg-type]
         rows = compare(
             [str(t) for t in only] if only else None,
-            scenario,
+            str(scenario),
             payload_kg=payload_kg,
             duration_s=duration,
             base=base,
