@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.plant.effects import shaft_drag
 from fsarm_sim.plant.effects.base import ArmEffectLaw
 
@@ -277,6 +278,59 @@ def get(name: str) -> Effect:
 def arm_laws() -> list[Effect]:
     """The effects with a kernel law on the arm, in registry order (their kernel ids)."""
     return [e for e in EFFECTS if e.law is not None]
+
+
+LawValues = tuple[str, tuple[tuple[str, float], ...]]  # (effect, ((parameter, value), ...))
+
+
+def parse_law(text: str) -> LawValues:
+    """``NAME[=V1,V2,...]`` -> (effect, ((parameter, value), ...)) of a registry arm law, the text
+    of ``fsarm run --effect``. Values by position are the law's arm variant's parameters, in the
+    registry's order (as ``fsarm synth --effect`` reads them); ``KEY=VALUE`` items set any of its
+    kernel parameters by name; parameters not given keep the law's declared defaults. Checking
+    the values' ranges is :meth:`~fsarm_sim.engine.model.Effects.validate`'s; a malformed text is
+    an InvalidParameterError naming what is allowed."""
+    name, _, rest = text.strip().partition("=")
+    name = name.strip()
+    laws = {e.name: e for e in arm_laws()}
+    if name not in laws:
+        raise InvalidParameterError(
+            f"--effect {text!r}: {name!r} is not an arm effect law; known: {', '.join(laws)}"
+        )
+    law = laws[name].law
+    assert law is not None
+    declared = [d.name for d in law.KERNEL_PARAMS]
+    positional = [p.name for v in laws[name].variants if ARM in v.setups for p in v.params]
+    values: dict[str, float] = {}
+    named = False
+    for i, item in enumerate(x.strip() for x in rest.split(",") if rest.strip()):
+        key, eq, value = item.rpartition("=")
+        key = key.strip()
+        named = named or bool(eq)
+        if not eq:
+            if named or i >= len(positional):
+                raise InvalidParameterError(
+                    f"--effect {text!r}: {name} takes at most {len(positional)} values by "
+                    f"position ({', '.join(positional)}), before any KEY=VALUE"
+                )
+            key = positional[i]
+        if key not in declared:
+            raise InvalidParameterError(
+                f"--effect {text!r}: {name} has no parameter {key!r}; its parameters: "
+                + ", ".join(declared)
+            )
+        try:
+            values[key] = float(value)
+        except ValueError:
+            raise InvalidParameterError(
+                f"--effect {text!r}: {key} must be a number, got {value!r}"
+            ) from None
+    return name, tuple(values.items())
+
+
+def parse_laws(texts: list[str]) -> tuple[LawValues, ...]:
+    """:func:`parse_law` of each text (``fsarm run --effect``, repeatable)."""
+    return tuple(parse_law(t) for t in texts)
 
 
 def applicable(setup: str, inertia_load: bool) -> list[tuple[str, str]]:
