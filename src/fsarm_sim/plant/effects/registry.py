@@ -18,7 +18,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.plant.effects import shaft_drag
+from fsarm_sim.plant.effects import lugre_friction, shaft_drag
 from fsarm_sim.plant.effects.base import ArmEffectLaw
 
 SERIES = "series_bench"
@@ -257,6 +257,24 @@ EFFECTS: tuple[Effect, ...] = (
             ),
         ),
         law=shaft_drag,
+    ),
+    Effect(
+        "lugre_friction",
+        "lugre_friction",
+        "friction at joint 3 with a bristle state: presliding, stiction, Stribeck dip (arm only)",
+        (
+            Variant(
+                "q3",
+                (ARM,),
+                "torque -(sigma_0 z + sigma_1 dz/dt + sigma_2 qd3) on joint 3, z the bristles' "
+                "own state (LuGre, Canudas de Wit et al. 1995); sigma_0, sigma_1, v_s as declared",
+                (
+                    Param("f_c_nm", "N*m", 0.0, 20.0, "Coulomb level F_c", 0.1),
+                    Param("f_s_nm", "N*m", 0.0, 20.0, "breakaway level F_s", 0.1),
+                ),
+            ),
+        ),
+        law=lugre_friction,
     ),
 )
 
