@@ -18,7 +18,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.plant.effects import lugre_friction, shaft_drag
+from fsarm_sim.plant.effects import lugre_friction, motor_thermal, shaft_drag
 from fsarm_sim.plant.effects.base import ArmEffectLaw
 
 SERIES = "series_bench"
@@ -275,6 +275,21 @@ EFFECTS: tuple[Effect, ...] = (
             ),
         ),
         law=lugre_friction,
+    ),
+    Effect(
+        "motor_thermal",
+        "motor_thermal",
+        "joint 3's motor warms with its copper loss and gives less torque per ampere (arm only)",
+        (
+            Variant(
+                "j3_motor",
+                (ARM,),
+                "rotor torque tau_cmd alpha_kt (T - 25 C), T = 25 C + dT_amb + the winding's rise "
+                "(one thermal node heated by R(T) I^2); the other numbers as declared",
+                (Param("dtemp_amb_k", "K", -50.0, 150.0, "ambient minus 25 C", 10.0),),
+            ),
+        ),
+        law=motor_thermal,
     ),
 )
 
