@@ -27,13 +27,24 @@ def test_values_by_position_then_by_name() -> None:
         (("drag_nm", 0.05), ("omega_s", 2.0)),
     )
     assert parse_laws([]) == ()
+    # an old hand-wired effect that is a registry law now: its mass error by position
+    assert parse_law("payload_error=0.5") == ("payload_error", (("dm_kg", 0.5),))
+
+
+def test_a_law_geometry_read_from_the_model_cannot_be_given() -> None:
+    from fsarm_sim.engine.model import Effects
+
+    with pytest.raises(InvalidParameterError, match=r"payload_error.l2 is read from the compiled"):
+        Effects(laws=(parse_law("payload_error=0.5,l2=1"),)).validate()
+    with pytest.raises(InvalidParameterError, match="the payload error is given twice"):
+        Effects(payload_error_kg=1.0, laws=(parse_law("payload_error=0.5"),)).validate()
 
 
 @pytest.mark.parametrize(
     ("text", "message"),
     [
-        ("no_such=1", "'no_such' is not an arm effect law; known: shaft_drag"),
-        ("payload_error=1", "'payload_error' is not an arm effect law"),
+        ("no_such=1", "'no_such' is not an arm effect law; known: payload_error, shaft_drag"),
+        ("backlash=0.1", "'backlash' is not an arm effect law"),
         ("shaft_drag=1,2,3", "takes at most 2 values by position (drag_nm, mu_per_rad)"),
         ("shaft_drag=omega_s=2,0.1", "before any KEY=VALUE"),
         ("shaft_drag=k=2", "shaft_drag has no parameter 'k'; its parameters: drag_nm"),

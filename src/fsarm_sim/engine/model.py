@@ -151,6 +151,10 @@ class Effects:
 
     def validate(self) -> None:
         validate_laws(self.laws)
+        if self.payload_error_kg != 0.0 and any(n == "payload_error" for n, _ in self.laws):
+            raise InvalidParameterError(
+                "the payload error is given twice: payload_error_kg and the payload_error law"
+            )
         for name in ("payload_error_kg", "backlash_width_rad", "backlash_center_rad"):
             real_number(getattr(self, name), name)
         for name in ("q3_friction_nm", "q3_damping_nms"):
@@ -765,6 +769,10 @@ def validate_laws(laws: tuple[tuple[str, tuple[tuple[str, float], ...]], ...]) -
         limits: dict[str, tuple[float, float]] = dict(getattr(effect.law, "LIMITS", {}))
         limits.update({p.name: (p.lower, p.upper) for v in effect.variants for p in v.params})
         for key, value in values:
+            if key in getattr(effect.law, "FROM_MODEL", ()):
+                raise InvalidParameterError(
+                    f"{name}.{key} is read from the compiled MJCF, not given"
+                )
             if key not in declared:
                 raise InvalidParameterError(
                     f"{name} has no parameter {key!r}; its parameters: {', '.join(sorted(declared))}"
@@ -808,12 +816,17 @@ def write_arm_effects(
     """Plant-only arm effects (payload error, backlash, the registry's laws); geometry read from
     the compiled MJCF (``lever_arms``: :func:`payload_lever_arms_m` of ``model`` if known)."""
     write_laws(p, fx, model)
-    p[L.P_PAY_DM] = fx.payload_error_kg
     p[L.P_BL_WIDTH] = fx.backlash_width_rad
     p[L.P_BL_CENTER] = fx.backlash_center_rad
+    # the payload error: a registry law, on while a mass error is stated (Effects.payload_error_kg
+    # or its law's dm_kg), with the geometry of this model
+    pay = L.LAW_BLOCK["payload_error"]
+    if fx.payload_error_kg != 0.0:
+        p[pay.on] = 1.0
+        p[pay.start] = fx.payload_error_kg
     l2, l3 = payload_lever_arms_m(model) if lever_arms is None else lever_arms
-    p[L.P_PAY_L2], p[L.P_PAY_L3] = l2, l3
-    p[L.P_GRAVITY] = float(np.linalg.norm(model.opt.gravity))
+    p[pay.start + 1], p[pay.start + 2] = l2, l3
+    p[pay.start + 3] = float(np.linalg.norm(model.opt.gravity))
 
 
 def payload_lever_arms_m(model: mujoco.MjModel) -> tuple[float, float]:

@@ -19,7 +19,7 @@ from typing import NamedTuple
 
 from fsarm_sim.paramblocks import Decl, Layout
 from fsarm_sim.plant import transmissions
-from fsarm_sim.plant.effects import backlash, bending, conduit_viscoelastic, payload_error, registry
+from fsarm_sim.plant.effects import backlash, bending, conduit_viscoelastic, registry
 from fsarm_sim.plant.transmissions.base import N_TR
 
 PARAMS_NAME = "fsarm_params"
@@ -199,8 +199,6 @@ P_HM = _j["hm_k_pos"]  # first of the 12 hysteresis-model slots, in Gains.hyster
 N_HM = 12
 
 # arm effects the discrepancy workflow can switch on (0: off); the controllers do not know them
-_p = _.block("payload_error", payload_error.KERNEL_PARAMS)
-P_PAY_DM, P_PAY_L2, P_PAY_L3, P_GRAVITY = _p["dm"], _p["l2"], _p["l3"], _p["gravity"]
 _k = _.block("backlash", backlash.KERNEL_PARAMS)
 P_BL_WIDTH, P_BL_CENTER = _k["width"], _k["center"]
 
@@ -231,9 +229,10 @@ def _law_block(effect: registry.Effect) -> LawBlock:
 # slot and then the law's KERNEL_PARAMS, in registry order; kernels.dispatch calls each law whose
 # slot is on, with the named state (plant.effects.base) and its own states appended
 ARM_LAW_BLOCKS: tuple[LawBlock, ...] = tuple(_law_block(e) for e in registry.arm_laws())
+LAW_BLOCK = {b.name: b for b in ARM_LAW_BLOCKS}
 
 N_PARAMS = LAYOUT.size
-del _, _s, _b, _c, _e, _g, _u, _j, _p, _k
+del _, _s, _b, _c, _e, _g, _u, _j, _k
 
 STIFFNESS_FLOOR = 0.1  # gain scheduler: stiffness floored at this fraction of P_TR_K0
 

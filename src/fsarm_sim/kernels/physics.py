@@ -112,7 +112,6 @@ from fsarm_sim.kernels.layout import (
     P_EN_COUPLING,
     P_EN_SERIES,
     P_GAIN_SCHED,
-    P_GRAVITY,
     P_HM,
     P_KB,
     P_MADR_Q1,
@@ -120,9 +119,6 @@ from fsarm_sim.kernels.layout import (
     P_MADR_Q3,
     P_N_TICKS,
     P_OMEGA_MAX,
-    P_PAY_DM,
-    P_PAY_L2,
-    P_PAY_L3,
     P_QADR_Q1,
     P_QADR_Q2,
     P_QADR_Q3,
@@ -175,7 +171,6 @@ from fsarm_sim.plant.effects import (
     backlash,
     bending,
     conduit_viscoelastic,
-    payload_error,
 )
 from fsarm_sim.plant.effects.base import State
 
@@ -391,18 +386,6 @@ def passive_forces(
     )
     total, conduit = bending_torques_at(prm, x, bend, act)
     add_force(qfrc, prm[P_DOF_Q2], total)
-    if prm[P_PAY_DM] != 0.0 and prm[P_QADR_Q2] >= 0.0:
-        # an unstated payload mass: the plant feels its gravity, the controllers do not know it
-        tau2, tau3 = payload_error.gravity_torques_nm(
-            prm[P_PAY_DM],
-            qpos[int(prm[P_QADR_Q2])],
-            qpos[int(prm[P_QADR_Q3])],
-            prm[P_PAY_L2],
-            prm[P_PAY_L3],
-            prm[P_GRAVITY],
-        )
-        add_force(qfrc, prm[P_DOF_Q2], tau2)
-        add_force(qfrc, prm[P_DOF_Q3], tau3)
     # the registry's arm effect laws that are switched on (kernels.dispatch, generated), called
     # with the named state, which is built only then
     t2, t3, tm = 0.0, 0.0, 0.0

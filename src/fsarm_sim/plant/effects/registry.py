@@ -18,7 +18,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.plant.effects import lugre_friction, motor_thermal, shaft_drag
+from fsarm_sim.plant.effects import lugre_friction, motor_thermal, payload_error, shaft_drag
 from fsarm_sim.plant.effects.base import ArmEffectLaw
 
 SERIES = "series_bench"
@@ -240,6 +240,7 @@ EFFECTS: tuple[Effect, ...] = (
                 (Param("dm_kg", "kg", -15.0, 15.0, "mass error"),),
             ),
         ),
+        law=payload_error,
     ),
     Effect(
         "shaft_drag",
