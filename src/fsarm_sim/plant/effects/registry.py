@@ -10,7 +10,22 @@ Sources of the bounds (estimates): torques up to the 20 N*m torque-sensor range 
 (seed 000 Sec. III-A, DBRK-20); deflections up to the validity range of the shaft (+-120 deg bend,
 twist of a few tenths of a rad at rated torque); delays up to 0.1 s (a slow DAQ buffer); time
 constants of visco-elastic branches 5 ms .. 20 s (Fig. 9's 0.1-1 Hz bending rates in the middle).
-This module holds data only - no fitting code (that is :mod:`fsarm_sim.discrepancy.candidates`).
+This module holds data and the ``--effect`` text parser only - no fitting code (that is
+:mod:`fsarm_sim.discrepancy.candidates`).
+
+How to add an effect that acts on the simulated arm (three files, nothing else changes):
+
+1. its law module in this package (:mod:`.base` says what it declares: ``KERNEL_PARAMS``,
+   ``STATES``, ``arm_torques(blk, s)`` and ``state_rate(blk, s, i)`` of the named state ``s``,
+   optionally ``LIMITS``); :mod:`.lugre_friction` (with a state) and :mod:`.shaft_drag`
+   (without) are examples;
+2. its ``Effect(..., law=module)`` entry below, with an ``ARM`` variant whose parameters are the
+   ones the arm diagnosis fits (``fsarm diagnose``) and ``fsarm run --effect`` / ``fsarm synth
+   --effect`` take by position;
+3. its test file (``tests/test_effects_<module>.py``).
+
+The layout, the generated kernel dispatch, the model's state slots, the recorded columns,
+``SimConfig``, ``fsarm run --effect``, ``fsarm synth`` and the arm diagnosis read it from here.
 """
 
 from __future__ import annotations
