@@ -46,7 +46,7 @@ def test_payload_error_equals_mujoco_gravity_of_that_mass(dm: float) -> None:
             d.qpos[st.qadr[j]] = q[j]
         d.qpos[st.qadr[3]] = d.qpos[st.qadr[2]] * st.coef_s / st.coef_m
         qfrc = np.zeros(plant.nv)
-        physics.passive_forces(prm, d.qpos, d.qvel, d.act, qfrc, np.zeros(L.N_LOG))
+        physics.passive_forces(prm, d.qpos, d.qvel, d.act, qfrc, np.zeros(L.N_USERDATA))
         bending, _ = physics.bending_torques(prm, d.qpos, d.qvel, d.act)
         expected = -(_gravity_bias(heavier, q) - _gravity_bias(lighter, q))
         got = np.array([0.0, qfrc[st.dof[1]] - bending, qfrc[st.dof[2]]])

@@ -182,8 +182,9 @@ def test_the_passive_kernel_bends_joint_2_as_the_torque_from_the_state(width: fl
     for twist in (0.004, -0.03, 0.2):  # inside the play (0.02 rad), beyond it, far beyond
         d.qpos[st.qadr[3]] = (twist + st.coef_s * d.qpos[st.qadr[2]]) / st.coef_m
         qfrc = np.zeros(m.nv)
-        log = np.zeros(L.N_LOG)
-        physics.passive_forces(prm, d.qpos, d.qvel, d.act, qfrc, log)
+        ud = np.zeros(L.N_USERDATA)
+        physics.passive_forces(prm, d.qpos, d.qvel, d.act, qfrc, ud)
+        log = ud[L.U_LOG :]
         total, conduit = physics.bending_torques(prm, d.qpos, d.qvel, d.act)
         assert log[L.L_TAU_BEND] == total
         assert log[L.L_TAU_CONDUIT] == conduit

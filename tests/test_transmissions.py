@@ -204,7 +204,7 @@ def test_magnetic_spring_output_friction_acts_on_joint_3() -> None:
     initial_state(m, d, st)
     d.qvel[st.dof[2]] = 0.3  # q3 turning: theta_s' = 3 rad/s, twist rate -3 rad/s
     qfrc = np.zeros(m.nv)
-    physics.passive_forces(prm, d.qpos, d.qvel, d.act, qfrc, np.zeros(L.N_LOG))
+    physics.passive_forces(prm, d.qpos, d.qvel, d.act, qfrc, np.zeros(L.N_USERDATA))
     tau = physics.shaft_torque(prm, d.qpos, d.qvel, d.act)
     friction = qfrc[st.dof[2]] - st.coef_s * tau
     assert friction == pytest.approx(-st.coef_s * 0.05 * math.tanh(50.0 * 3.0), rel=1e-9)

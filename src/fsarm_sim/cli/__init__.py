@@ -169,12 +169,14 @@ def run_cmd(
     hysteresis_model: opt.HysteresisModelFile = None,
     uncertainty: opt.Uncertainty = 0,
     uncertainty_controller: opt.UncertaintyController = choices.UncertaintyController.NOMINAL,
+    effect: opt.Effect = None,
 ) -> None:
     """Run a scenario headless, print tracking metrics, write its time series."""
     scenario = str(scenario_choice)
     from fsarm_sim.cli.review import check_review_options, review_outputs, run_output_plan
-    from fsarm_sim.engine.model import Gains, SimConfig
+    from fsarm_sim.engine.model import Effects, Gains, SimConfig
     from fsarm_sim.outputs import SafeWriter
+    from fsarm_sim.plant.effects.registry import parse_laws
     from fsarm_sim.plant.shaft import load_catalogue
     from fsarm_sim.records.timeseries import write_summary, write_timeseries
     from fsarm_sim.sim.simulation import run_scenario
@@ -225,6 +227,7 @@ def run_cmd(
         integrator=None if integrator is None else str(integrator),
         transmission=str(transmission),
         transmission_params=parse_params(tr_param or []),
+        effects=Effects(laws=parse_laws(effect or [])),
     )
     if backend == "native":
         # the kernels, which the run would load anyway, now: this thread then imports nothing

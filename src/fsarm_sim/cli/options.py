@@ -40,6 +40,14 @@ TrParam = Annotated[
     list[str] | None,
     typer.Option(help="override a transmission parameter, NAME=VALUE (repeatable)"),
 ]
+Effect = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--effect",
+        help="switch an arm effect law of the registry on (plant only), "
+        "NAME[=V1,V2,...][,KEY=VALUE,...], e.g. lugre_friction=0.3,0.45 (repeatable)",
+    ),
+]
 Controller = Annotated[
     ControllerChoice,
     typer.Option(

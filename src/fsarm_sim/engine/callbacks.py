@@ -70,7 +70,7 @@ def _passive(m: mujoco.MjModel, d: mujoco.MjData) -> None:
             prev(m, d)
         return
     physics.passive_forces(
-        m.numeric_data[s[0] : s[1]], d.qpos, d.qvel, d.act, d.qfrc_passive, d.userdata[L.U_LOG :]
+        m.numeric_data[s[0] : s[1]], d.qpos, d.qvel, d.act, d.qfrc_passive, d.userdata
     )
 
 
@@ -80,7 +80,12 @@ def _act_dyn(m: mujoco.MjModel, d: mujoco.MjData, actuator_id: int) -> float:
         prev = _previous.get("act_dyn")
         return float(prev(m, d, actuator_id)) if prev is not None else 0.0
     return physics.state_rate(
-        m.numeric_data[s[0] : s[1]], d.qpos, d.qvel, d.act, int(m.actuator_actadr[actuator_id])
+        m.numeric_data[s[0] : s[1]],
+        d.qpos,
+        d.qvel,
+        d.act,
+        int(m.actuator_actadr[actuator_id]),
+        d.userdata,
     )
 
 

@@ -151,6 +151,10 @@ class Effects:
 
     def validate(self) -> None:
         validate_laws(self.laws)
+        if self.payload_error_kg != 0.0 and any(n == "payload_error" for n, _ in self.laws):
+            raise InvalidParameterError(
+                "the payload error is given twice: payload_error_kg and the payload_error law"
+            )
         for name in ("payload_error_kg", "backlash_width_rad", "backlash_center_rad"):
             real_number(getattr(self, name), name)
         for name in ("q3_friction_nm", "q3_damping_nms"):
@@ -343,6 +347,33 @@ def read_structure(model: mujoco.MjModel) -> ArmStructure:
     )
 
 
+def law_state_names(fx: Effects) -> list[tuple[str, str]]:
+    """(effect, state) of every own state of the registry laws switched on in ``fx``, in
+    registry order: the ``data.act`` slots :func:`build_spec` adds (actuators
+    ``<effect>.<state>``) and the recorded columns of the same names."""
+    on = {name for name, _ in fx.laws}
+    return [
+        (e.name, d.name)
+        for e in registry.arm_laws()
+        if e.name in on and e.law is not None
+        for d in e.law.STATES
+    ]
+
+
+def add_law_states(spec: mujoco.MjSpec, fx: Effects) -> None:
+    """One state actuator (dyntype user, no force) per own state of a law that is on, after the
+    MJCF's own: a run without such laws compiles exactly the model it always did."""
+    for effect, state in law_state_names(fx):
+        a = spec.add_actuator(name=f"{effect}.{state}", target="j3_rotor")
+        a.trntype = mujoco.mjtTrn.mjTRN_JOINT
+        a.dyntype = mujoco.mjtDyn.mjDYN_USER
+        a.gaintype = mujoco.mjtGain.mjGAIN_FIXED
+        a.biastype = mujoco.mjtBias.mjBIAS_NONE
+        a.gainprm[0] = 0.0
+        a.gear[0] = 0.0
+        a.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
+
+
 def build_spec(
     config: SimConfig,
     ref_table: npt.NDArray[np.float64],
@@ -389,6 +420,7 @@ def build_spec(
         else:
             act.actlimited = mujoco.mjtLimited.mjLIMITED_TRUE
             act.actrange = [lim[0], lim[1]]
+    add_law_states(spec, config.effects)
     spec.add_numeric(name=L.PARAMS_NAME, size=L.N_PARAMS, data=np.zeros(L.N_PARAMS))
     if ref_data:
         spec.add_numeric(name=L.REF_NAME, size=ref_table.size, data=ref_table.ravel())
@@ -540,6 +572,7 @@ def _compiled(
         float(config.payload_kg),
         float(config.shaft.inertia_kgm2),
         tuple(lim is None for lim in limits),
+        tuple(law_state_names(config.effects)),
     )
     # a range the compiler would reject (or a large table) is compiled afresh, never kept
     keep = ref.size <= MODEL_CACHE_MAX_REF_NUMBERS and all(
@@ -732,29 +765,45 @@ def validate_laws(laws: tuple[tuple[str, tuple[tuple[str, float], ...]], ...]) -
         effect = known[name]
         assert effect.law is not None
         declared = {d.name for d in effect.law.KERNEL_PARAMS}
-        bounds = {p.name: p for v in effect.variants for p in v.params}
+        # the registry's fit bounds, else the law's own validity range (its LIMITS, if any)
+        limits: dict[str, tuple[float, float]] = dict(getattr(effect.law, "LIMITS", {}))
+        limits.update({p.name: (p.lower, p.upper) for v in effect.variants for p in v.params})
         for key, value in values:
+            if key in getattr(effect.law, "FROM_MODEL", ()):
+                raise InvalidParameterError(
+                    f"{name}.{key} is read from the compiled MJCF, not given"
+                )
             if key not in declared:
                 raise InvalidParameterError(
                     f"{name} has no parameter {key!r}; its parameters: {', '.join(sorted(declared))}"
                 )
-            b = bounds.get(key)
-            if not math.isfinite(value) or (b is not None and not b.lower <= value <= b.upper):
-                allowed = f"within [{b.lower:g}, {b.upper:g}] {b.unit}" if b else "finite"
+            b = limits.get(key)
+            if not math.isfinite(value) or (b is not None and not b[0] <= value <= b[1]):
+                unit = {d.name: d.unit for d in effect.law.KERNEL_PARAMS}[key]
+                allowed = f"within [{b[0]:g}, {b[1]:g}] {unit}" if b else "finite"
                 raise InvalidParameterError(f"{name}.{key} must be {allowed}, got {value!r}")
 
 
-def write_laws(p: npt.NDArray[np.float64], fx: Effects) -> None:
-    """The registry's arm laws: on/off slot and parameters (declared defaults unless given)."""
+def write_laws(p: npt.NDArray[np.float64], fx: Effects, model: mujoco.MjModel) -> None:
+    """The registry's arm laws: on/off slot, the address of their own states in ``data.act``
+    (the actuators :func:`add_law_states` added; -1 when off or without any) and parameters
+    (declared defaults unless given)."""
     given = dict(fx.laws)
     by_name = {e.name: e for e in registry.arm_laws()}
-    for name, on, start, _end in L.ARM_LAW_BLOCKS:
-        law = by_name[name].law
+    for b in L.ARM_LAW_BLOCKS:
+        law = by_name[b.name].law
         assert law is not None
-        values = dict(given.get(name, ()))
-        p[on] = 1.0 if name in given else 0.0
+        values = dict(given.get(b.name, ()))
+        p[b.on] = 1.0 if b.name in given else 0.0
+        p[b.act] = -1.0
+        if b.name in given and law.STATES:
+            first = f"{b.name}.{law.STATES[0].name}"
+            a = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, first)
+            if a < 0:
+                raise ModelStructureError(f"the model has no state actuator {first!r}")
+            p[b.act] = float(model.actuator_actadr[a])
         for i, d in enumerate(law.KERNEL_PARAMS):
-            p[start + i] = values.get(d.name, d.default)
+            p[b.start + i] = values.get(d.name, d.default)
 
 
 def write_arm_effects(
@@ -766,13 +815,18 @@ def write_arm_effects(
 ) -> None:
     """Plant-only arm effects (payload error, backlash, the registry's laws); geometry read from
     the compiled MJCF (``lever_arms``: :func:`payload_lever_arms_m` of ``model`` if known)."""
-    write_laws(p, fx)
-    p[L.P_PAY_DM] = fx.payload_error_kg
+    write_laws(p, fx, model)
     p[L.P_BL_WIDTH] = fx.backlash_width_rad
     p[L.P_BL_CENTER] = fx.backlash_center_rad
+    # the payload error: a registry law, on while a mass error is stated (Effects.payload_error_kg
+    # or its law's dm_kg), with the geometry of this model
+    pay = L.LAW_BLOCK["payload_error"]
+    if fx.payload_error_kg != 0.0:
+        p[pay.on] = 1.0
+        p[pay.start] = fx.payload_error_kg
     l2, l3 = payload_lever_arms_m(model) if lever_arms is None else lever_arms
-    p[L.P_PAY_L2], p[L.P_PAY_L3] = l2, l3
-    p[L.P_GRAVITY] = float(np.linalg.norm(model.opt.gravity))
+    p[pay.start + 1], p[pay.start + 2] = l2, l3
+    p[pay.start + 3] = float(np.linalg.norm(model.opt.gravity))
 
 
 def payload_lever_arms_m(model: mujoco.MjModel) -> tuple[float, float]:

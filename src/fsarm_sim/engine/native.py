@@ -275,7 +275,7 @@ with _numba_cache_in(_CACHE_PATH or Path(tempfile.gettempdir())):
             _f64_array(da, D_QVEL, nv),
             _f64_array(da, D_ACT, na),
             _f64_array(da, D_QFRC_PASSIVE, nv),
-            userdata[L.U_LOG :],
+            userdata,
         )
 
     @cfunc(types.float64(types.voidptr, types.voidptr, types.int32), **_OPTIONS)
@@ -296,6 +296,7 @@ with _numba_cache_in(_CACHE_PATH or Path(tempfile.gettempdir())):
             _f64_array(da, D_QVEL, nv),
             _f64_array(da, D_ACT, na),
             int(act_adr),
+            _f64_array(da, D_USERDATA, _int(ma, M_NUSERDATA, M_NUSERDATA_SIZE)),
         )
 
     @cfunc(types.void(types.voidptr, types.voidptr), **_OPTIONS)

@@ -21,9 +21,10 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim.kernels.layout import ARM_LAW_BLOCKS
+from fsarm_sim.kernels.layout import ARM_LAW_BLOCKS, LawBlock
 from fsarm_sim.plant import transmissions
 from fsarm_sim.plant.effects import registry
+from fsarm_sim.plant.effects.base import State
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -90,26 +91,79 @@ def _has_dispatch(name: str, method: str) -> Callable[..., Any]:
     return _compile(name, "\n".join(lines) + "\n", {})
 
 
-def law_dispatch(
-    blocks: tuple[tuple[str, int, int, int], ...], laws: dict[str, Any]
-) -> Callable[..., Any]:
-    """``arm_law_torques(prm, q2, q3, qd2, qd3, omega_m, twist, twist_rate, bend)``: the sum of
-    the (joint 2, joint 3, shaft input) torques of every law in ``blocks`` (effect name, on/off
-    slot, parameter slots [start, end)) whose slot is on; ``laws`` maps a name to its module."""
-    args = "q2, q3, qd2, qd3, omega_m, twist, twist_rate, bend"
-    lines = [f"def arm_law_torques(prm, {args}):", "    t2 = 0.0", "    t3 = 0.0", "    tm = 0.0"]
+def _own_state(block: LawBlock) -> str:
+    """The named state a law is called with: the shared part ``s`` and its own states from
+    ``act`` (a tuple expression; ``s`` itself for a law without any)."""
+    if block.n_states == 0:
+        return "s"
+    own = ", ".join(f"act[a0 + {k}]" for k in range(block.n_states))
+    return f"s + ({own},)"
+
+
+def law_dispatch(blocks: tuple[LawBlock, ...], laws: dict[str, Any]) -> Callable[..., Any]:
+    """``arm_law_torques(prm, act, s)``: the sum of the (joint 2, joint 3, shaft input) torques
+    of every law in ``blocks`` whose on/off slot is on, each called with the named state ``s``
+    (:mod:`fsarm_sim.plant.effects.base`) and its own states appended; ``laws`` maps an effect
+    name to its module."""
+    lines = ["def arm_law_torques(prm, act, s):", "    t2 = 0.0", "    t3 = 0.0", "    tm = 0.0"]
     env = {}
-    for i, (effect, on, start, end) in enumerate(blocks):
-        env[f"_law{i}"] = laws[effect]
+    for i, b in enumerate(blocks):
+        env[f"_law{i}"] = laws[b.name]
+        lines.append(f"    if prm[{b.on}] > 0.5:  # {b.name}")
+        if b.n_states:
+            lines.append(f"        a0 = int(prm[{b.act}])")
         lines += [
-            f"    if prm[{on}] > 0.5:  # {effect}",
-            f"        a, b, c = _law{i}.arm_torques(prm[{start}:{end}], {args})",
+            f"        a, b, c = _law{i}.arm_torques(prm[{b.start}:{b.end}], {_own_state(b)})",
             "        t2 += a",
             "        t3 += b",
             "        tm += c",
         ]
     lines.append("    return t2, t3, tm")
     return _compile("arm_law_torques", "\n".join(lines) + "\n", env)
+
+
+def law_any_dispatch(blocks: tuple[LawBlock, ...]) -> Callable[..., Any]:
+    """``arm_laws_on(prm)``: True when any law in ``blocks`` is on (the passive kernel builds the
+    named state only then)."""
+    test = " or ".join(f"prm[{b.on}] > 0.5" for b in blocks) or "False"
+    return _compile("arm_laws_on", f"def arm_laws_on(prm):\n    return {test}\n", {})
+
+
+def law_owner_dispatch(blocks: tuple[LawBlock, ...]) -> Callable[..., Any]:
+    """``arm_law_owns(prm, adr)``: True when ``act[adr]`` is an own state of a law that is on
+    (the state-rate kernel then asks :func:`law_rate_dispatch`'s function for its rate)."""
+    lines = ["def arm_law_owns(prm, adr):"]
+    for b in blocks:
+        if b.n_states:
+            lines += [
+                f"    if prm[{b.on}] > 0.5:  # {b.name}",
+                f"        a0 = int(prm[{b.act}])",
+                f"        if a0 <= adr < a0 + {b.n_states}:",
+                "            return True",
+            ]
+    lines.append("    return False")
+    return _compile("arm_law_owns", "\n".join(lines) + "\n", {})
+
+
+def law_rate_dispatch(blocks: tuple[LawBlock, ...], laws: dict[str, Any]) -> Callable[..., Any]:
+    """``arm_law_state_rate(prm, act, s, adr)``: d(act[adr])/dt from the law that owns it
+    (:func:`law_owner_dispatch`), called with the named state ``s`` and its own states; 0 for an
+    address no law that is on owns."""
+    lines = ["def arm_law_state_rate(prm, act, s, adr):"]
+    env = {}
+    for i, b in enumerate(blocks):
+        if not b.n_states:
+            continue
+        env[f"_law{i}"] = laws[b.name]
+        lines += [
+            f"    if prm[{b.on}] > 0.5:  # {b.name}",
+            f"        a0 = int(prm[{b.act}])",
+            f"        if a0 <= adr < a0 + {b.n_states}:",
+            f"            return _law{i}.state_rate(prm[{b.start}:{b.end}], {_own_state(b)}, "
+            "adr - a0)",
+        ]
+    lines.append("    return 0.0")
+    return _compile("arm_law_state_rate", "\n".join(lines) + "\n", env)
 
 
 _TR7 = "tr, x, rate, bend, act, a0"
@@ -144,7 +198,11 @@ tr_bend_torque: Callable[[float, FloatArray, float, float, FloatArray, int], flo
     )
 )
 tr_output_torque: Callable[[float, FloatArray, float, float], float] = _output_dispatch()
-arm_law_torques: Callable[
-    [FloatArray, float, float, float, float, float, float, float, float],
-    tuple[float, float, float],
-] = law_dispatch(ARM_LAW_BLOCKS, _LAWS)
+arm_law_torques: Callable[[FloatArray, FloatArray, State], tuple[float, float, float]] = (
+    law_dispatch(ARM_LAW_BLOCKS, _LAWS)
+)
+arm_laws_on: Callable[[FloatArray], bool] = law_any_dispatch(ARM_LAW_BLOCKS)
+arm_law_owns: Callable[[FloatArray, int], bool] = law_owner_dispatch(ARM_LAW_BLOCKS)
+arm_law_state_rate: Callable[[FloatArray, FloatArray, State, int], float] = law_rate_dispatch(
+    ARM_LAW_BLOCKS, _LAWS
+)

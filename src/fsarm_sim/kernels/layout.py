@@ -15,9 +15,11 @@ The indices are plain module-level ints so that Numba-compiled kernels can use t
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 from fsarm_sim.paramblocks import Decl, Layout
 from fsarm_sim.plant import transmissions
-from fsarm_sim.plant.effects import backlash, bending, conduit_viscoelastic, payload_error, registry
+from fsarm_sim.plant.effects import backlash, bending, conduit_viscoelastic, registry
 from fsarm_sim.plant.transmissions.base import N_TR
 
 PARAMS_NAME = "fsarm_params"
@@ -197,29 +199,40 @@ P_HM = _j["hm_k_pos"]  # first of the 12 hysteresis-model slots, in Gains.hyster
 N_HM = 12
 
 # arm effects the discrepancy workflow can switch on (0: off); the controllers do not know them
-_p = _.block("payload_error", payload_error.KERNEL_PARAMS)
-P_PAY_DM, P_PAY_L2, P_PAY_L3, P_GRAVITY = _p["dm"], _p["l2"], _p["l3"], _p["gravity"]
 _k = _.block("backlash", backlash.KERNEL_PARAMS)
 P_BL_WIDTH, P_BL_CENTER = _k["width"], _k["center"]
 
 
-def _law_block(effect: registry.Effect) -> tuple[str, int, int, int]:
-    """(effect name, its on/off slot, first and end slot of the law's own parameters)."""
+class LawBlock(NamedTuple):
+    """Where a registry arm law's numbers live: its on/off slot, the slot holding the ``data.act``
+    address of its first own state (-1 while it is off or has none), its parameters' slots
+    [start, end) and how many own states it has."""
+
+    name: str
+    on: int
+    act: int
+    start: int
+    end: int
+    n_states: int
+
+
+def _law_block(effect: registry.Effect) -> LawBlock:
     assert effect.law is not None
     on = Decl("on", "on/off", 0.0, f"{effect.name} acts on the plant (Effects.laws)")
-    idx = LAYOUT.block(f"law:{effect.name}", (on, *effect.law.KERNEL_PARAMS))
+    act = Decl("act", "index", -1.0, f"act address of {effect.name}'s first own state")
+    idx = LAYOUT.block(f"law:{effect.name}", (on, act, *effect.law.KERNEL_PARAMS))
     start, end = LAYOUT.bounds(f"law:{effect.name}")
-    return effect.name, idx["on"], start + 1, end
+    return LawBlock(effect.name, idx["on"], idx["act"], start + 2, end, len(effect.law.STATES))
 
 
-# the registry's arm effect laws (Effect.law): one block each, an on/off slot and then the law's
-# KERNEL_PARAMS, in registry order; kernels.dispatch calls each law whose slot is on
-ARM_LAW_BLOCKS: tuple[tuple[str, int, int, int], ...] = tuple(
-    _law_block(e) for e in registry.arm_laws()
-)
+# the registry's arm effect laws (Effect.law): one block each, an on/off slot, a state-address
+# slot and then the law's KERNEL_PARAMS, in registry order; kernels.dispatch calls each law whose
+# slot is on, with the named state (plant.effects.base) and its own states appended
+ARM_LAW_BLOCKS: tuple[LawBlock, ...] = tuple(_law_block(e) for e in registry.arm_laws())
+LAW_BLOCK = {b.name: b for b in ARM_LAW_BLOCKS}
 
 N_PARAMS = LAYOUT.size
-del _, _s, _b, _c, _e, _g, _u, _j, _p, _k
+del _, _s, _b, _c, _e, _g, _u, _j, _k
 
 STIFFNESS_FLOOR = 0.1  # gain scheduler: stiffness floored at this fraction of P_TR_K0
 

@@ -31,7 +31,10 @@ from fsarm_sim.controllers.tendon_sheath_compliance import (
     position_command,
 )
 from fsarm_sim.kernels.dispatch import (
+    arm_law_owns,
+    arm_law_state_rate,
     arm_law_torques,
+    arm_laws_on,
     tr_bend_torque,
     tr_has_motor_torque,
     tr_motor_torque,
@@ -109,7 +112,6 @@ from fsarm_sim.kernels.layout import (
     P_EN_COUPLING,
     P_EN_SERIES,
     P_GAIN_SCHED,
-    P_GRAVITY,
     P_HM,
     P_KB,
     P_MADR_Q1,
@@ -117,9 +119,6 @@ from fsarm_sim.kernels.layout import (
     P_MADR_Q3,
     P_N_TICKS,
     P_OMEGA_MAX,
-    P_PAY_DM,
-    P_PAY_L2,
-    P_PAY_L3,
     P_QADR_Q1,
     P_QADR_Q2,
     P_QADR_Q3,
@@ -172,8 +171,8 @@ from fsarm_sim.plant.effects import (
     backlash,
     bending,
     conduit_viscoelastic,
-    payload_error,
 )
+from fsarm_sim.plant.effects.base import State
 
 FloatArray = npt.NDArray[np.float64]
 # A call is "at" a physics step when its time is within this fraction of a timestep of the step's
@@ -320,15 +319,47 @@ def bending_torques(
     return bending_torques_at(prm, transmitted_twist_angle(prm, qpos), bend_angle(prm, qpos), act)
 
 
+def law_state(
+    prm: FloatArray,
+    qpos: FloatArray,
+    qvel: FloatArray,
+    ud: FloatArray,
+    twist: float,
+    rate: float,
+    bend: float,
+) -> State:
+    """The named state the registry's arm laws read (``plant.effects.base.STATE``, in order);
+    ``twist``, ``rate`` and ``bend`` as the caller computed them (:func:`twist_and_rate`,
+    :func:`bend_angle`)."""
+    cm = prm[P_COEF_M]
+    return (
+        coord(qpos, prm[P_QADR_Q2]),
+        coord(qpos, prm[P_QADR_Q3]),
+        coord(qvel, prm[P_DOF_Q2]),
+        coord(qvel, prm[P_DOF_Q3]),
+        cm * coord(qpos, prm[P_QADR_ROT]),
+        cm * coord(qvel, prm[P_DOF_ROT]),
+        twist,
+        rate,
+        bend,
+        ud[U_OUT + 2],
+        cm,
+        prm[P_TIMESTEP],
+    )
+
+
 def passive_forces(
     prm: FloatArray,
     qpos: FloatArray,
     qvel: FloatArray,
     act: FloatArray,
     qfrc: FloatArray,
-    log: FloatArray,
+    ud: FloatArray,
 ) -> None:
-    """mjcb_passive body: *add* the shaft's generalized forces to ``qfrc`` (qfrc_passive)."""
+    """mjcb_passive body: *add* the shaft's generalized forces to ``qfrc`` (qfrc_passive).
+
+    ``ud``: the data's userdata (the laws read the held motor command there; the shaft's torques
+    are logged at ``U_LOG``)."""
     # twist, rate and bend once per call: the transmission and the arm laws read them
     twist, rate = twist_and_rate(prm, qpos, qvel)
     bend = bend_angle(prm, qpos)
@@ -355,48 +386,37 @@ def passive_forces(
     )
     total, conduit = bending_torques_at(prm, x, bend, act)
     add_force(qfrc, prm[P_DOF_Q2], total)
-    if prm[P_PAY_DM] != 0.0 and prm[P_QADR_Q2] >= 0.0:
-        # an unstated payload mass: the plant feels its gravity, the controllers do not know it
-        tau2, tau3 = payload_error.gravity_torques_nm(
-            prm[P_PAY_DM],
-            qpos[int(prm[P_QADR_Q2])],
-            qpos[int(prm[P_QADR_Q3])],
-            prm[P_PAY_L2],
-            prm[P_PAY_L3],
-            prm[P_GRAVITY],
-        )
-        add_force(qfrc, prm[P_DOF_Q2], tau2)
-        add_force(qfrc, prm[P_DOF_Q3], tau3)
-    # the registry's arm effect laws that are switched on (kernels.dispatch, generated)
-    t2, t3, tm = arm_law_torques(
-        prm,
-        coord(qpos, prm[P_QADR_Q2]),
-        q3,
-        coord(qvel, prm[P_DOF_Q2]),
-        qd3,
-        prm[P_COEF_M] * coord(qvel, prm[P_DOF_ROT]),
-        twist,
-        rate,
-        bend,
-    )
+    # the registry's arm effect laws that are switched on (kernels.dispatch, generated), called
+    # with the named state, which is built only then
+    t2, t3, tm = 0.0, 0.0, 0.0
+    if arm_laws_on(prm):
+        t2, t3, tm = arm_law_torques(prm, act, law_state(prm, qpos, qvel, ud, twist, rate, bend))
     add_force(qfrc, prm[P_DOF_Q2], t2)
     add_force(qfrc, prm[P_DOF_Q3], t3)
     add_force(qfrc, prm[P_DOF_ROT], prm[P_COEF_M] * tm)
-    log[L_TAU_SHAFT] = tau
-    log[L_TAU_BEND] = total
-    log[L_TAU_CONDUIT] = conduit
+    ud[U_LOG + L_TAU_SHAFT] = tau
+    ud[U_LOG + L_TAU_BEND] = total
+    ud[U_LOG + L_TAU_CONDUIT] = conduit
 
 
 def state_rate(
-    prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: FloatArray, act_adr: int
+    prm: FloatArray,
+    qpos: FloatArray,
+    qvel: FloatArray,
+    act: FloatArray,
+    act_adr: int,
+    ud: FloatArray,
 ) -> float:
-    """mjcb_act_dyn body: d(act[act_adr])/dt for the internal states."""
+    """mjcb_act_dyn body: d(act[act_adr])/dt for the internal states (``ud``: the userdata)."""
     bend = bend_angle(prm, qpos)
     if act_adr == int(prm[P_ACT_BR1]):
         return conduit_viscoelastic.branch_rate(bend, act[act_adr], prm[P_BR_TAU1])
     if act_adr == int(prm[P_ACT_BR2]):
         return conduit_viscoelastic.branch_rate(bend, act[act_adr], prm[P_BR_TAU2])
     twist, rate = twist_and_rate(prm, qpos, qvel)
+    if arm_law_owns(prm, act_adr):  # a registry law's own state
+        s = law_state(prm, qpos, qvel, ud, twist, rate, bend)
+        return arm_law_state_rate(prm, act, s, act_adr)
     twist, rate = transmitted_twist(prm, twist, rate)
     a0 = int(prm[P_ACT_SLIP1])
     vm = prm[P_COEF_M] * coord(qvel, prm[P_DOF_ROT])  # motor-side speed: a tendon's sliding

@@ -44,6 +44,7 @@ from typing import Any, TypeVar
 
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.paths import bounded_json, checked_path, regular_file
+from fsarm_sim.plant.effects import registry
 from fsarm_sim.plant.shaft import ShaftParams
 
 SCHEMA = "fsarm-record/1"  # value of the ``schema`` key this version writes
@@ -125,6 +126,15 @@ UNITS: dict[str, str] = {
     "tau2": "N*m",
     "tau_motor": "N*m",  # rotor side
 }
+# the registry laws' own states, recorded while a law is on (``<effect>.<state>``)
+UNITS.update(
+    {
+        f"{e.name}.{d.name}": d.unit
+        for e in registry.arm_laws()
+        if e.law is not None
+        for d in e.law.STATES
+    }
+)
 
 
 class MeasuredDataError(FsarmError, ValueError):

@@ -19,7 +19,13 @@ import numpy.typing as npt
 from fsarm_sim.controllers.joint3_hysteresis import initial_elements
 from fsarm_sim.engine import callbacks
 from fsarm_sim.engine.lean import check_springs_off, stiffness_views
-from fsarm_sim.engine.model import ArmStructure, SimConfig, build_model, read_structure
+from fsarm_sim.engine.model import (
+    ArmStructure,
+    SimConfig,
+    build_model,
+    law_state_names,
+    read_structure,
+)
 from fsarm_sim.errors import (
     CallbackBypassError,
     InvalidParameterError,
@@ -32,6 +38,7 @@ from fsarm_sim.errors import (
 )
 from fsarm_sim.kernels import layout as L
 from fsarm_sim.plant import transmissions
+from fsarm_sim.plant.effects import registry
 from fsarm_sim.sim import scenarios
 
 Array = npt.NDArray[np.float64]
@@ -262,6 +269,12 @@ def initial_state(model: mujoco.MjModel, data: mujoco.MjData, st: ArmStructure) 
         hm = prm[L.P_HM : L.P_HM + L.N_HM]
         z = initial_elements(twist, bend, tau_shaft, *(float(v) for v in hm))
         data.userdata[L.U_MEM + L.M_SLIP : L.U_MEM + L.M_SLIP + 3] = z
+    for b in L.ARM_LAW_BLOCKS:  # the registry laws' own states start at their declared values
+        if prm[b.on] > 0.5 and prm[b.act] >= 0.0:
+            law = registry.get(b.name).law
+            assert law is not None
+            for i, d in enumerate(law.STATES):
+                data.act[int(prm[b.act]) + i] = d.default
     data.userdata[L.U_TICK] = 0.0
     data.time = 0.0
 
@@ -622,6 +635,9 @@ class Simulation:
             tau2=ud[:, L.U_OUT + 1],
             tau_motor=ud[:, L.U_OUT + 2],
         )
+        for effect, state in law_state_names(self.config.effects):  # the laws' own states
+            a = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_ACTUATOR, f"{effect}.{state}")
+            cols[f"{effect}.{state}"] = act[:, int(self.model.actuator_actadr[a])]
         return cols
 
 

@@ -244,8 +244,7 @@ def actuator_forces(m: mujoco.MjModel, ctrl: FloatArray, act: FloatArray) -> Flo
 def applied_forces(pair: Pair, s: State) -> FloatArray:
     """Everything but bias and inertia: shaft constitutive forces - damping + motors."""
     tau = np.zeros(pair.mj.nv)
-    log = np.zeros(L.N_LOG)
-    physics.passive_forces(pair.params, s.qpos, s.qvel, s.act, tau, log)
+    physics.passive_forces(pair.params, s.qpos, s.qvel, s.act, tau, np.zeros(L.N_USERDATA))
     tau -= pair.arm.damping * s.qvel
     tau += actuator_forces(pair.mj, s.ctrl, s.act)
     return tau
@@ -708,11 +707,12 @@ def state_rates(
     """d/dt (qpos, qvel, act) on Pinocchio: ABA with the shaft forces, damping and motor forces."""
     prm, m = pair.params, pair.mj
     tau = np.zeros(m.nv)
-    physics.passive_forces(prm, x.qpos, x.qvel, x.act, tau, np.zeros(L.N_LOG))
+    ud = np.zeros(L.N_USERDATA)
+    physics.passive_forces(prm, x.qpos, x.qvel, x.act, tau, ud)
     tau += tau_ctrl - pair.arm.damping * x.qvel
     act_dot = np.zeros(m.na)
     for adr in state_act:
-        act_dot[adr] = physics.state_rate(prm, x.qpos, x.qvel, x.act, adr)
+        act_dot[adr] = physics.state_rate(prm, x.qpos, x.qvel, x.act, adr, ud)
     return ArmState(x.qvel.copy(), pm.forward_dynamics(pair.arm, x.qpos, x.qvel, tau), act_dot)
 
 

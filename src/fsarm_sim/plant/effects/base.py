@@ -1,16 +1,31 @@
 """The interface of an effect law that acts on the arm's plant through the kernels.
 
 A law module that acts on the simulated arm (not only on a bench's Python model) declares its
-kernel parameters and one function of the arm's state; the kernels call it from the passive
-callback through a dispatcher generated from the effect registry
-(:mod:`fsarm_sim.kernels.dispatch`), so adding such an effect is: its law module, its
-``Effect(..., law=module)`` line in :mod:`fsarm_sim.plant.effects.registry`, and its test file.
+kernel parameters, its own states (if any) and two functions of one *named state*; the kernels
+call them from the passive and state-rate callbacks through a dispatcher generated from the effect
+registry (:mod:`fsarm_sim.kernels.dispatch`).
 
-The arguments are the arm's state as the shaft sees it (all SI): joint 2 (the bend joint) and
-joint 3 angles and rates, the shaft input's speed ``omega_m`` (= rotor speed / i_G1), the
-shaft twist and its rate, and the bend angle phi_B. The result is three generalized forces: on
-joint 2, on joint 3, and on the shaft input theta_m (the kernel applies it to the rotor times
-1/i_G1). A law acts on the plant only; the controllers do not know it.
+How to add an arm effect (three files): its law module in this package (``KERNEL_PARAMS``,
+``STATES``, ``arm_torques``, ``state_rate``), its ``Effect(..., law=module)`` entry in
+:mod:`fsarm_sim.plant.effects.registry` (with an ``ARM`` variant whose parameters are the ones the
+diagnosis fits and ``fsarm run --effect`` / ``fsarm synth --effect`` take by position), and its
+test file. Nothing else changes: the layout gives it a parameter block and, while it is switched
+on, one ``data.act`` slot per declared state; the recorder writes those states as columns
+``<effect>.<state>``.
+
+The named state ``s`` is one flat tuple of floats (all SI), read by index: ``s[S_OMEGA_M]`` is
+the shaft input's speed. Indices are module constants (Numba freezes them into the compiled
+kernels), so a law reads what it needs and a new quantity is a new index here - never a change
+of another law's signature. A law's own states follow the shared ones: ``s[S_OWN + i]`` is its
+``STATES[i]``. Every law sees the arm as the shaft does: joint 2 is the bend joint (phi_B = q2 on
+the arm), joint 3 the driven joint, theta_m the shaft input (rotor angle / i_G1).
+
+The torques a law returns are generalized forces on joint 2, on joint 3 and on the shaft input
+theta_m (the kernel applies the last to the rotor times 1/i_G1). A law acts on the plant only;
+the controllers do not know it. Its state rates are what MuJoCo integrates (``mjcb_act_dyn``,
+explicit in time): a stiff law returns the rate that makes one step of length ``s[S_TIMESTEP]``
+land where the exact solution at frozen inputs does (see :mod:`.lugre_friction`). States start
+at their ``Decl.default``.
 """
 
 from __future__ import annotations
@@ -23,6 +38,38 @@ import numpy.typing as npt
 from fsarm_sim.paramblocks import Decl
 
 FloatArray = npt.NDArray[np.float64]
+State = tuple[float, ...]
+
+# the shared part of the named state, in order: (name, unit, meaning)
+STATE: tuple[tuple[str, str, str], ...] = (
+    ("q2", "rad", "joint 2 angle (the bend joint; 0 where there is none)"),
+    ("q3", "rad", "joint 3 angle"),
+    ("qd2", "rad/s", "joint 2 rate"),
+    ("qd3", "rad/s", "joint 3 rate"),
+    ("theta_m", "rad", "shaft input angle: rotor angle / i_G1"),
+    ("omega_m", "rad/s", "shaft input speed: rotor speed / i_G1"),
+    ("twist", "rad", "shaft twist theta_m - theta_s (before any backlash)"),
+    ("twist_rate", "rad/s", "its rate"),
+    ("bend", "rad", "bend angle phi_B (q2 on the arm, the held bend on a bench)"),
+    ("tau_rotor", "N*m", "joint 3 motor's torque command at the rotor (the held output)"),
+    ("coef_m", "-", "shaft input angle per rotor angle, 1 / i_G1 (joint 3 motor gearbox)"),
+    ("timestep", "s", "the physics timestep h (for laws that integrate stiff states)"),
+)
+_INDEX = {name: i for i, (name, _, _) in enumerate(STATE)}
+S_Q2 = _INDEX["q2"]
+S_Q3 = _INDEX["q3"]
+S_QD2 = _INDEX["qd2"]
+S_QD3 = _INDEX["qd3"]
+S_THETA_M = _INDEX["theta_m"]
+S_OMEGA_M = _INDEX["omega_m"]
+S_TWIST = _INDEX["twist"]
+S_TWIST_RATE = _INDEX["twist_rate"]
+S_BEND = _INDEX["bend"]
+S_TAU_ROTOR = _INDEX["tau_rotor"]
+S_COEF_M = _INDEX["coef_m"]
+S_TIMESTEP = _INDEX["timestep"]
+S_OWN = len(STATE)  # a law's own states: s[S_OWN + i] is its STATES[i]
+del _INDEX
 
 
 class ArmEffectLaw(Protocol):
@@ -30,18 +77,18 @@ class ArmEffectLaw(Protocol):
 
     @property
     def KERNEL_PARAMS(self) -> tuple[Decl, ...]:
-        """Its parameter block (the layout prepends an on/off slot)."""
+        """Its parameter block (the layout prepends an on/off slot and a state-address slot)."""
         ...
 
-    def arm_torques(
-        self,
-        blk: FloatArray,
-        q2: float,
-        q3: float,
-        qd2: float,
-        qd3: float,
-        omega_m: float,
-        twist: float,
-        twist_rate: float,
-        bend: float,
-    ) -> tuple[float, float, float]: ...
+    @property
+    def STATES(self) -> tuple[Decl, ...]:
+        """Its own states (name, unit, initial value, meaning); () for a law without any."""
+        ...
+
+    def arm_torques(self, blk: FloatArray, s: State) -> tuple[float, float, float]:
+        """(joint 2, joint 3, shaft input) generalized forces at the named state ``s``."""
+        ...
+
+    def state_rate(self, blk: FloatArray, s: State, i: int) -> float:
+        """d/dt of its own state ``i`` (``s[S_OWN + i]``); never called for a law without any."""
+        ...

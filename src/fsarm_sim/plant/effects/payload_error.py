@@ -9,21 +9,32 @@ from upright). Joint 3 passes its torque through the hypoid (i_G2) into the shaf
 also shows as extra shaft twist ``tau_3 / (i_G2 K)`` - how the discrepancy workflow would see it.
 
 Lengths and g are arguments: the caller reads them from the compiled MJCF (never repeated here).
+On the arm the law acts through the registry like any other (``arm_torques`` of the named state);
+``Effects.payload_error_kg`` (or ``--effect payload_error=DM``) switches it on, and the model
+builder writes the geometry (``FROM_MODEL``).
 """
 
 from __future__ import annotations
 
 import math
 
-from fsarm_sim.paramblocks import Decl
+import numpy as np
+import numpy.typing as npt
 
-# the parameters this law takes in the kernels (layout allocates their slots); 0 mass: off
+from fsarm_sim.paramblocks import Decl
+from fsarm_sim.plant.effects.base import S_Q2, S_Q3, State
+
+FloatArray = npt.NDArray[np.float64]
+
+# the parameters this law takes in the kernels (layout allocates their slots)
 KERNEL_PARAMS = (
-    Decl("dm", "kg", 0.0, "payload mass the controllers do not know (Effects.payload_error_kg)"),
+    Decl("dm_kg", "kg", 0.0, "payload mass the controllers do not know (Effects.payload_error_kg)"),
     Decl("l2", "m", 0.0, "joint 2 -> joint 3 distance (read from the compiled MJCF)"),
     Decl("l3", "m", 0.0, "joint 3 -> payload centre of mass (read from the compiled MJCF)"),
     Decl("gravity", "m/s^2", 0.0, "|g| (read from the compiled MJCF)"),
 )
+FROM_MODEL = ("l2", "l3", "gravity")  # written by the model builder, never given by a user
+STATES: tuple[Decl, ...] = ()
 
 
 def gravity_torques_nm(
@@ -42,3 +53,15 @@ def gravity_torques_nm(
 def shaft_twist_error_rad(tau3_nm: float, gear_ratio: float, k_shaft: float) -> float:
     """Static extra shaft twist that carries an extra joint-3 torque through an i_G2 gearbox."""
     return tau3_nm / (gear_ratio * k_shaft)
+
+
+def arm_torques(blk: FloatArray, s: State) -> tuple[float, float, float]:
+    """(joint 2, joint 3, shaft input): the extra mass's gravity on joints 2 and 3 (zero where the
+    model has no joint 2 or payload: its lever arms are 0 there)."""
+    tau2, tau3 = gravity_torques_nm(blk[0], s[S_Q2], s[S_Q3], blk[1], blk[2], blk[3])
+    return tau2, tau3, 0.0
+
+
+def state_rate(blk: FloatArray, s: State, i: int) -> float:
+    """The payload error has no state of its own (never called)."""
+    return 0.0

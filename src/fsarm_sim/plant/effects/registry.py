@@ -10,14 +10,30 @@ Sources of the bounds (estimates): torques up to the 20 N*m torque-sensor range 
 (seed 000 Sec. III-A, DBRK-20); deflections up to the validity range of the shaft (+-120 deg bend,
 twist of a few tenths of a rad at rated torque); delays up to 0.1 s (a slow DAQ buffer); time
 constants of visco-elastic branches 5 ms .. 20 s (Fig. 9's 0.1-1 Hz bending rates in the middle).
-This module holds data only - no fitting code (that is :mod:`fsarm_sim.discrepancy.candidates`).
+This module holds data and the ``--effect`` text parser only - no fitting code (that is
+:mod:`fsarm_sim.discrepancy.candidates`).
+
+How to add an effect that acts on the simulated arm (three files, nothing else changes):
+
+1. its law module in this package (:mod:`.base` says what it declares: ``KERNEL_PARAMS``,
+   ``STATES``, ``arm_torques(blk, s)`` and ``state_rate(blk, s, i)`` of the named state ``s``,
+   optionally ``LIMITS``); :mod:`.lugre_friction` (with a state) and :mod:`.shaft_drag`
+   (without) are examples;
+2. its ``Effect(..., law=module)`` entry below, with an ``ARM`` variant whose parameters are the
+   ones the arm diagnosis fits (``fsarm diagnose``) and ``fsarm run --effect`` / ``fsarm synth
+   --effect`` take by position;
+3. its test file (``tests/test_effects_<module>.py``).
+
+The layout, the generated kernel dispatch, the model's state slots, the recorded columns,
+``SimConfig``, ``fsarm run --effect``, ``fsarm synth`` and the arm diagnosis read it from here.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from fsarm_sim.plant.effects import shaft_drag
+from fsarm_sim.errors import InvalidParameterError
+from fsarm_sim.plant.effects import lugre_friction, motor_thermal, payload_error, shaft_drag
 from fsarm_sim.plant.effects.base import ArmEffectLaw
 
 SERIES = "series_bench"
@@ -239,6 +255,7 @@ EFFECTS: tuple[Effect, ...] = (
                 (Param("dm_kg", "kg", -15.0, 15.0, "mass error"),),
             ),
         ),
+        law=payload_error,
     ),
     Effect(
         "shaft_drag",
@@ -256,6 +273,39 @@ EFFECTS: tuple[Effect, ...] = (
             ),
         ),
         law=shaft_drag,
+    ),
+    Effect(
+        "lugre_friction",
+        "lugre_friction",
+        "friction at joint 3 with a bristle state: presliding, stiction, Stribeck dip (arm only)",
+        (
+            Variant(
+                "q3",
+                (ARM,),
+                "torque -(sigma_0 z + sigma_1 dz/dt + sigma_2 qd3) on joint 3, z the bristles' "
+                "own state (LuGre, Canudas de Wit et al. 1995); sigma_0, sigma_1, v_s as declared",
+                (
+                    Param("f_c_nm", "N*m", 0.0, 20.0, "Coulomb level F_c", 0.1),
+                    Param("f_s_nm", "N*m", 0.0, 20.0, "breakaway level F_s", 0.1),
+                ),
+            ),
+        ),
+        law=lugre_friction,
+    ),
+    Effect(
+        "motor_thermal",
+        "motor_thermal",
+        "joint 3's motor warms with its copper loss and gives less torque per ampere (arm only)",
+        (
+            Variant(
+                "j3_motor",
+                (ARM,),
+                "rotor torque tau_cmd alpha_kt (T - 25 C), T = 25 C + dT_amb + the winding's rise "
+                "(one thermal node heated by R(T) I^2); the other numbers as declared",
+                (Param("dtemp_amb_k", "K", -50.0, 150.0, "ambient minus 25 C", 10.0),),
+            ),
+        ),
+        law=motor_thermal,
     ),
 )
 
@@ -277,6 +327,59 @@ def get(name: str) -> Effect:
 def arm_laws() -> list[Effect]:
     """The effects with a kernel law on the arm, in registry order (their kernel ids)."""
     return [e for e in EFFECTS if e.law is not None]
+
+
+LawValues = tuple[str, tuple[tuple[str, float], ...]]  # (effect, ((parameter, value), ...))
+
+
+def parse_law(text: str) -> LawValues:
+    """``NAME[=V1,V2,...]`` -> (effect, ((parameter, value), ...)) of a registry arm law, the text
+    of ``fsarm run --effect``. Values by position are the law's arm variant's parameters, in the
+    registry's order (as ``fsarm synth --effect`` reads them); ``KEY=VALUE`` items set any of its
+    kernel parameters by name; parameters not given keep the law's declared defaults. Checking
+    the values' ranges is :meth:`~fsarm_sim.engine.model.Effects.validate`'s; a malformed text is
+    an InvalidParameterError naming what is allowed."""
+    name, _, rest = text.strip().partition("=")
+    name = name.strip()
+    laws = {e.name: e for e in arm_laws()}
+    if name not in laws:
+        raise InvalidParameterError(
+            f"--effect {text!r}: {name!r} is not an arm effect law; known: {', '.join(laws)}"
+        )
+    law = laws[name].law
+    assert law is not None
+    declared = [d.name for d in law.KERNEL_PARAMS]
+    positional = [p.name for v in laws[name].variants if ARM in v.setups for p in v.params]
+    values: dict[str, float] = {}
+    named = False
+    for i, item in enumerate(x.strip() for x in rest.split(",") if rest.strip()):
+        key, eq, value = item.rpartition("=")
+        key = key.strip()
+        named = named or bool(eq)
+        if not eq:
+            if named or i >= len(positional):
+                raise InvalidParameterError(
+                    f"--effect {text!r}: {name} takes at most {len(positional)} values by "
+                    f"position ({', '.join(positional)}), before any KEY=VALUE"
+                )
+            key = positional[i]
+        if key not in declared:
+            raise InvalidParameterError(
+                f"--effect {text!r}: {name} has no parameter {key!r}; its parameters: "
+                + ", ".join(declared)
+            )
+        try:
+            values[key] = float(value)
+        except ValueError:
+            raise InvalidParameterError(
+                f"--effect {text!r}: {key} must be a number, got {value!r}"
+            ) from None
+    return name, tuple(values.items())
+
+
+def parse_laws(texts: list[str]) -> tuple[LawValues, ...]:
+    """:func:`parse_law` of each text (``fsarm run --effect``, repeatable)."""
+    return tuple(parse_law(t) for t in texts)
 
 
 def applicable(setup: str, inertia_load: bool) -> list[tuple[str, str]]:

@@ -28,6 +28,7 @@ import numpy as np
 import numpy.typing as npt
 
 from fsarm_sim.paramblocks import Decl
+from fsarm_sim.plant.effects.base import S_BEND, S_OMEGA_M, State
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -36,6 +37,7 @@ KERNEL_PARAMS = (
     Decl("mu_per_rad", "1/rad", 0.0, "capstan growth with |bend| (fitted; seed 004 eq. 7-8 form)"),
     Decl("omega_s", "rad/s", 1.0, "sign-smoothing speed at the shaft input (estimate, see above)"),
 )
+STATES: tuple[Decl, ...] = ()
 
 
 def drag_torque_nm(
@@ -45,16 +47,11 @@ def drag_torque_nm(
     return -drag_nm * math.exp(mu_per_rad * abs(bend)) * math.tanh(omega_m / omega_s)
 
 
-def arm_torques(
-    blk: FloatArray,
-    q2: float,
-    q3: float,
-    qd2: float,
-    qd3: float,
-    omega_m: float,
-    twist: float,
-    twist_rate: float,
-    bend: float,
-) -> tuple[float, float, float]:
+def arm_torques(blk: FloatArray, s: State) -> tuple[float, float, float]:
     """(joint 2, joint 3, shaft input) torques: the drag acts on the shaft input only."""
-    return 0.0, 0.0, drag_torque_nm(omega_m, bend, blk[0], blk[1], blk[2])
+    return 0.0, 0.0, drag_torque_nm(s[S_OMEGA_M], s[S_BEND], blk[0], blk[1], blk[2])
+
+
+def state_rate(blk: FloatArray, s: State, i: int) -> float:
+    """The drag has no state of its own (never called)."""
+    return 0.0
