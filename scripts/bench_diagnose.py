@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import statistics
+import sys
 import tempfile
 import time
 from collections.abc import Callable, Iterator
@@ -24,9 +25,11 @@ from functools import partial
 from pathlib import Path
 from typing import Any
 
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+
+from batteries import battery as B
 from fsarm_sim.discrepancy import arm_fit, diagnose_record, lsq
 from fsarm_sim.discrepancy import arm_synth as S
-from fsarm_sim.discrepancy import battery as B
 from fsarm_sim.records.measured import load_dataset
 
 ARM_EFFECTS: tuple[list[str], ...] = (
