@@ -7,7 +7,7 @@ missing here. Names are relative to ``fsarm_sim`` (``__init__``: the package its
 package's name covers its submodules unless a submodule is listed itself. ``controllers`` is the
 top-level ``controllers/`` folder, installed as ``fsarm_sim.controllers``.
 
-Read top-down, the layers are the package's folders (since 0.3.0):
+Read top-down, the layers are the package's folders:
 
 * base - the command's fixed choices (enums), named errors, declared parameter blocks, checked paths and output paths, task
   executors, the lazily completed command app, the seed papers' declared claims (data: the

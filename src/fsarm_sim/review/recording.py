@@ -118,11 +118,6 @@ class Panel:
         return f"signals/{self.name}"
 
 
-def _ui(points: float) -> float:
-    """A radius in UI points (Rerun's convention: negative radii are screen-space points)."""
-    return -abs(points)
-
-
 def _deg(column: str, label: str, color: tuple[int, int, int]) -> Series:
     return Series(column, label, RAD2DEG, color)
 
