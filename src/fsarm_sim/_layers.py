@@ -24,6 +24,7 @@ Read top-down, the layers are the package's folders:
   the seed papers' claims judged;
 * review - recordings and figures;
 * discrepancy - naming what a record shows that the model lacks (and synthetic records for it);
+* request (``run_request``) - a run as ``fsarm run`` makes it: options checked, outputs planned;
 * cli - the ``fsarm`` command: parse, call the library, print;
 * api - the package's own names (``from fsarm_sim import run_scenario``), imported lazily.
 """
@@ -63,6 +64,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("studies", ("studies", "gym")),
     ("review", ("review",)),
     ("discrepancy", ("discrepancy",)),
+    ("request", ("run_request",)),
     ("cli", ("cli",)),
     ("api", ("__init__", "api")),
 )

@@ -50,9 +50,9 @@ def register(app: typer.Typer) -> None:
         ] = None,
     ) -> None:
         """Collision detection (delay, false alarms) and hand guiding from the two encoders."""
-        from fsarm_sim.cli.transmissions import check_shaft_options, parse_params
         from fsarm_sim.engine.model import SimConfig
         from fsarm_sim.plant.shaft import load_catalogue
+        from fsarm_sim.run_request import check_shaft_options, parse_params
         from fsarm_sim.studies.collision import run_battery
 
         OutputPlan().file("--json", json_file).check()

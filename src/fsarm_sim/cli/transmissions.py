@@ -16,58 +16,9 @@ from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console, number_table, write_rows_json
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.outputs import OutputPlan, safe_write, write_text
+from fsarm_sim.run_request import parse_params
 
 console = make_console()
-
-
-def parse_params(items: list[str]) -> tuple[tuple[str, float], ...]:
-    """``NAME=VALUE`` strings -> ((name, value), ...); InvalidParameterError on a malformed one."""
-    out = []
-    for item in items:
-        name, sep, value = item.partition("=")
-        try:
-            v = float(value)
-        except ValueError:
-            v = math.nan
-        if not sep or not name.strip() or not math.isfinite(v):
-            raise InvalidParameterError(
-                f"--tr-param must be NAME=VALUE with a finite number, got {item!r}"
-            )
-        out.append((name.strip(), v))
-    return tuple(out)
-
-
-def check_shaft_options(transmission: str, given: list[str]) -> None:
-    """Refuse catalogue-shaft options that ``transmission`` would ignore (``given``: the options
-    the user set, as typed, e.g. ``["--diameter-mm", "--series-hysteresis"]``).
-
-    The flexible shaft takes all of them. A transmission routed over joint 2 (RTCA,
-    tendon-sheath) keeps the catalogue shaft only for the bending moment on joint 2, so D, L and
-    the coefficient file count there, but the shaft's series hysteresis does not (the law has
-    its own: ``--tr-param``). The others (QA-Joint, magnetic spring) read no shaft at all."""
-    from fsarm_sim.plant import transmissions
-
-    tr = transmissions.get(transmission)  # an unknown name is a named error here
-    if tr.takes_shaft or not given:
-        return
-    bending = ("diameter-mm", "length-mm", "shaft-file", "extrapolate")
-    ignored = [
-        g for g in given if not (tr.routed_over_joint2 and g.split()[-1].lstrip("-") in bending)
-    ]
-    if not ignored:
-        return
-    why = (
-        "it keeps the catalogue shaft only for the bending moment on joint 2 (D, L and the "
-        "coefficient file count there)"
-        if tr.routed_over_joint2
-        else "it reads no catalogue shaft"
-    )
-    raise InvalidParameterError(
-        f"{', '.join(ignored)} would change nothing with transmission {transmission!r}: {why}; "
-        f"its own parameters are set with --tr-param NAME=VALUE (`fsarm transmissions "
-        f"{transmission}` lists them)"
-    )
-
 
 SCALAR_GAINS = (
     "torque_bandwidth_rad_s",
