@@ -9,14 +9,86 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated
 
 import typer
 
 from fsarm_sim.choices import BenchLoad, BenchTrajectory, Setup
 from fsarm_sim.cli.console import make_console
 from fsarm_sim.outputs import OutputPlan, SafeWriter, write_text
-from fsarm_sim.records.measured import stated_shaft
+
+# the options of `fsarm synth` (SynthRequest's fields)
+SynthOut = Annotated[Path, typer.Argument(help="output NAME(.csv|.parquet); NAME.json beside it")]
+SynthSetup = Annotated[Setup, typer.Option(help="the record's setup", case_sensitive=False)]
+SynthScenario = Annotated[str, typer.Option(help="arm: the scenario run (see `fsarm scenarios`)")]
+SynthNoiseRad = Annotated[
+    float, typer.Option(help="arm: angle noise std, rad (plus 17-bit quantisation)")
+]
+SynthEffect = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--effect",
+        help="hidden effect NAME[:VARIANT]=VALUES (repeatable), e.g. "
+        "coulomb_friction:shaft=0.2, backlash=0.03,0.0, delay=0.01, "
+        "hysteresis:maxwell_slip=12,0.008,6,0.025",
+    ),
+]
+SynthModel = Annotated[
+    Path | None, typer.Option("--model", help="truth model file (instead of --effect)")
+]
+SynthLoad = Annotated[
+    BenchLoad | None,
+    typer.Option(help="series bench's load [default: blocked]", case_sensitive=False),
+]
+SynthInertia = Annotated[
+    float | None, typer.Option(help="stated load inertia, kg*m^2 [default: 0.01]")
+]
+SynthTrueInertia = Annotated[
+    float | None, typer.Option(help="acting load inertia (default: the stated one)")
+]
+SynthStiffnessScale = Annotated[float, typer.Option(help="true stiffness / catalogue stiffness")]
+SynthDiameterMm = Annotated[
+    float,
+    typer.Option(
+        "--diameter-mm",
+        "--diameter",
+        help="shaft D, mm (--diameter: the name before 0.5.2)",
+    ),
+]
+SynthLengthMm = Annotated[
+    float,
+    typer.Option("--length-mm", "--length", help="shaft L, mm (--length: the name before 0.5.2)"),
+]
+SynthNoise = Annotated[
+    float | None,
+    typer.Option(help="benches: torque noise std / torque range [default: 0.003]"),
+]
+SynthDuration = Annotated[float | None, typer.Option(help="s (default: 30; arm: the scenario's)")]
+SynthRate = Annotated[
+    float | None,
+    typer.Option(
+        help="sample rate, Hz [default: 1000]; arm: 1000 / k (every k-th control "
+        "tick) or faster (the controller runs at it)"
+    ),
+]
+SynthTrajectory = Annotated[
+    BenchTrajectory | None,
+    typer.Option(help="benches: the input [default: chirp]", case_sensitive=False),
+]
+SynthAmplitude = Annotated[float | None, typer.Option(help="benches: input amplitude, rad")]
+SynthBendDeg = Annotated[
+    float | None, typer.Option(help="series bench: held bend angle, deg [default: 0]")
+]
+SynthSeed = Annotated[int, typer.Option(help="random seed")]
+SynthInputFile = Annotated[
+    Path | None,
+    typer.Option(
+        "--input-file",
+        help="benches: drive the bench with this trajectory file (t and theta_m / "
+        "phi_b, as fsarm design-experiment writes) instead of --trajectory; the "
+        "duration defaults to the file's",
+    ),
+]
 
 
 def register(app: typer.Typer) -> None:
@@ -149,187 +221,43 @@ def register(app: typer.Typer) -> None:
 
     @app.command("synth")
     def synth_cmd(
-        out: Annotated[
-            Path, typer.Argument(help="output NAME(.csv|.parquet); NAME.json beside it")
-        ],
-        setup: Annotated[
-            Setup, typer.Option(help="the record's setup", case_sensitive=False)
-        ] = Setup.SERIES_BENCH,
-        scenario: Annotated[
-            str, typer.Option(help="arm: the scenario run (see `fsarm scenarios`)")
-        ] = "fig14-sine",
-        noise_rad: Annotated[
-            float, typer.Option(help="arm: angle noise std, rad (plus 17-bit quantisation)")
-        ] = 2e-5,
-        effect: Annotated[
-            list[str] | None,
-            typer.Option(
-                "--effect",
-                help="hidden effect NAME[:VARIANT]=VALUES (repeatable), e.g. "
-                "coulomb_friction:shaft=0.2, backlash=0.03,0.0, delay=0.01, "
-                "hysteresis:maxwell_slip=12,0.008,6,0.025",
-            ),
-        ] = None,
-        model: Annotated[
-            Path | None, typer.Option("--model", help="truth model file (instead of --effect)")
-        ] = None,
-        load: Annotated[
-            BenchLoad | None,
-            typer.Option(help="series bench's load [default: blocked]", case_sensitive=False),
-        ] = None,
-        inertia: Annotated[
-            float | None, typer.Option(help="stated load inertia, kg*m^2 [default: 0.01]")
-        ] = None,
-        true_inertia: Annotated[
-            float | None, typer.Option(help="acting load inertia (default: the stated one)")
-        ] = None,
-        stiffness_scale: Annotated[
-            float, typer.Option(help="true stiffness / catalogue stiffness")
-        ] = 1.0,
-        diameter_mm: Annotated[
-            float,
-            typer.Option(
-                "--diameter-mm",
-                "--diameter",
-                help="shaft D, mm (--diameter: the name before 0.5.2)",
-            ),
-        ] = 9.0,
-        length_mm: Annotated[
-            float,
-            typer.Option(
-                "--length-mm", "--length", help="shaft L, mm (--length: the name before 0.5.2)"
-            ),
-        ] = 450.0,
-        noise: Annotated[
-            float | None,
-            typer.Option(help="benches: torque noise std / torque range [default: 0.003]"),
-        ] = None,
-        duration: Annotated[
-            float | None, typer.Option(help="s (default: 30; arm: the scenario's)")
-        ] = None,
-        rate: Annotated[
-            float | None,
-            typer.Option(
-                help="sample rate, Hz [default: 1000]; arm: 1000 / k (every k-th control "
-                "tick) or faster (the controller runs at it)"
-            ),
-        ] = None,
-        trajectory: Annotated[
-            BenchTrajectory | None,
-            typer.Option(help="benches: the input [default: chirp]", case_sensitive=False),
-        ] = None,
-        amplitude: Annotated[
-            float | None, typer.Option(help="benches: input amplitude, rad")
-        ] = None,
-        bend_deg: Annotated[
-            float | None, typer.Option(help="series bench: held bend angle, deg [default: 0]")
-        ] = None,
-        seed: Annotated[int, typer.Option(help="random seed")] = 0,
-        input_file: Annotated[
-            Path | None,
-            typer.Option(
-                "--input-file",
-                help="benches: drive the bench with this trajectory file (t and theta_m / "
-                "phi_b, as fsarm design-experiment writes) instead of --trajectory; the "
-                "duration defaults to the file's",
-            ),
-        ] = None,
+        out: SynthOut,
+        setup: SynthSetup = Setup.SERIES_BENCH,
+        scenario: SynthScenario = "fig14-sine",
+        noise_rad: SynthNoiseRad = 2e-5,
+        effect: SynthEffect = None,
+        model: SynthModel = None,
+        load: SynthLoad = None,
+        inertia: SynthInertia = None,
+        true_inertia: SynthTrueInertia = None,
+        stiffness_scale: SynthStiffnessScale = 1.0,
+        diameter_mm: SynthDiameterMm = 9.0,
+        length_mm: SynthLengthMm = 450.0,
+        noise: SynthNoise = None,
+        duration: SynthDuration = None,
+        rate: SynthRate = None,
+        trajectory: SynthTrajectory = None,
+        amplitude: SynthAmplitude = None,
+        bend_deg: SynthBendDeg = None,
+        seed: SynthSeed = 0,
+        input_file: SynthInputFile = None,
     ) -> None:
         """Write a SYNTHETIC measured-format dataset with chosen hidden effects and noise."""
+        options = dict(locals())
         from fsarm_sim.cli.progress import steps
 
         with steps("synth") as progress:
             progress("loading the models", 0, 3)
-            from fsarm_sim.discrepancy import synth
-            from fsarm_sim.discrepancy.arm_synth import ArmRecording
-            from fsarm_sim.errors import InvalidParameterError
-            from fsarm_sim.records.measured import output_files, write_dataset
+            from fsarm_sim.discrepancy.synth_request import SynthRequest
+            from fsarm_sim.records.measured import write_dataset
 
-            for opt, v in (
-                ("--inertia", inertia),
-                ("--true-inertia", true_inertia),
-                ("--stiffness-scale", stiffness_scale),
-                ("--amplitude", amplitude),
-            ):
-                if v is not None and not (math.isfinite(v) and v > 0):
-                    raise InvalidParameterError(f"{opt} must be a finite number > 0, got {v!r}")
-            for opt, v in (("--noise", noise), ("--noise-rad", noise_rad)):
-                if v is not None and not (math.isfinite(v) and v >= 0):
-                    raise InvalidParameterError(f"{opt} must be a finite number >= 0, got {v!r}")
-            if rate is not None and not (math.isfinite(rate) and rate > 0):
-                raise InvalidParameterError(f"--rate must be a finite number > 0 Hz, got {rate!r}")
-            if setup == "arm":  # what only a bench reads: refused rather than silently ignored
-                given = [
-                    opt
-                    for opt, v in (
-                        ("--load", load),
-                        ("--inertia", inertia),
-                        ("--true-inertia", true_inertia),
-                        ("--noise", noise),
-                        ("--trajectory", trajectory),
-                        ("--amplitude", amplitude),
-                        ("--bend-deg", bend_deg),
-                        ("--input-file", input_file),
-                    )
-                    if v is not None
-                ]
-                if given:
-                    raise InvalidParameterError(
-                        f"{', '.join(given)} set the benches' recordings; an arm record runs a "
-                        "scenario (--scenario, --duration, --rate, --noise-rad, --seed)"
-                    )
-            table_out, side_out = output_files(out)
-            OutputPlan().file("OUT", table_out).file("the sidecar of OUT", side_out).input(
-                "the truth model of --model", model
-            ).input("the trajectory file of --input-file", input_file).check()
+            request = SynthRequest.from_options(options)
+            request.check()
+            request.output_plan().check()
             err = make_console(stderr=True)
             writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
-            load = load or BenchLoad.BLOCKED
-            shaft = stated_shaft(diameter_mm, length_mm)
-            rec: synth.Recording | ArmRecording
-            if setup == "arm":
-                rec = ArmRecording(
-                    scenario=scenario,
-                    duration_s=duration,
-                    noise_rad=noise_rad,
-                    seed=seed,
-                    rate_hz=rate,
-                )
-            else:
-                if input_file is not None and duration is None:
-                    t_in, _ = synth.read_input_file(input_file, str(setup))
-                    # whole sample periods of the file's span (a rounded-up last sample would lie
-                    # past the file's end)
-                    r = rate if rate is not None else synth.Recording.rate_hz
-                    duration = math.floor(float(t_in[-1] - t_in[0]) * r + 1e-6) / r
-                stated: dict[str, Any] = {
-                    "duration_s": duration,
-                    "rate_hz": rate,
-                    "noise": noise,
-                    "trajectory": None if trajectory is None else str(trajectory),
-                    "bend_rad": None if bend_deg is None else math.radians(bend_deg),
-                    "input_file": None if input_file is None else str(input_file),
-                }
-                # what is not given takes synth.Recording's defaults
-                rec = synth.Recording(
-                    amplitude=amplitude,
-                    seed=seed,
-                    **{k: v for k, v in stated.items() if v is not None},
-                )
-            cols, side, hidden = synth.synthesize_setup(
-                str(setup),
-                effect or [],
-                model_file=model,
-                shaft=shaft,
-                stiffness_scale=stiffness_scale,
-                load_inertia_kgm2=(
-                    (synth.DEFAULT_LOAD_INERTIA_KGM2 if inertia is None else inertia)
-                    if (setup == "series_bench" and load == "inertia")
-                    else None
-                ),
-                true_inertia_kgm2=true_inertia,
-                recording=rec,
-                progress=lambda step, done, total: progress(step, done + 1, total + 1),
+            cols, side, hidden = request.synthesize(
+                lambda step, done, total: progress(step, done + 1, total + 1)
             )
         written = writes.write(out, lambda p: write_dataset(p, cols, side), "the dataset (OUT)")
         if written is not None:
