@@ -180,8 +180,7 @@ def register(app: typer.Typer) -> None:
 
         with steps("design-experiment") as progress:
             progress("loading the models", 0, 1)
-            from fsarm_sim.discrepancy import design as D
-            from fsarm_sim.discrepancy import synth
+            from fsarm_sim.discrepancy import design, synth
             from fsarm_sim.discrepancy.report import json_clean
             from fsarm_sim.records.measured import dataset_files, load_dataset
 
@@ -190,7 +189,7 @@ def register(app: typer.Typer) -> None:
                 f"the sidecar of the dataset {table}", side
             ).file("--out", out).file("--json", json_file).check()
             ds = load_dataset(data)
-            res = D.design(ds, progress=progress)
+            res = design.design(ds, progress=progress)
         # both files saved before anything is printed
         writes = SafeWriter(lambda msg: typer.echo(f"warning: {msg}", err=True))
         written = writes.write(
