@@ -79,79 +79,81 @@ def review_outputs(
         w.finish()
 
 
-def register(app: typer.Typer) -> None:
-    @app.command("figures")
-    def figures_cmd(
-        out: Annotated[Path, typer.Option(help="folder for the figures")] = Path("figures"),
-        scenario: Annotated[
-            list[str] | None,
-            typer.Option(help="scenario to draw (repeatable; default: every registered one)"),
-        ] = None,
-        fmt: Annotated[
-            list[FigureFormat] | None,
-            typer.Option(
-                "--format", help="figure format (repeatable) [default: png]", case_sensitive=False
-            ),
-        ] = None,
-        dpi: Annotated[int, typer.Option(help="resolution of raster formats")] = 110,
-        width: Annotated[float, typer.Option(help="figure width, inches")] = 6.4,
-        height: Annotated[float, typer.Option(help="figure height, inches")] = 4.0,
-        duration: Annotated[
-            float | None, typer.Option(help="simulated time per scenario, s (default: its own)")
-        ] = None,
-        diameter_mm: opt.DiameterMm = 9.0,
-        length_mm: opt.LengthMm = 450.0,
-    ) -> None:
-        """Run every scenario and write its figures: tracking (Fig. 14 style), torque vs twist
-        (Fig. 6/7) and bending moment vs bend (Fig. 9), as <out>/<scenario>_<kind>.<format>."""
-        from fsarm_sim.cli.progress import steps
-        from fsarm_sim.engine.model import SimConfig
-        from fsarm_sim.plant.shaft import load_catalogue
-        from fsarm_sim.review.figures import FIGURE_KINDS, all_scenario_figures, check_output
-        from fsarm_sim.sim import scenarios
+def figures_cmd(
+    out: Annotated[Path, typer.Option(help="folder for the figures")] = Path("figures"),
+    scenario: Annotated[
+        list[str] | None,
+        typer.Option(help="scenario to draw (repeatable; default: every registered one)"),
+    ] = None,
+    fmt: Annotated[
+        list[FigureFormat] | None,
+        typer.Option(
+            "--format", help="figure format (repeatable) [default: png]", case_sensitive=False
+        ),
+    ] = None,
+    dpi: Annotated[int, typer.Option(help="resolution of raster formats")] = 110,
+    width: Annotated[float, typer.Option(help="figure width, inches")] = 6.4,
+    height: Annotated[float, typer.Option(help="figure height, inches")] = 4.0,
+    duration: Annotated[
+        float | None, typer.Option(help="simulated time per scenario, s (default: its own)")
+    ] = None,
+    diameter_mm: opt.DiameterMm = 9.0,
+    length_mm: opt.LengthMm = 450.0,
+) -> None:
+    """Run every scenario and write its figures: tracking (Fig. 14 style), torque vs twist
+    (Fig. 6/7) and bending moment vs bend (Fig. 9), as <out>/<scenario>_<kind>.<format>."""
+    from fsarm_sim.cli.progress import steps
+    from fsarm_sim.engine.model import SimConfig
+    from fsarm_sim.plant.shaft import load_catalogue
+    from fsarm_sim.review.figures import FIGURE_KINDS, all_scenario_figures, check_output
+    from fsarm_sim.sim import scenarios
 
-        for v, name in ((width, "--width"), (height, "--height")):
-            if not math.isfinite(v) or not 0.5 <= v <= 40.0:
-                raise InvalidParameterError(f"{name} must be between 0.5 and 40 inches, got {v!r}")
-        names = scenario or list(scenarios.REGISTRY)
-        for n in names:
-            scenarios.get(n)  # unknown names fail before any run
-        formats = [str(f) for f in fmt] if fmt else ["png"]
-        check_output(formats, dpi)
-        OutputPlan().folder(
-            "--out",
+    for v, name in ((width, "--width"), (height, "--height")):
+        if not math.isfinite(v) or not 0.5 <= v <= 40.0:
+            raise InvalidParameterError(f"{name} must be between 0.5 and 40 inches, got {v!r}")
+    names = scenario or list(scenarios.REGISTRY)
+    for n in names:
+        scenarios.get(n)  # unknown names fail before any run
+    formats = [str(f) for f in fmt] if fmt else ["png"]
+    check_output(formats, dpi)
+    OutputPlan().folder(
+        "--out",
+        out,
+        {
+            f"{n}_{k}.{f}": f"the {k} figure of {n} ({f})"
+            for n in dict.fromkeys(names)
+            for k in FIGURE_KINDS
+            for f in formats
+        },
+    ).check()
+    cfg = SimConfig(shaft=load_catalogue().shaft(diameter_mm, length_mm))
+    console = make_console()
+    err = make_console(stderr=True)
+    writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
+    skipped: dict[str, str] = {}
+    with steps("figures") as progress:
+        written = writes.write(
             out,
-            {
-                f"{n}_{k}.{f}": f"the {k} figure of {n} ({f})"
-                for n in dict.fromkeys(names)
-                for k in FIGURE_KINDS
-                for f in formats
-            },
-        ).check()
-        cfg = SimConfig(shaft=load_catalogue().shaft(diameter_mm, length_mm))
-        console = make_console()
-        err = make_console(stderr=True)
-        writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
-        skipped: dict[str, str] = {}
-        with steps("figures") as progress:
-            written = writes.write(
-                out,
-                lambda d: all_scenario_figures(
-                    d,
-                    cfg,
-                    scenarios=names,
-                    duration_s=duration,
-                    formats=formats,
-                    dpi=dpi,
-                    size_in=(width, height),
-                    skipped=skipped,
-                    progress=progress,
-                ),
-                "the figures (--out)",
-                folder=True,
-            )
-        for name, paths in (written or {}).items():
-            console.print(f"{name}: {', '.join(str(p) for p in paths)}", markup=False)
-        for fig, why in skipped.items():
-            console.print(f"no {fig} figure: {why}", markup=False)
-        writes.finish()
+            lambda d: all_scenario_figures(
+                d,
+                cfg,
+                scenarios=names,
+                duration_s=duration,
+                formats=formats,
+                dpi=dpi,
+                size_in=(width, height),
+                skipped=skipped,
+                progress=progress,
+            ),
+            "the figures (--out)",
+            folder=True,
+        )
+    for name, paths in (written or {}).items():
+        console.print(f"{name}: {', '.join(str(p) for p in paths)}", markup=False)
+    for fig, why in skipped.items():
+        console.print(f"no {fig} figure: {why}", markup=False)
+    writes.finish()
+
+
+def register(app: typer.Typer) -> None:
+    app.command("figures")(figures_cmd)
