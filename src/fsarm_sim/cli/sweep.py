@@ -4,9 +4,11 @@
 
 from __future__ import annotations
 
+import contextlib
 import math
+from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 from rich.markup import escape
@@ -19,6 +21,9 @@ from fsarm_sim.cli.console import make_console, number_table
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.outputs import OutputPlan, SafeWriter
 from fsarm_sim.paths import checked_path
+
+if TYPE_CHECKING:
+    from fsarm_sim.studies.campaign import CampaignResult
 
 console = make_console()
 
@@ -233,65 +238,74 @@ def select_shaft_cmd(
     )
 
 
+# the options of `sweep_cmd`
+SweepStore = Annotated[
+    Path | None, typer.Option(help="results store (SQLite, required); rerun to resume")
+]
+SweepSpec = Annotated[Path | None, typer.Option(help="sweep spec (TOML)")]
+SweepGrid = Annotated[
+    list[str] | None,
+    typer.Option(help="FIELD=VALUES to sweep: start:stop:count or v1,v2,... (repeatable)"),
+]
+SweepSet = Annotated[list[str] | None, typer.Option("--set", help="FIELD=VALUE fixed (repeatable)")]
+SweepOutputs = Annotated[
+    str | None, typer.Option(help="comma-separated: bench,tracking,bandwidth,relief")
+]
+SweepName = Annotated[str | None, typer.Option(help="sweep name stored with each point")]
+SweepExecutor = Annotated[
+    Executor,
+    typer.Option(
+        help="auto (threads when every point is a native simulation, else the process "
+        "pool), local (process pool), threads (this process) or dask",
+        case_sensitive=False,
+    ),
+]
+SweepWorkers = Annotated[int | None, typer.Option(help="workers (default: all cores)")]
+SweepScheduler = Annotated[
+    str | None, typer.Option(help="Dask scheduler address, e.g. tcp://host:8786")
+]
+SweepOut = Annotated[
+    Path | None, typer.Option(help="after the run: re-fit eq. 3/4 and write plots here")
+]
+SweepRetryFailed = Annotated[bool, typer.Option(help="recompute points that failed before")]
+SweepDryRun = Annotated[bool, typer.Option(help="validate and count points, run nothing")]
+SweepProgress = Annotated[bool, typer.Option(help="progress bar with ETA")]
+SweepListFields = Annotated[bool, typer.Option(help="list the sweepable fields and exit")]
+
+
 def sweep_cmd(
-    store: Annotated[
-        Path | None, typer.Option(help="results store (SQLite, required); rerun to resume")
-    ] = None,
-    spec: Annotated[Path | None, typer.Option(help="sweep spec (TOML)")] = None,
-    grid: Annotated[
-        list[str] | None,
-        typer.Option(help="FIELD=VALUES to sweep: start:stop:count or v1,v2,... (repeatable)"),
-    ] = None,
-    set_: Annotated[
-        list[str] | None, typer.Option("--set", help="FIELD=VALUE fixed (repeatable)")
-    ] = None,
-    outputs: Annotated[
-        str | None, typer.Option(help="comma-separated: bench,tracking,bandwidth,relief")
-    ] = None,
-    name: Annotated[str | None, typer.Option(help="sweep name stored with each point")] = None,
-    executor: Annotated[
-        Executor,
-        typer.Option(
-            help="auto (threads when every point is a native simulation, else the process "
-            "pool), local (process pool), threads (this process) or dask",
-            case_sensitive=False,
-        ),
-    ] = Executor.AUTO,
-    workers: Annotated[int | None, typer.Option(help="workers (default: all cores)")] = None,
-    scheduler: Annotated[
-        str | None, typer.Option(help="Dask scheduler address, e.g. tcp://host:8786")
-    ] = None,
+    store: SweepStore = None,
+    spec: SweepSpec = None,
+    grid: SweepGrid = None,
+    set_: SweepSet = None,
+    outputs: SweepOutputs = None,
+    name: SweepName = None,
+    executor: SweepExecutor = Executor.AUTO,
+    workers: SweepWorkers = None,
+    scheduler: SweepScheduler = None,
     shaft_file: opt.ShaftFile = None,
     extrapolate: opt.Extrapolate = False,
-    out: Annotated[
-        Path | None, typer.Option(help="after the run: re-fit eq. 3/4 and write plots here")
-    ] = None,
-    retry_failed: Annotated[bool, typer.Option(help="recompute points that failed before")] = False,
-    dry_run: Annotated[bool, typer.Option(help="validate and count points, run nothing")] = False,
-    progress: Annotated[bool, typer.Option(help="progress bar with ETA")] = True,
-    list_fields: Annotated[bool, typer.Option(help="list the sweepable fields and exit")] = False,
+    out: SweepOut = None,
+    retry_failed: SweepRetryFailed = False,
+    dry_run: SweepDryRun = False,
+    progress: SweepProgress = True,
+    list_fields: SweepListFields = False,
     uncertainty: opt.Uncertainty = 0,
     uncertainty_controller: opt.UncertaintyController = choices.UncertaintyController.NOMINAL,
 ) -> None:
     """Sweep shafts, bends, payloads, gains and scenarios; store every point as it finishes."""
-    from fsarm_sim.records.store import ResultStore, point_key
-    from fsarm_sim.studies import sweep as sw
+    from fsarm_sim.studies import sweep
 
     if list_fields:
-        table = Table(title="sweep fields")
-        for col in ("field", "unit", "default", "meaning"):
-            table.add_column(col)
-        for f in sw.fields().values():
-            table.add_row(f.name, f.unit, str(f.default), escape(f.help))
-        console.print(table)
+        _print_fields()
         return
     if store is None:
         raise FsarmError("--store FILE is required: every finished point is written there")
     OutputPlan().file("--store", store).folder("--out", out).input(
         "the sweep spec of --spec", spec
     ).input("the coefficient file of --shaft-file", shaft_file).check()
-    data = sw.load_spec_file(spec) if spec is not None else None
-    the_spec = sw.build_spec(
+    data = sweep.load_spec_file(spec) if spec is not None else None
+    the_spec = sweep.build_spec(
         data,
         grid=grid or (),
         fixed=set_ or (),
@@ -300,30 +314,13 @@ def sweep_cmd(
         shaft_file=str(shaft_file) if shaft_file is not None else None,
         extrapolate=extrapolate or None,
     )
-    pts = sw.points(the_spec)
+    pts = sweep.points(the_spec)
     if uncertainty:
-        from fsarm_sim.studies import uncertainty as unc
-
-        unc.check_samples(uncertainty)
-        unc.check_controller(str(uncertainty_controller))
-        if not sw.spec_catalogue(the_spec)[0].uncertainty:
-            raise unc.UncertaintyError(
-                "--uncertainty: the coefficient file declares no [uncertainty] ranges"
-            )
+        _check_sweep_uncertainty(the_spec, uncertainty, str(uncertainty_controller))
     if dry_run:
-        done = failed = 0
-        if store.exists():
-            with ResultStore(store) as rs:
-                keys, errors = rs.keys(), rs.errors()
-            done = sum(point_key(p) in keys for p in pts)
-            failed = sum(point_key(p) in errors for p in pts)
-        console.print(
-            f"{the_spec.name}: {len(pts)} points valid, {done} already in {store}"
-            + (f" ({failed} of them failed; --retry-failed reruns them)" if failed else ""),
-            markup=False,
-        )
+        _print_dry_run(the_spec.name, pts, store)
         return
-    report = sw.run_sweep(
+    report = sweep.run_sweep(
         the_spec,
         store,
         executor=str(executor),
@@ -332,6 +329,63 @@ def sweep_cmd(
         retry_failed=retry_failed,
         progress=progress,
     )
+    _print_sweep_report(report, store)
+    if out is not None:
+        _report(store, out, the_spec.name)
+    if uncertainty:
+        _bands(the_spec, store, uncertainty, str(uncertainty_controller))
+    if report.failed or report.failed_before:
+        raise FsarmError(
+            f"{report.failed + report.failed_before} point(s) of {report.name} failed "
+            f"({report.failed} in this run, {report.failed_before} stored by an earlier run); "
+            "they are stored with their error, --retry-failed reruns them"
+        )
+
+
+def _print_fields() -> None:
+    """The sweepable fields (``--list-fields``)."""
+    from fsarm_sim.studies import sweep
+
+    table = Table(title="sweep fields")
+    for col in ("field", "unit", "default", "meaning"):
+        table.add_column(col)
+    for f in sweep.fields().values():
+        table.add_row(f.name, f.unit, str(f.default), escape(f.help))
+    console.print(table)
+
+
+def _check_sweep_uncertainty(the_spec: Any, samples: int, controller: str) -> None:
+    """--uncertainty's settings, and ranges declared in the sweep's coefficient file."""
+    from fsarm_sim.studies import sweep
+    from fsarm_sim.studies import uncertainty as unc
+
+    unc.check_samples(samples)
+    unc.check_controller(controller)
+    if not sweep.spec_catalogue(the_spec)[0].uncertainty:
+        raise unc.UncertaintyError(
+            "--uncertainty: the coefficient file declares no [uncertainty] ranges"
+        )
+
+
+def _print_dry_run(name: str, pts: list[Any], store: Path) -> None:
+    """How many of the points are valid and already stored (``--dry-run``)."""
+    from fsarm_sim.records.store import ResultStore, point_key
+
+    done = failed = 0
+    if store.exists():
+        with ResultStore(store) as rs:
+            keys, errors = rs.keys(), rs.errors()
+        done = sum(point_key(p) in keys for p in pts)
+        failed = sum(point_key(p) in errors for p in pts)
+    console.print(
+        f"{name}: {len(pts)} points valid, {done} already in {store}"
+        + (f" ({failed} of them failed; --retry-failed reruns them)" if failed else ""),
+        markup=False,
+    )
+
+
+def _print_sweep_report(report: Any, store: Path) -> None:
+    """What the sweep computed, stored and failed (the first five errors)."""
     console.print(
         f"{report.name}: {report.total} points, {report.already} already stored, "
         f"{report.computed} computed, {report.failed} failed in {report.wall_s:.1f} s "
@@ -350,16 +404,6 @@ def sweep_cmd(
         console.print(f"  failed: {e}", markup=False)
     if len(report.errors) > 5:
         console.print(f"  ... and {len(report.errors) - 5} more", markup=False)
-    if out is not None:
-        _report(store, out, the_spec.name)
-    if uncertainty:
-        _bands(the_spec, store, uncertainty, str(uncertainty_controller))
-    if report.failed or report.failed_before:
-        raise FsarmError(
-            f"{report.failed + report.failed_before} point(s) of {report.name} failed "
-            f"({report.failed} in this run, {report.failed_before} stored by an earlier run); "
-            "they are stored with their error, --retry-failed reruns them"
-        )
 
 
 def _bands(the_spec: Any, store: Path, n: int, controller: str) -> None:
@@ -536,92 +580,50 @@ def bench_parallel_cmd(
         )
 
 
-def campaign_cmd(
-    out: Annotated[Path, typer.Option(help="output folder (tables, campaign.json, figures)")],
-    shafts: Annotated[
-        str | None, typer.Option(help="comma-separated shaft names (default: all nine)")
-    ] = None,
-    bends: Annotated[str, typer.Option(help="bend angles, deg")] = "0,15,30,45,60,75,90",
-    chirp_s: Annotated[float | None, typer.Option(help="series chirp length, s")] = None,
-    period_s: Annotated[float | None, typer.Option(help="parallel bending period, s")] = None,
-    series_hysteresis: Annotated[
-        bool | None, typer.Option(help="Maxwell-slip hysteresis on/off (default: catalogue's)")
-    ] = None,
-    executor: Annotated[
-        Pool,
-        typer.Option(
-            help="local (process pool), threads (this process; best for many short runs) or dask",
-            case_sensitive=False,
-        ),
-    ] = Pool.LOCAL,
-    workers: Annotated[
-        int | None, typer.Option(help="worker processes (default: all cores)")
-    ] = None,
-    scheduler: Annotated[str | None, typer.Option(help="Dask scheduler address")] = None,
-    shaft_file: opt.ShaftFile = None,
-    progress: Annotated[bool, typer.Option(help="progress bar with ETA")] = True,
-) -> None:
-    """The nine-shaft bench campaign: both tests per shaft, eq. 3/4 re-fit, error vs catalogue."""
-    from fsarm_sim.plant.shaft import load_catalogue
-    from fsarm_sim.studies import campaign as cp
+def _chosen_shafts(cat: Any, shafts: str | None) -> list[Any]:
+    """The catalogue's shafts named in ``shafts`` (comma-separated; None: every one)."""
+    if not shafts:
+        return list(cat.shafts)
+    wanted = [s.strip() for s in shafts.split(",") if s.strip()]
+    names = {s.name: s for s in cat.shafts}
+    missing = [w for w in wanted if w not in names]
+    if missing:
+        raise FsarmError(f"unknown shaft(s) {missing}; the catalogue has {sorted(names)}")
+    return [names[w] for w in wanted]
 
-    OutputPlan().folder("--out", out).input(
-        "the coefficient file of --shaft-file", shaft_file
-    ).check()
-    cat = load_catalogue(shaft_file)
-    chosen = list(cat.shafts)
-    if shafts:
-        wanted = [s.strip() for s in shafts.split(",") if s.strip()]
-        names = {s.name: s for s in cat.shafts}
-        missing = [w for w in wanted if w not in names]
-        if missing:
-            raise FsarmError(f"unknown shaft(s) {missing}; the catalogue has {sorted(names)}")
-        chosen = [names[w] for w in wanted]
-    s = _settings(chirp_s=chirp_s, bend_period_s=period_s, series_hysteresis=series_hysteresis)
-    bend_list = cp.check_bends(_floats(bends, "--bends") or (), cat)
-    n_tasks = len(chosen) * (len(bend_list) + 2)
-    bar = None
-    if progress:
-        from rich.progress import (
-            BarColumn,
-            MofNCompleteColumn,
-            Progress,
-            TextColumn,
-            TimeRemainingColumn,
-        )
 
-        bar = Progress(
-            TextColumn("bench runs"),
-            BarColumn(),
-            MofNCompleteColumn(),
-            TextColumn("ETA"),
-            TimeRemainingColumn(),
-            console=make_console(stderr=True),
-        )
-        task_id = bar.add_task("runs", total=n_tasks)
-        bar.start()
-    try:
-        result = cp.run_campaign(
-            shaft_file,
-            shafts=chosen,
-            bends_deg=bend_list,
-            settings=s,
-            executor=str(executor),
-            workers=workers,
-            scheduler=scheduler,
-            on_done=(lambda _o: bar.advance(task_id)) if bar is not None else None,
-        )
-    finally:
-        if bar is not None:
-            bar.stop()
-    err = make_console(stderr=True)
-    writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
-    written = writes.write(
-        out,
-        lambda d: (d, cp.write_campaign(result, cat, d)),
-        "the campaign's files (--out)",
-        folder=True,
+@contextlib.contextmanager
+def _bench_bar(n_tasks: int, show: bool) -> Iterator[Callable[[Any], None] | None]:
+    """A progress bar of ``n_tasks`` bench runs on stderr (``show``), its advance callback."""
+    if not show:
+        yield None
+        return
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeRemainingColumn,
     )
+
+    bar = Progress(
+        TextColumn("bench runs"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TextColumn("ETA"),
+        TimeRemainingColumn(),
+        console=make_console(stderr=True),
+    )
+    task_id = bar.add_task("runs", total=n_tasks)
+    bar.start()
+    try:
+        yield lambda _o: bar.advance(task_id)
+    finally:
+        bar.stop()
+
+
+def _print_campaign(result: CampaignResult, written: tuple[Path, Any] | None) -> None:
+    """The prototype's tables, the comparisons, the errors and where the files went."""
     proto = "MF09-450" if "MF09-450" in result.series else next(iter(result.series), None)
     if proto is not None:
         _print_series_table(proto, result.series[proto])
@@ -632,6 +634,75 @@ def campaign_cmd(
         console.print(f"error: {e}", markup=False)
     if written is not None:
         console.print(f"{len(written[1])} files in {written[0]}", markup=False)
+
+
+# the options of `campaign_cmd`
+CampaignOut = Annotated[Path, typer.Option(help="output folder (tables, campaign.json, figures)")]
+CampaignShafts = Annotated[
+    str | None, typer.Option(help="comma-separated shaft names (default: all nine)")
+]
+CampaignBends = Annotated[str, typer.Option(help="bend angles, deg")]
+CampaignChirpS = Annotated[float | None, typer.Option(help="series chirp length, s")]
+CampaignPeriodS = Annotated[float | None, typer.Option(help="parallel bending period, s")]
+CampaignSeriesHysteresis = Annotated[
+    bool | None, typer.Option(help="Maxwell-slip hysteresis on/off (default: catalogue's)")
+]
+CampaignExecutor = Annotated[
+    Pool,
+    typer.Option(
+        help="local (process pool), threads (this process; best for many short runs) or dask",
+        case_sensitive=False,
+    ),
+]
+CampaignWorkers = Annotated[int | None, typer.Option(help="worker processes (default: all cores)")]
+CampaignScheduler = Annotated[str | None, typer.Option(help="Dask scheduler address")]
+CampaignProgress = Annotated[bool, typer.Option(help="progress bar with ETA")]
+
+
+def campaign_cmd(
+    out: CampaignOut,
+    shafts: CampaignShafts = None,
+    bends: CampaignBends = "0,15,30,45,60,75,90",
+    chirp_s: CampaignChirpS = None,
+    period_s: CampaignPeriodS = None,
+    series_hysteresis: CampaignSeriesHysteresis = None,
+    executor: CampaignExecutor = Pool.LOCAL,
+    workers: CampaignWorkers = None,
+    scheduler: CampaignScheduler = None,
+    shaft_file: opt.ShaftFile = None,
+    progress: CampaignProgress = True,
+) -> None:
+    """The nine-shaft bench campaign: both tests per shaft, eq. 3/4 re-fit, error vs catalogue."""
+    from fsarm_sim.plant.shaft import load_catalogue
+    from fsarm_sim.studies import campaign as cp
+
+    OutputPlan().folder("--out", out).input(
+        "the coefficient file of --shaft-file", shaft_file
+    ).check()
+    cat = load_catalogue(shaft_file)
+    chosen = _chosen_shafts(cat, shafts)
+    s = _settings(chirp_s=chirp_s, bend_period_s=period_s, series_hysteresis=series_hysteresis)
+    bend_list = cp.check_bends(_floats(bends, "--bends") or (), cat)
+    with _bench_bar(len(chosen) * (len(bend_list) + 2), progress) as on_done:
+        result = cp.run_campaign(
+            shaft_file,
+            shafts=chosen,
+            bends_deg=bend_list,
+            settings=s,
+            executor=str(executor),
+            workers=workers,
+            scheduler=scheduler,
+            on_done=on_done,
+        )
+    err = make_console(stderr=True)
+    writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
+    written = writes.write(
+        out,
+        lambda d: (d, cp.write_campaign(result, cat, d)),
+        "the campaign's files (--out)",
+        folder=True,
+    )
+    _print_campaign(result, written)
     writes.finish()
     if result.errors:
         raise FsarmError(f"{len(result.errors)} bench run(s) of the campaign failed (listed above)")
