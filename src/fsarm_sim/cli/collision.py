@@ -25,27 +25,32 @@ from fsarm_sim.cli.console import make_console, number_table
 from fsarm_sim.outputs import OutputPlan, safe_write, write_text
 
 if TYPE_CHECKING:
-    from fsarm_sim.studies.collision import GuidingReport
+    from fsarm_sim.studies.collision import Battery, GuidingReport
 
 
 def _fmt(x: float | None, scale: float = 1.0, digits: int = 3) -> str:
     return "-" if x is None else f"{x * scale:.{digits}g}"
 
 
+# the options of `collision_cmd`
+CollisionSeriesHysteresis = Annotated[
+    bool | None,
+    typer.Option(
+        help="flexible shaft: Maxwell-slip series hysteresis on/off "
+        "(default: the coefficient file's, on)"
+    ),
+]
+CollisionJsonFile = Annotated[
+    Path | None, typer.Option("--json", help="write the results as JSON here")
+]
+
+
 def collision_cmd(
     transmission: opt.Transmission = Transmission.FLEXIBLE_SHAFT,
     tr_param: opt.TrParam = None,
-    series_hysteresis: Annotated[
-        bool | None,
-        typer.Option(
-            help="flexible shaft: Maxwell-slip series hysteresis on/off "
-            "(default: the coefficient file's, on)"
-        ),
-    ] = None,
+    series_hysteresis: CollisionSeriesHysteresis = None,
     backend: opt.Backend = Backend.NATIVE,
-    json_file: Annotated[
-        Path | None, typer.Option("--json", help="write the results as JSON here")
-    ] = None,
+    json_file: CollisionJsonFile = None,
 ) -> None:
     """Collision detection (delay, false alarms) and hand guiding from the two encoders."""
     from fsarm_sim.engine.model import SimConfig
@@ -65,6 +70,16 @@ def collision_cmd(
     cfg.validate()
     bat = run_battery(cfg, str(backend))  # type: ignore[arg-type]
     console = make_console()
+    _print_detection(console, bat, str(transmission))
+    if bat.guiding is None:
+        console.print(f"hand-guide skipped: {bat.guiding_skipped}", markup=False)
+    else:
+        _print_guiding(console, bat)
+    _write_json(json_file, bat.as_dict(), console)
+
+
+def _print_detection(console: Console, bat: Battery, transmission: str) -> None:
+    """The observer's threshold, the detection table, Algorithm 1's and the skipped runs."""
     cal = bat.calibration
     console.print(
         f"joint-3 external-torque observer (K_O = {bat.gain_rad_s:g} rad/s) on "
@@ -103,11 +118,12 @@ def collision_cmd(
     for d in bat.detection:
         if d.skipped is not None:
             console.print(f"{d.run} skipped: {d.skipped}", markup=False)
+
+
+def _print_guiding(console: Console, bat: Battery) -> None:
+    """Hand guiding by the observer + admittance, and by seed 004's Algorithm 2."""
     g = bat.guiding
-    if g is None:
-        console.print(f"hand-guide skipped: {bat.guiding_skipped}", markup=False)
-        _write_json(json_file, bat.as_dict(), console)
-        return
+    assert g is not None
     console.print(_guiding_table("hand guiding (observer + admittance on joint 3)", g))
     console.print(
         f"{_holds_line(g)}; work of the hand on joint 3: {g.human_work_j:.3g} J; final "
@@ -131,7 +147,6 @@ def collision_cmd(
                 "(hysteresis, friction) acts on after release as a push would"
             )
         console.print(line, markup=False)
-    _write_json(json_file, bat.as_dict(), console)
 
 
 def register(app: typer.Typer) -> None:
