@@ -89,23 +89,31 @@ def convergence_table(report: DynamicsReport) -> Table | None:
     return table
 
 
+# the options of `check_dynamics_cmd`
+CheckDynamicsJsonFile = Annotated[
+    Path | None, typer.Option("--json", help="write all measured numbers here (JSON)")
+]
+CheckDynamicsSamples = Annotated[
+    int, typer.Option(help="random states per model for the mass/bias/qacc checks")
+]
+CheckDynamicsDuration = Annotated[
+    float, typer.Option(help="simulated seconds of fig14-sine for the trajectory check")
+]
+CheckDynamicsShaftInertia = Annotated[
+    float,
+    typer.Option(help="also check a model with this eq. 1 shaft inertia J, kg m^2 (0: skip)"),
+]
+CheckDynamicsTrajectory = Annotated[
+    bool, typer.Option(help="run the closed-loop trajectory comparison")
+]
+
+
 def check_dynamics_cmd(
-    json_file: Annotated[
-        Path | None, typer.Option("--json", help="write all measured numbers here (JSON)")
-    ] = None,
-    samples: Annotated[
-        int, typer.Option(help="random states per model for the mass/bias/qacc checks")
-    ] = 200,
-    duration: Annotated[
-        float, typer.Option(help="simulated seconds of fig14-sine for the trajectory check")
-    ] = 4.0,
-    shaft_inertia: Annotated[
-        float,
-        typer.Option(help="also check a model with this eq. 1 shaft inertia J, kg m^2 (0: skip)"),
-    ] = 0.0,
-    trajectory: Annotated[
-        bool, typer.Option(help="run the closed-loop trajectory comparison")
-    ] = True,
+    json_file: CheckDynamicsJsonFile = None,
+    samples: CheckDynamicsSamples = 200,
+    duration: CheckDynamicsDuration = 4.0,
+    shaft_inertia: CheckDynamicsShaftInertia = 0.0,
+    trajectory: CheckDynamicsTrajectory = True,
 ) -> None:
     """Check MuJoCo's dynamics against Pinocchio; exit 1 if any check fails."""
     from fsarm_sim.cli.progress import steps

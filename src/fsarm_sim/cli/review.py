@@ -79,24 +79,34 @@ def review_outputs(
         w.finish()
 
 
+# the options of `figures_cmd`
+FiguresOut = Annotated[Path, typer.Option(help="folder for the figures")]
+FiguresScenario = Annotated[
+    list[str] | None,
+    typer.Option(help="scenario to draw (repeatable; default: every registered one)"),
+]
+FiguresFmt = Annotated[
+    list[FigureFormat] | None,
+    typer.Option(
+        "--format", help="figure format (repeatable) [default: png]", case_sensitive=False
+    ),
+]
+FiguresDpi = Annotated[int, typer.Option(help="resolution of raster formats")]
+FiguresWidth = Annotated[float, typer.Option(help="figure width, inches")]
+FiguresHeight = Annotated[float, typer.Option(help="figure height, inches")]
+FiguresDuration = Annotated[
+    float | None, typer.Option(help="simulated time per scenario, s (default: its own)")
+]
+
+
 def figures_cmd(
-    out: Annotated[Path, typer.Option(help="folder for the figures")] = Path("figures"),
-    scenario: Annotated[
-        list[str] | None,
-        typer.Option(help="scenario to draw (repeatable; default: every registered one)"),
-    ] = None,
-    fmt: Annotated[
-        list[FigureFormat] | None,
-        typer.Option(
-            "--format", help="figure format (repeatable) [default: png]", case_sensitive=False
-        ),
-    ] = None,
-    dpi: Annotated[int, typer.Option(help="resolution of raster formats")] = 110,
-    width: Annotated[float, typer.Option(help="figure width, inches")] = 6.4,
-    height: Annotated[float, typer.Option(help="figure height, inches")] = 4.0,
-    duration: Annotated[
-        float | None, typer.Option(help="simulated time per scenario, s (default: its own)")
-    ] = None,
+    out: FiguresOut = Path("figures"),
+    scenario: FiguresScenario = None,
+    fmt: FiguresFmt = None,
+    dpi: FiguresDpi = 110,
+    width: FiguresWidth = 6.4,
+    height: FiguresHeight = 4.0,
+    duration: FiguresDuration = None,
     diameter_mm: opt.DiameterMm = 9.0,
     length_mm: opt.LengthMm = 450.0,
 ) -> None:

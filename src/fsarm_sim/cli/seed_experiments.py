@@ -80,23 +80,27 @@ def model_selection_cmd(
     )
 
 
+# the options of `qa_throws_cmd`
+QaThrowsPresets = Annotated[str, typer.Option(help="Table IV presets σ [deg], comma-separated")]
+QaThrowsSpeeds = Annotated[str, typer.Option(help="motor speeds θ'_d [deg/s], comma-separated")]
+QaThrowsAdjust = Annotated[
+    StiffnessAdjust,
+    typer.Option(help="stiffness adjustment, eq. 20", case_sensitive=False),
+]
+QaThrowsLeverArms = Annotated[
+    str, typer.Option(help="impact lever arms r [m] for the Sec. VII impact (empty: none)")
+]
+QaThrowsJsonFile = Annotated[
+    Path | None, typer.Option("--json", help="also write the numbers as JSON here")
+]
+
+
 def qa_throws_cmd(
-    presets: Annotated[
-        str, typer.Option(help="Table IV presets σ [deg], comma-separated")
-    ] = "3,7,11,15",
-    speeds: Annotated[
-        str, typer.Option(help="motor speeds θ'_d [deg/s], comma-separated")
-    ] = "60,75,90,100,120",
-    adjust: Annotated[
-        StiffnessAdjust,
-        typer.Option(help="stiffness adjustment, eq. 20", case_sensitive=False),
-    ] = StiffnessAdjust.NONE,
-    lever_arms: Annotated[
-        str, typer.Option(help="impact lever arms r [m] for the Sec. VII impact (empty: none)")
-    ] = "",
-    json_file: Annotated[
-        Path | None, typer.Option("--json", help="also write the numbers as JSON here")
-    ] = None,
+    presets: QaThrowsPresets = "3,7,11,15",
+    speeds: QaThrowsSpeeds = "60,75,90,100,120",
+    adjust: QaThrowsAdjust = StiffnessAdjust.NONE,
+    lever_arms: QaThrowsLeverArms = "",
+    json_file: QaThrowsJsonFile = None,
 ) -> None:
     """Seed 002's strike-out throws (ε = q'/θ'_d, Fig. 10) and impacts on the Table V bench."""
     from fsarm_sim.outputs import OutputPlan
@@ -145,20 +149,27 @@ def qa_throws_cmd(
     _write_json(json_file, {"adjust": mode, "throws": rows, "impacts": impacts})
 
 
+# the options of `rtca_fig12_cmd`
+RtcaFig12RadiiMm = Annotated[
+    str, typer.Option("--radii-mm", help="bend radii [mm], comma-separated; inf = straight")
+]
+RtcaFig12DurationS = Annotated[
+    float, typer.Option(help="length of the 20° chirp 0.1-10 Hz [s] (>= 20)")
+]
+RtcaFig12IdealLoad = Annotated[
+    bool,
+    typer.Option(help="the load motor as an ideal position source (no speed limit)"),
+]
+RtcaFig12JsonFile = Annotated[
+    Path | None, typer.Option("--json", help="also write the numbers as JSON here")
+]
+
+
 def rtca_fig12_cmd(
-    radii_mm: Annotated[
-        str, typer.Option("--radii-mm", help="bend radii [mm], comma-separated; inf = straight")
-    ] = "inf,450,200",
-    duration_s: Annotated[
-        float, typer.Option(help="length of the 20° chirp 0.1-10 Hz [s] (>= 20)")
-    ] = 60.0,
-    ideal_load: Annotated[
-        bool,
-        typer.Option(help="the load motor as an ideal position source (no speed limit)"),
-    ] = False,
-    json_file: Annotated[
-        Path | None, typer.Option("--json", help="also write the numbers as JSON here")
-    ] = None,
+    radii_mm: RtcaFig12RadiiMm = "inf,450,200",
+    duration_s: RtcaFig12DurationS = 60.0,
+    ideal_load: RtcaFig12IdealLoad = False,
+    json_file: RtcaFig12JsonFile = None,
 ) -> None:
     """Seed 001's Fig. 12 on its bench: |T̂_s/θ̇_s| per band at each bend, P and ZN PID."""
     import math

@@ -152,29 +152,72 @@ def _write_folder(out: Path, write: Any, what: str) -> None:
     writes.finish()
 
 
+def _selection_table(title: str, selections: list[Any]) -> Table:
+    """One row per selector's choice: D, L, K and its error, rating, whether it reaches K_des."""
+    table = number_table(
+        title,
+        (
+            "method",
+            "D [mm]",
+            "L [mm]",
+            "K [N·m/rad]",
+            "K − K_des",
+            "rating [N·m]",
+            "reaches K_des",
+        ),
+    )
+    for s in selections:
+        table.add_row(
+            escape(s.method.split(" (")[0]),
+            f"{s.diameter_mm:g}",
+            f"{s.length_mm:.1f}",
+            f"{s.k_nm_per_rad:.4g}",
+            f"{s.error_nm_per_rad:+.3g} ({100 * s.relative_error:+.2g} %)",
+            f"{s.rating_nm:.3g}",
+            "yes" if s.feasible else "no",
+        )
+    return table
+
+
+# the options of `select_shaft_cmd`
+SelectShaftKDes = Annotated[float, typer.Option(help="desired stiffness K_des, N·m/rad")]
+SelectShaftKind = Annotated[
+    ShaftKind,
+    typer.Option(help="series (eq. 3) or parallel (eq. 4)", case_sensitive=False),
+]
+SelectShaftBendDeg = Annotated[float, typer.Option(help="series: bend angle for K_des, deg")]
+SelectShaftTorqueNm = Annotated[
+    float,
+    typer.Option(help="torque the shaft must carry, N·m (arm: joint-3 torque / i_G2)"),
+]
+SelectShaftLMin = Annotated[float | None, typer.Option(help="robot's L_min, mm")]
+SelectShaftLMax = Annotated[float | None, typer.Option(help="robot's L_max, mm")]
+SelectShaftSide = Annotated[
+    int, typer.Option(help="series: +1 winding (K_sp), -1 unwinding (K_sn)")
+]
+SelectShaftDiameters = Annotated[
+    str | None,
+    typer.Option(help="available diameters, mm, comma-separated (default: the catalogue's)"),
+]
+SelectShaftSeed = Annotated[int, typer.Option(help="seed of Algorithm 1's random start length")]
+SelectShaftTolerance = Annotated[float, typer.Option(help="accepted |K − K_des| / K_des")]
+SelectShaftNearest = Annotated[
+    bool, typer.Option(help="accept the nearest shaft if none reaches K_des")
+]
+
+
 def select_shaft_cmd(
-    k_des: Annotated[float, typer.Option(help="desired stiffness K_des, N·m/rad")],
-    kind: Annotated[
-        ShaftKind,
-        typer.Option(help="series (eq. 3) or parallel (eq. 4)", case_sensitive=False),
-    ] = ShaftKind.SERIES,
-    bend_deg: Annotated[float, typer.Option(help="series: bend angle for K_des, deg")] = 0.0,
-    torque_nm: Annotated[
-        float,
-        typer.Option(help="torque the shaft must carry, N·m (arm: joint-3 torque / i_G2)"),
-    ] = 0.0,
-    l_min: Annotated[float | None, typer.Option(help="robot's L_min, mm")] = None,
-    l_max: Annotated[float | None, typer.Option(help="robot's L_max, mm")] = None,
-    side: Annotated[int, typer.Option(help="series: +1 winding (K_sp), -1 unwinding (K_sn)")] = 1,
-    diameters: Annotated[
-        str | None,
-        typer.Option(help="available diameters, mm, comma-separated (default: the catalogue's)"),
-    ] = None,
-    seed: Annotated[int, typer.Option(help="seed of Algorithm 1's random start length")] = 0,
-    tolerance: Annotated[float, typer.Option(help="accepted |K − K_des| / K_des")] = 0.01,
-    nearest: Annotated[
-        bool, typer.Option(help="accept the nearest shaft if none reaches K_des")
-    ] = False,
+    k_des: SelectShaftKDes,
+    kind: SelectShaftKind = ShaftKind.SERIES,
+    bend_deg: SelectShaftBendDeg = 0.0,
+    torque_nm: SelectShaftTorqueNm = 0.0,
+    l_min: SelectShaftLMin = None,
+    l_max: SelectShaftLMax = None,
+    side: SelectShaftSide = 1,
+    diameters: SelectShaftDiameters = None,
+    seed: SelectShaftSeed = 0,
+    tolerance: SelectShaftTolerance = 0.01,
+    nearest: SelectShaftNearest = False,
     shaft_file: opt.ShaftFile = None,
 ) -> None:
     """Choose a shaft for a desired stiffness: Algorithm 1 (seed 000) and the closed-form selector."""
@@ -198,38 +241,13 @@ def select_shaft_cmd(
         diameters_mm=_floats(diameters, "--diameters"),
     )
     alg = algorithm1(cat, req, seed=seed, tolerance=tolerance)
-    table = number_table(
-        f"shaft for K_des = {k_des:g} N·m/rad ({kind}, bend {bend_deg:g}°, torque ≥ {torque_nm:g} N·m)",
-        (
-            "method",
-            "D [mm]",
-            "L [mm]",
-            "K [N·m/rad]",
-            "K − K_des",
-            "rating [N·m]",
-            "reaches K_des",
-        ),
-    )
-
-    def row(s: Any) -> None:
-        table.add_row(
-            escape(s.method.split(" (")[0]),
-            f"{s.diameter_mm:g}",
-            f"{s.length_mm:.1f}",
-            f"{s.k_nm_per_rad:.4g}",
-            f"{s.error_nm_per_rad:+.3g} ({100 * s.relative_error:+.2g} %)",
-            f"{s.rating_nm:.3g}",
-            "yes" if s.feasible else "no",
-        )
-
-    row(alg)
+    title = f"shaft for K_des = {k_des:g} N·m/rad ({kind}, bend {bend_deg:g}°, torque ≥ {torque_nm:g} N·m)"
     try:
         best = select_shaft(cat, req, tolerance=tolerance, nearest=nearest)
     except FsarmError:
-        console.print(table)
+        console.print(_selection_table(title, [alg]))
         raise
-    row(best)
-    console.print(table)
+    console.print(_selection_table(title, [alg, best]))
     console.print(
         f"Algorithm 1 lands {alg.length_mm - best.length_mm:+.1f} mm and "
         f"{alg.k_nm_per_rad - best.k_nm_per_rad:+.3g} N·m/rad from the closed-form choice "
@@ -465,23 +483,32 @@ def _settings(**kw: Any) -> Any:
     return BenchSettings(**{k: v for k, v in kw.items() if v is not None})
 
 
+# the options of `bench_series_cmd`
+BenchSeriesBends = Annotated[str, typer.Option(help="bend angles, deg")]
+BenchSeriesChirpS = Annotated[float | None, typer.Option(help="chirp length, s")]
+BenchSeriesAmplitudeFraction = Annotated[
+    float | None, typer.Option(help="chirp amplitude / rating")
+]
+BenchSeriesSeriesHysteresis = Annotated[
+    bool | None, typer.Option(help="Maxwell-slip hysteresis on/off (default: catalogue's)")
+]
+BenchSeriesOut = Annotated[
+    Path | None, typer.Option(help="folder for the table (CSV) and Fig. 6 loops")
+]
+BenchSeriesWorkers = Annotated[
+    int | None, typer.Option(help="worker processes (default: all cores)")
+]
+
+
 def bench_series_cmd(
     diameter_mm: opt.DiameterMm = 9.0,
     length_mm: opt.LengthMm = 450.0,
-    bends: Annotated[str, typer.Option(help="bend angles, deg")] = "0,15,30,45,60,75,90",
-    chirp_s: Annotated[float | None, typer.Option(help="chirp length, s")] = None,
-    amplitude_fraction: Annotated[
-        float | None, typer.Option(help="chirp amplitude / rating")
-    ] = None,
-    series_hysteresis: Annotated[
-        bool | None, typer.Option(help="Maxwell-slip hysteresis on/off (default: catalogue's)")
-    ] = None,
-    out: Annotated[
-        Path | None, typer.Option(help="folder for the table (CSV) and Fig. 6 loops")
-    ] = None,
-    workers: Annotated[
-        int | None, typer.Option(help="worker processes (default: all cores)")
-    ] = None,
+    bends: BenchSeriesBends = "0,15,30,45,60,75,90",
+    chirp_s: BenchSeriesChirpS = None,
+    amplitude_fraction: BenchSeriesAmplitudeFraction = None,
+    series_hysteresis: BenchSeriesSeriesHysteresis = None,
+    out: BenchSeriesOut = None,
+    workers: BenchSeriesWorkers = None,
     shaft_file: opt.ShaftFile = None,
 ) -> None:
     """Series test: chirp into the torque controller at each bend; eq. 8/eq. 1 fits per sign."""
@@ -526,18 +553,26 @@ def bench_series_cmd(
         )
 
 
+# the options of `bench_parallel_cmd`
+BenchParallelPeriodS = Annotated[float | None, typer.Option(help="bending cycle period, s")]
+BenchParallelAmplitudeDeg = Annotated[float | None, typer.Option(help="bend amplitude, deg")]
+BenchParallelTorsionFraction = Annotated[
+    float | None, typer.Option(help="held twist torque / rating")
+]
+BenchParallelOut = Annotated[Path | None, typer.Option(help="folder for the table and Fig. 9 loop")]
+BenchParallelWorkers = Annotated[
+    int | None, typer.Option(help="worker processes (default: all cores)")
+]
+
+
 def bench_parallel_cmd(
     diameter_mm: opt.DiameterMm = 9.0,
     length_mm: opt.LengthMm = 450.0,
-    period_s: Annotated[float | None, typer.Option(help="bending cycle period, s")] = None,
-    amplitude_deg: Annotated[float | None, typer.Option(help="bend amplitude, deg")] = None,
-    torsion_fraction: Annotated[
-        float | None, typer.Option(help="held twist torque / rating")
-    ] = None,
-    out: Annotated[Path | None, typer.Option(help="folder for the table and Fig. 9 loop")] = None,
-    workers: Annotated[
-        int | None, typer.Option(help="worker processes (default: all cores)")
-    ] = None,
+    period_s: BenchParallelPeriodS = None,
+    amplitude_deg: BenchParallelAmplitudeDeg = None,
+    torsion_fraction: BenchParallelTorsionFraction = None,
+    out: BenchParallelOut = None,
+    workers: BenchParallelWorkers = None,
     shaft_file: opt.ShaftFile = None,
 ) -> None:
     """Parallel test: bend both ways with and without torsion; eq. 2 K_b fits of the moment loop."""

@@ -73,20 +73,34 @@ def transmissions_cmd(
     console.print(table)
 
 
+# the options of `compare_cmd`
+CompareTransmissionsScenario = Annotated[str, typer.Option(help="scenario to run")]
+CompareTransmissionsOnly = Annotated[
+    list[Transmission] | None,
+    typer.Option(help="compare only these (repeatable)", case_sensitive=False),
+]
+CompareTransmissionsPayloadKg = Annotated[float | None, typer.Option(help="payload, kg")]
+CompareTransmissionsDuration = Annotated[float | None, typer.Option(help="simulated time, s")]
+CompareTransmissionsQuick = Annotated[
+    bool, typer.Option(help="tracking only: skip bandwidth/impedance")
+]
+CompareTransmissionsGain = Annotated[
+    list[str] | None,
+    typer.Option(help="joint-3 loop gain for all, NAME=VALUE (repeatable)"),
+]
+CompareTransmissionsJsonFile = Annotated[
+    Path | None, typer.Option("--json", help="write rows here")
+]
+
+
 def compare_cmd(
-    scenario: Annotated[str, typer.Option(help="scenario to run")] = "fig14-sine",
-    only: Annotated[
-        list[Transmission] | None,
-        typer.Option(help="compare only these (repeatable)", case_sensitive=False),
-    ] = None,
-    payload_kg: Annotated[float | None, typer.Option(help="payload, kg")] = None,
-    duration: Annotated[float | None, typer.Option(help="simulated time, s")] = None,
-    quick: Annotated[bool, typer.Option(help="tracking only: skip bandwidth/impedance")] = False,
-    gain: Annotated[
-        list[str] | None,
-        typer.Option(help="joint-3 loop gain for all, NAME=VALUE (repeatable)"),
-    ] = None,
-    json_file: Annotated[Path | None, typer.Option("--json", help="write rows here")] = None,
+    scenario: CompareTransmissionsScenario = "fig14-sine",
+    only: CompareTransmissionsOnly = None,
+    payload_kg: CompareTransmissionsPayloadKg = None,
+    duration: CompareTransmissionsDuration = None,
+    quick: CompareTransmissionsQuick = False,
+    gain: CompareTransmissionsGain = None,
+    json_file: CompareTransmissionsJsonFile = None,
 ) -> None:
     """Tracking RMSE, peak torque, motor work, bandwidth and impedance across transmissions."""
     from fsarm_sim.engine.model import PAYLOAD_MAX_KG, Gains, SimConfig
@@ -132,13 +146,19 @@ def compare_cmd(
         raise typer.Exit(code=1)
 
 
+# the options of `transparency_cmd`
+TransparencyBend = Annotated[list[float] | None, typer.Option(help="bend angles, deg (repeatable)")]
+TransparencyFixedGains = Annotated[
+    bool, typer.Option(help="torque PID gains fixed at the straight stiffness (seed 001)")
+]
+TransparencyJsonFile = Annotated[Path | None, typer.Option("--json", help="write results here")]
+
+
 def transparency_cmd(
     transmission: opt.Transmission = Transmission.FLEXIBLE_SHAFT,
-    bend: Annotated[list[float] | None, typer.Option(help="bend angles, deg (repeatable)")] = None,
-    fixed_gains: Annotated[
-        bool, typer.Option(help="torque PID gains fixed at the straight stiffness (seed 001)")
-    ] = False,
-    json_file: Annotated[Path | None, typer.Option("--json", help="write results here")] = None,
+    bend: TransparencyBend = None,
+    fixed_gains: TransparencyFixedGains = False,
+    json_file: TransparencyJsonFile = None,
 ) -> None:
     """Torque-loop bandwidth and output impedance vs bend (seed 001 Sec. 4.1.2, 4.2)."""
     from fsarm_sim.engine.model import Gains, SimConfig
