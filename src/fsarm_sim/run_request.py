@@ -21,6 +21,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from fsarm_sim.choices import plain_options
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.outputs import OutputPlan, SafeWriter
 
@@ -207,17 +208,7 @@ class RunRequest:
     def from_options(cls, options: Mapping[str, Any], given: tuple[str, ...] = ()) -> RunRequest:
         """A request from the command's option values (choices as their strings, None lists
         as empty); names that are not options are ignored."""
-        names = {f.name for f in fields(cls)}
-        values: dict[str, Any] = {}
-        for name, value in options.items():
-            if name not in names or value is None:
-                continue
-            if isinstance(value, list | tuple):
-                value = tuple(value)
-            elif isinstance(value, str):
-                value = str(value)  # a StrEnum as its plain value
-            values[name] = value
-        return cls(**values, given=given)
+        return cls(**plain_options(options, (f.name for f in fields(cls))), given=given)
 
     def compare_changes(self) -> dict[str, str]:
         """What ``rrd_compare`` changes for the second run (:func:`parse_compare`)."""

@@ -12,6 +12,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
+from fsarm_sim.choices import plain_options
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.outputs import OutputPlan
 
@@ -47,17 +48,7 @@ class SynthRequest:
     @classmethod
     def from_options(cls, options: Mapping[str, Any]) -> SynthRequest:
         """A request from the command's option values (names that are not options ignored)."""
-        names = {f.name for f in fields(cls)}
-        values: dict[str, Any] = {}
-        for name, value in options.items():
-            if name not in names or value is None:
-                continue
-            if isinstance(value, list | tuple):
-                value = tuple(value)
-            elif isinstance(value, str):
-                value = str(value)  # a StrEnum as its plain value
-            values[name] = value
-        return cls(**values)
+        return cls(**plain_options(options, (f.name for f in fields(cls))))
 
     def check(self) -> None:
         """Numbers in range; on the arm, none of what only a bench reads (refused rather than
