@@ -10,7 +10,6 @@ holds every finished claim).
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -120,125 +119,107 @@ def _support_table(summary: dict[str, dict[str, Any]]) -> Table:
     return table
 
 
-def _progress_printer(json_file: Path | None) -> Callable[[Any, Any], None]:
-    """A line per finished claim on stderr; the report rewritten to ``json_file`` each time
-    (after a failed write, only at the end)."""
-    from fsarm_sim.studies.reproduce import runner
-
-    write_failed = [False]
-
-    def on_result(rep: runner.Report, res: Any) -> None:
-        err_console.print(
-            f"[{len(rep.results)}/{rep.planned}] {escape(res.claim.id)}: "
-            f"[{STYLE[res.verdict]}]{res.verdict}[/] ({res.seconds:.1f} s)",
-            highlight=False,
-        )
-        if json_file is not None and not write_failed[0]:
-            try:
-                runner.write_json(json_file, rep)
-            except OSError as exc:  # keep running; the final write rescues the report
-                write_failed[0] = True
-                err_console.print(
-                    f"warning: cannot write {json_file} ({exc}); the report is written at the end",
-                    markup=False,
-                )
-
-    return on_result
-
-
-def _print_report(report: Any, quick: bool) -> None:
-    """The predictions table, a table per paper, the support table and the totals line."""
-    order = {"prediction": 0, "calibration": 1, "consistency": 2}
-    by_paper: dict[str, list[object]] = {}
-    for r in sorted(report.results, key=lambda r: order.get(r.claim.role, 3)):
-        by_paper.setdefault(r.claim.paper, []).append(r)
-    summary = report.summary()
-    console.print(_prediction_table(summary))
-    for p in report.papers:
-        if p in by_paper:
-            console.print(_paper_table(p, by_paper[p]))
-    console.print(_support_table(summary))
-    pred = summary["all"]["prediction"]
-    checkable = sum(summary["all"][r]["total"] for r in ("calibration", "prediction")) - sum(
-        summary["all"][r][v]
-        for r in ("calibration", "prediction")
-        for v in ("not_implemented", "uncheckable")
-    )
-    cal = summary["all"]["calibration"]
-    cal_checkable = cal["total"] - cal["not_implemented"] - cal["uncheckable"]
-    total = f"{len(report.results)} of {report.planned} claims in {report.elapsed_s:.1f} s"
-    console.print(
-        f"{total}{' (quick)' if quick else ''}: predictions reproduced {pred['reproduced']} "
-        f"of {pred['total']} ({pred['partly']} partly, {pred['contradicted']} contradicted); "
-        f"calibration {cal_checkable} of {checkable} checkable claims (consistency "
-        f"checks are not counted)",
-        markup=False,
-    )
-
-
-# the options of `reproduce_cmd`
-ReproducePaper = Annotated[
-    list[str] | None,
-    typer.Option(
-        "--paper",
-        help="only this seed paper: 000, 001, 002, 003 or 004 (repeatable; default all)",
-    ),
-]
-ReproduceJsonFile = Annotated[
-    Path | None,
-    typer.Option("--json", help="write the report here (rewritten as each claim finishes)"),
-]
-ReproduceQuick = Annotated[
-    bool, typer.Option(help="a subset with shorter experiments (well under a minute)")
-]
-
-
-def reproduce_cmd(
-    paper: ReproducePaper = None,
-    json_file: ReproduceJsonFile = None,
-    quick: ReproduceQuick = False,
-) -> None:
-    """Check the seed papers' claims on the simulator with the papers' own procedures.
-
-    Leads with the predictions (claims nothing in the model was chosen from): per paper the
-    counts of predictions, calibrations and consistency checks, and the predictions'
-    verdicts. Per claim: its role, where it is in the paper, the paper's value, ours, the
-    tolerance and a verdict (reproduced, partly, contradicted, not_implemented,
-    uncheckable). Calibration and consistency claims never count as reproduced. Exit code 0 whatever the verdicts (it is a report), 1 if an experiment
-    failed to run, 2 on bad input, 130 on Ctrl-C (--json keeps every finished claim).
-    """
-    from fsarm_sim.studies.reproduce import runner
-    from fsarm_sim.studies.reproduce.claims import Context
-
-    papers = parse_papers(paper)
-    OutputPlan().file("--json", json_file).check()
-    runner.check_registry()
-    claims = runner.select(papers or None, quick)
-    report = runner.Report(papers=papers or list(runner.REGISTRY), quick=quick, backend="native")
-    writes = SafeWriter(lambda msg: err_console.print(f"warning: {msg}", markup=False))
-    ctx = Context(quick=quick, backend="native")
-    runner.run(claims, ctx, report, _progress_printer(json_file))
-    _print_report(report, quick)
-    if json_file is not None:
-        where = writes.write(
-            json_file, lambda p_: runner.write_json(p_, report), "the report (--json)"
-        )
-        if where is not None:
-            console.print(f"report: {where}", markup=False)
-    if report.interrupted:
-        err_console.print(
-            "[bold yellow]interrupted[/]: the report holds the claims finished so far"
-        )
-    writes.finish()
-    if report.interrupted:
-        raise typer.Exit(130)
-    if report.failed:
-        err_console.print(
-            f"[bold red]{len(report.failed)} experiment(s) failed to run[/]: "
-            + escape(", ".join(report.failed))
-        )
-        raise typer.Exit(1)
-
-
 def register(app: typer.Typer) -> None:
-    app.command("reproduce")(reproduce_cmd)
+    @app.command("reproduce")
+    def reproduce_cmd(
+        paper: Annotated[
+            list[str] | None,
+            typer.Option(
+                "--paper",
+                help="only this seed paper: 000, 001, 002, 003 or 004 (repeatable; default all)",
+            ),
+        ] = None,
+        json_file: Annotated[
+            Path | None,
+            typer.Option("--json", help="write the report here (rewritten as each claim finishes)"),
+        ] = None,
+        quick: Annotated[
+            bool, typer.Option(help="a subset with shorter experiments (well under a minute)")
+        ] = False,
+    ) -> None:
+        """Check the seed papers' claims on the simulator with the papers' own procedures.
+
+        Leads with the predictions (claims nothing in the model was chosen from): per paper the
+        counts of predictions, calibrations and consistency checks, and the predictions'
+        verdicts. Per claim: its role, where it is in the paper, the paper's value, ours, the
+        tolerance and a verdict (reproduced, partly, contradicted, not_implemented,
+        uncheckable). Calibration and consistency claims never count as reproduced. Exit code 0 whatever the verdicts (it is a report), 1 if an experiment
+        failed to run, 2 on bad input, 130 on Ctrl-C (--json keeps every finished claim).
+        """
+        from fsarm_sim.studies.reproduce import runner
+        from fsarm_sim.studies.reproduce.claims import Context, Result
+
+        papers = parse_papers(paper)
+        OutputPlan().file("--json", json_file).check()
+        runner.check_registry()
+        claims = runner.select(papers or None, quick)
+        report = runner.Report(
+            papers=papers or list(runner.REGISTRY), quick=quick, backend="native"
+        )
+        writes = SafeWriter(lambda msg: err_console.print(f"warning: {msg}", markup=False))
+        write_failed = [False]
+
+        def on_result(rep: runner.Report, res: Result) -> None:
+            err_console.print(
+                f"[{len(rep.results)}/{rep.planned}] {escape(res.claim.id)}: "
+                f"[{STYLE[res.verdict]}]{res.verdict}[/] ({res.seconds:.1f} s)",
+                highlight=False,
+            )
+            if json_file is not None and not write_failed[0]:
+                try:
+                    runner.write_json(json_file, rep)
+                except OSError as exc:  # keep running; the final write rescues the report
+                    write_failed[0] = True
+                    err_console.print(
+                        f"warning: cannot write {json_file} ({exc}); the report is written at "
+                        "the end",
+                        markup=False,
+                    )
+
+        ctx = Context(quick=quick, backend="native")
+        runner.run(claims, ctx, report, on_result)
+        order = {"prediction": 0, "calibration": 1, "consistency": 2}
+        by_paper: dict[str, list[object]] = {}
+        for r in sorted(report.results, key=lambda r: order.get(r.claim.role, 3)):
+            by_paper.setdefault(r.claim.paper, []).append(r)
+        summary = report.summary()
+        console.print(_prediction_table(summary))
+        for p in report.papers:
+            if p in by_paper:
+                console.print(_paper_table(p, by_paper[p]))
+        console.print(_support_table(summary))
+        pred = summary["all"]["prediction"]
+        checkable = sum(summary["all"][r]["total"] for r in ("calibration", "prediction")) - sum(
+            summary["all"][r][v]
+            for r in ("calibration", "prediction")
+            for v in ("not_implemented", "uncheckable")
+        )
+        cal = summary["all"]["calibration"]
+        cal_checkable = cal["total"] - cal["not_implemented"] - cal["uncheckable"]
+        total = f"{len(report.results)} of {report.planned} claims in {report.elapsed_s:.1f} s"
+        console.print(
+            f"{total}{' (quick)' if quick else ''}: predictions reproduced {pred['reproduced']} "
+            f"of {pred['total']} ({pred['partly']} partly, {pred['contradicted']} contradicted); "
+            f"calibration {cal_checkable} of {checkable} checkable claims (consistency "
+            f"checks are not counted)",
+            markup=False,
+        )
+        if json_file is not None:
+            where = writes.write(
+                json_file, lambda p_: runner.write_json(p_, report), "the report (--json)"
+            )
+            if where is not None:
+                console.print(f"report: {where}", markup=False)
+        if report.interrupted:
+            err_console.print(
+                "[bold yellow]interrupted[/]: the report holds the claims finished so far"
+            )
+        writes.finish()
+        if report.interrupted:
+            raise typer.Exit(130)
+        if report.failed:
+            err_console.print(
+                f"[bold red]{len(report.failed)} experiment(s) failed to run[/]: "
+                + escape(", ".join(report.failed))
+            )
+            raise typer.Exit(1)
