@@ -30,7 +30,7 @@ from fsarm_sim.errors import (
     real_number,
     whole_number,
 )
-from fsarm_sim.kernels import layout
+from fsarm_sim.kernels import layout as L
 from fsarm_sim.plant import transmissions
 from fsarm_sim.sim import scenarios
 
@@ -168,7 +168,7 @@ def check_run_size(
     n_ticks = duration_s / ctrl_dt_s + 1.0
     rows = n_ticks / max(log_every_ticks, 1) if log_every_ticks > 0 else 0.0
     # reference table (the model holds it twice while compiling) + recorded rows + columns
-    need = 8.0 * (3.0 * n_ticks * layout.REF_COLS + rows * (n_cols + 40))
+    need = 8.0 * (3.0 * n_ticks * L.REF_COLS + rows * (n_cols + 40))
     if need <= SMALL_RUN_BYTES:
         return  # fits anywhere: no need to ask the kernel (a sweep point asks ~0.15 ms)
     have = MEMORY_SHARE * available_memory_bytes()
@@ -188,10 +188,10 @@ def clock_gap_steps(
     it is 0 (RK4) or 1; before the first step ``U_STEP_T`` holds the start time
     (``initial_state``, ``Simulation.start_at``). ``params``: the model's ``fsarm_params`` if
     the caller holds them (None: looked up by name)."""
-    prm = model.numeric(layout.PARAMS_NAME).data if params is None else params
-    if prm[layout.P_EN_CONTROL] < 0.5:
+    prm = model.numeric(L.PARAMS_NAME).data if params is None else params
+    if prm[L.P_EN_CONTROL] < 0.5:
         return None
-    return (float(data.time) - float(data.userdata[layout.U_STEP_T])) / float(model.opt.timestep)
+    return (float(data.time) - float(data.userdata[L.U_STEP_T])) / float(model.opt.timestep)
 
 
 def check_clock(model: mujoco.MjModel, data: mujoco.MjData) -> None:
@@ -231,8 +231,8 @@ def initial_state(model: mujoco.MjModel, data: mujoco.MjData, st: ArmStructure) 
     The shaft is pre-twisted to carry joint 3's gravity torque, the conduit branches are relaxed,
     and the speed-loop integrator already holds the motor torque that twist needs (bumpless start).
     """
-    prm = model.numeric(layout.PARAMS_NAME).data
-    ref = model.numeric(layout.REF_NAME).data
+    prm = model.numeric(L.PARAMS_NAME).data
+    ref = model.numeric(L.REF_NAME).data
     mujoco.mj_resetData(model, data)
     for j in range(3):
         data.qpos[st.qadr[j]] = ref[j]
@@ -245,34 +245,34 @@ def initial_state(model: mujoco.MjModel, data: mujoco.MjData, st: ArmStructure) 
     bend = data.qpos[st.qadr[1]]
     twist = static_twist(prm, tau_shaft, bend)
     data.qpos[st.qadr[3]] = (st.coef_s * data.qpos[st.qadr[2]] + twist) / st.coef_m
-    tr = transmissions.by_kind(prm[layout.P_TRANS])
-    block = prm[layout.P_TR : layout.P_TR + layout.N_TR]
+    tr = transmissions.by_kind(prm[L.P_TRANS])
+    block = prm[L.P_TR : L.P_TR + L.N_TR]
     # the transmission's states at the twist its law sees (the backlash play taken up is not)
-    elastic = tr.twist_for_torque(block, tau_shaft, bend) if prm[layout.P_EN_SERIES] >= 0.5 else 0.0
+    elastic = tr.twist_for_torque(block, tau_shaft, bend) if prm[L.P_EN_SERIES] >= 0.5 else 0.0
     for i, v in enumerate(tr.initial_states(block, elastic, bend)):
         data.act[st.act_slip + i] = v
     data.act[st.act_branch[0]] = bend
     data.act[st.act_branch[1]] = bend
-    if prm[layout.P_SPD_KI] > 0.0:
-        data.userdata[layout.U_MEM + layout.M_SPD_I] = st.coef_m * tau_shaft / prm[layout.P_SPD_KI]
-    if prm[layout.P_CTRL_KIND] == layout.CTRL_HYSTERESIS:
+    if prm[L.P_SPD_KI] > 0.0:
+        data.userdata[L.U_MEM + L.M_SPD_I] = st.coef_m * tau_shaft / prm[L.P_SPD_KI]
+    if prm[L.P_CTRL_KIND] == L.CTRL_HYSTERESIS:
         # the controller's hysteresis model starts loaded like the shaft: a static start holds
         # joint 3's gravity torque, which the controller's model of the arm knows
-        hm = prm[layout.P_HM : layout.P_HM + layout.N_HM]
+        hm = prm[L.P_HM : L.P_HM + L.N_HM]
         z = initial_elements(twist, bend, tau_shaft, *(float(v) for v in hm))
-        data.userdata[layout.U_MEM + layout.M_SLIP : layout.U_MEM + layout.M_SLIP + 3] = z
-    data.userdata[layout.U_TICK] = 0.0
+        data.userdata[L.U_MEM + L.M_SLIP : L.U_MEM + L.M_SLIP + 3] = z
+    data.userdata[L.U_TICK] = 0.0
     data.time = 0.0
 
 
 def static_twist(prm: Array, tau_shaft: float, bend: float) -> float:
     """Twist at which joint 3's transmission holds ``tau_shaft`` statically (0: no spring)."""
-    if prm[layout.P_EN_SERIES] < 0.5:
+    if prm[L.P_EN_SERIES] < 0.5:
         return 0.0
-    tr = transmissions.by_kind(prm[layout.P_TRANS])
-    twist = tr.twist_for_torque(prm[layout.P_TR : layout.P_TR + layout.N_TR], tau_shaft, bend)
-    if prm[layout.P_BL_WIDTH] > 0.0:  # the play must be taken up first, on the loaded flank
-        c, w = prm[layout.P_BL_CENTER], prm[layout.P_BL_WIDTH]
+    tr = transmissions.by_kind(prm[L.P_TRANS])
+    twist = tr.twist_for_torque(prm[L.P_TR : L.P_TR + L.N_TR], tau_shaft, bend)
+    if prm[L.P_BL_WIDTH] > 0.0:  # the play must be taken up first, on the loaded flank
+        c, w = prm[L.P_BL_CENTER], prm[L.P_BL_WIDTH]
         twist += c + (0.5 * w if twist > 0.0 else -0.5 * w if twist < 0.0 else 0.0)
     return twist
 
@@ -308,7 +308,7 @@ class Simulation:
         self.states: dict[str, Array] = {}  # internal states at the rows of the last run()
         self._views_of: mujoco.MjModel | None = None
         self._prm: Array = np.empty(0)
-        self._ref: Array = np.empty((0, layout.REF_COLS))
+        self._ref: Array = np.empty((0, L.REF_COLS))
         self._stiffness: tuple[Array, ...] = ()
         initial_state(self.model, self.data, self.structure)
 
@@ -319,8 +319,8 @@ class Simulation:
         :func:`.lean.check_springs_off` are kept with them."""
         m = self.model
         if self._views_of is not m:
-            self._prm = m.numeric(layout.PARAMS_NAME).data
-            self._ref = m.numeric(layout.REF_NAME).data.reshape(-1, layout.REF_COLS)
+            self._prm = m.numeric(L.PARAMS_NAME).data
+            self._ref = m.numeric(L.REF_NAME).data.reshape(-1, L.REF_COLS)
             self._stiffness = stiffness_views(m)
             self._views_of = m
         return self._prm, self._ref
@@ -344,29 +344,29 @@ class Simulation:
     def start_at(self, time_s: float) -> None:
         """Start the run's clock at ``time_s`` instead of 0 (the first control tick is then the
         reference row of that time); only before the first step."""
-        if self.data.userdata[layout.U_STEP] > 0.0:
+        if self.data.userdata[L.U_STEP] > 0.0:
             raise InvalidParameterError("start_at() is only allowed before the first step")
         if not math.isfinite(time_s) or time_s < 0.0:
             raise InvalidParameterError(
                 f"start time must be a finite number >= 0 s, got {time_s!r}"
             )
         self.data.time = float(time_s)
-        self.data.userdata[layout.U_STEP_T] = float(time_s)
+        self.data.userdata[L.U_STEP_T] = float(time_s)
 
     def step_index(self) -> int:
         """Index of the physics step that starts at the current state, by the control clock's
         own count (``data.time`` alone drifts by rounding over long runs)."""
         d = self.data
         ud = d.userdata
-        h = float(self._views()[0][layout.P_TIMESTEP])
-        if ud[layout.U_STEP] < 1.0:
+        h = float(self._views()[0][L.P_TIMESTEP])
+        if ud[L.U_STEP] < 1.0:
             return round(float(d.time) / h)
-        return int(ud[layout.U_STEP]) - 1 + round((float(d.time) - float(ud[layout.U_STEP_T])) / h)
+        return int(ud[L.U_STEP]) - 1 + round((float(d.time) - float(ud[L.U_STEP_T])) / h)
 
     def metrics(self) -> dict[str, float | dict[str, float]]:
         """Tracking and effort metrics accumulated by the control kernel on every physics step
         since the start (independent of logging): see ``layout.A_*``."""
-        return kernel_metrics(self.data.userdata[layout.U_ACC : layout.U_ACC + layout.N_ACC])
+        return kernel_metrics(self.data.userdata[L.U_ACC : L.U_ACC + L.N_ACC])
 
     def health(self) -> None:
         """Raise :class:`RunHealthError` if the state is not finite, the control clock stopped,
@@ -388,11 +388,11 @@ class Simulation:
             return
         ud = d.userdata
         h = float(m.opt.timestep)
-        tick = float(ud[layout.U_TICK])
-        if ud[layout.U_STEP] < 1.0 or steps > 1.5:
+        tick = float(ud[L.U_TICK])
+        if ud[L.U_STEP] < 1.0 or steps > 1.5:
             raise RunHealthError(
                 f"control clock stopped at t = {t:.6f} s: it last saw a step at "
-                f"t = {ud[layout.U_STEP_T]:.6f} s (timestep {h:g} s), so the controllers' "
+                f"t = {ud[L.U_STEP_T]:.6f} s (timestep {h:g} s), so the controllers' "
                 "outputs are frozen"
             )
         ctrl_dt = self.config.gains.ctrl_dt_s
@@ -417,7 +417,7 @@ class Simulation:
                     f"{math.degrees(DIVERGENCE_LIMIT_RAD):.0f} deg; q{j + 1} = "
                     f"{math.degrees(q):.2f} deg, reference {math.degrees(row[j]):.2f} deg, "
                     f"speed {math.degrees(d.qvel[st.dof[j]]):.1f} deg/s, joint-3 motor torque "
-                    f"{ud[layout.U_OUT + 2]:.3g} N·m)"
+                    f"{ud[L.U_OUT + 2]:.3g} N·m)"
                 )
 
     def run(
@@ -441,17 +441,17 @@ class Simulation:
             log_every_ticks, "log_every_ticks (0: no logging)", 0, MAX_LOG_EVERY
         )
         m, d = self.model, self.data
-        if m.opt.timestep != self.params[layout.P_TIMESTEP]:
+        if m.opt.timestep != self.params[L.P_TIMESTEP]:
             raise InvalidParameterError(
                 f"model.opt.timestep was changed to {m.opt.timestep:g} s after the model was built "
-                f"for {self.params[layout.P_TIMESTEP]:g} s; set SimConfig.timestep_s instead"
+                f"for {self.params[L.P_TIMESTEP]:g} s; set SimConfig.timestep_s instead"
             )
         check_run_size(
             duration_s,
             m.opt.timestep,
             self.config.gains.ctrl_dt_s,
             int(log_every_ticks),
-            m.nq + m.nv + m.na + layout.N_USERDATA_LOGGED,
+            m.nq + m.nv + m.na + L.N_USERDATA_LOGGED,
         )
         check_clock(m, d)
         self._check_springs()
@@ -460,12 +460,12 @@ class Simulation:
         stride = steps_per_tick * log_every_ticks if log_every_ticks > 0 else n_steps + 1
         n_rec = n_steps // stride + 1 if log_every_ticks > 0 else 0
         self._stride = stride
-        width = layout.rec_width(m.nq, m.nv, m.na)
-        cap = (m.nuserdata - layout.N_USERDATA) // width
+        width = L.rec_width(m.nq, m.nv, m.na)
+        cap = (m.nuserdata - L.N_USERDATA) // width
         if n_rec and cap < 1:
             raise ModelStructureError(
                 f"the model has no recording buffer (nuserdata {m.nuserdata} < "
-                f"{layout.N_USERDATA + width}): build it with engine.model.build_model"
+                f"{L.N_USERDATA + width}): build it with engine.model.build_model"
             )
         rec = resident_empty((n_rec, width))  # its page faults out of the timed loop
         self._step0 = self.step_index()
@@ -473,12 +473,12 @@ class Simulation:
         self._rows = 0
         failure: RunFailedError | None = None
         ud = d.userdata
-        ud[layout.U_REC_STRIDE] = stride if n_rec else 0.0
-        ud[layout.U_REC_NEXT] = self._step0
-        ud[layout.U_REC_LAST] = -1.0
-        ud[layout.U_REC_ROWS] = 0.0
-        ud[layout.U_REC_CAP] = cap
-        ud[layout.U_REC_LOST] = 0.0
+        ud[L.U_REC_STRIDE] = stride if n_rec else 0.0
+        ud[L.U_REC_NEXT] = self._step0
+        ud[L.U_REC_LAST] = -1.0
+        ud[L.U_REC_ROWS] = 0.0
+        ud[L.U_REC_CAP] = cap
+        ud[L.U_REC_LOST] = 0.0
         with callbacks.active(self.backend):
             start = _time.perf_counter()
             try:
@@ -488,13 +488,13 @@ class Simulation:
             except RunFailedError as exc:
                 failure = exc
             finally:
-                ud[layout.U_REC_STRIDE] = 0.0  # recording off outside run()
+                ud[L.U_REC_STRIDE] = 0.0  # recording off outside run()
             wall = _time.perf_counter() - start
         if self.interrupted and not keep_partial:
             raise KeyboardInterrupt
-        if ud[layout.U_REC_LOST] > 0.0:
+        if ud[L.U_REC_LOST] > 0.0:
             raise ModelStructureError(
-                f"the run recorder lost {int(ud[layout.U_REC_LOST])} rows (a full buffer): a bug"
+                f"the run recorder lost {int(ud[L.U_REC_LOST])} rows (a full buffer): a bug"
             )
         r = self._rows
         nq, nv, na = m.nq, m.nv, m.na
@@ -527,11 +527,7 @@ class Simulation:
         m, d = self.model, self.data
         ud = d.userdata
         width = rec.shape[1]
-        buf = (
-            ud[layout.U_REC_BUF : layout.U_REC_BUF + cap * width].reshape(cap, width)
-            if n_rec
-            else rec
-        )
+        buf = ud[L.U_REC_BUF : L.U_REC_BUF + cap * width].reshape(cap, width) if n_rec else rec
         step = 0
         per_tick = round(self.config.gains.ctrl_dt_s / m.opt.timestep)
         hooks = self.hooks
@@ -570,15 +566,15 @@ class Simulation:
     def _drain(self, rec: Array, buf: Array) -> None:
         """Move the recorder's rows into ``rec`` (after ``self._rows``)."""
         ud = self.data.userdata
-        rows = int(ud[layout.U_REC_ROWS])
+        rows = int(ud[L.U_REC_ROWS])
         if rows == 0:
             return
         r = self._rows
         n = min(rows, rec.shape[0] - r)
         rec[r : r + n] = buf[:n]
         self._rows = r + n
-        ud[layout.U_REC_ROWS] = 0.0
-        ud[layout.U_REC_LAST] = -1.0
+        ud[L.U_REC_ROWS] = 0.0
+        ud[L.U_REC_LAST] = -1.0
 
     def _columns(
         self, t: Array, qpos: Array, qvel: Array, act: Array, ud: Array
@@ -592,7 +588,7 @@ class Simulation:
         ref = ref[np.clip(steps // per_tick, 0, ref.shape[0] - 1)]  # each row's reference, once
         theta_m = st.coef_m * qpos[:, st.qadr[3]]
         theta_s = st.coef_s * qpos[:, st.qadr[2]]
-        log = ud[:, layout.U_LOG :]
+        log = ud[:, L.U_LOG :]
         cols: dict[str, Array] = {"t": t}
         for j in range(3):
             cols[f"q{j + 1}"] = qpos[:, st.qadr[j]]
@@ -610,20 +606,20 @@ class Simulation:
             twist=theta_m - theta_s,
             phi_b=qpos[:, st.qadr[1]],
             omega_m=st.coef_m * qvel[:, st.dof[3]],
-            omega_d=log[:, layout.L_OMEGA_D],
+            omega_d=log[:, L.L_OMEGA_D],
             # computed by the passive kernel at the row's state (never recomputed here)
-            tau_shaft=log[:, layout.L_TAU_SHAFT],
-            tau_model=log[:, layout.L_TAU_MODEL],
-            tau_d_shaft=log[:, layout.L_TAU_D_SHAFT],
-            tau_d_joint3=log[:, layout.L_TAU_D_JOINT],
-            tau_bend=log[:, layout.L_TAU_BEND],
-            tau_conduit=log[:, layout.L_TAU_CONDUIT],
-            pid_p=log[:, layout.L_PID_P],
-            pid_i=log[:, layout.L_PID_I],
-            pid_d=log[:, layout.L_PID_D],
-            tau1=ud[:, layout.U_OUT],
-            tau2=ud[:, layout.U_OUT + 1],
-            tau_motor=ud[:, layout.U_OUT + 2],
+            tau_shaft=log[:, L.L_TAU_SHAFT],
+            tau_model=log[:, L.L_TAU_MODEL],
+            tau_d_shaft=log[:, L.L_TAU_D_SHAFT],
+            tau_d_joint3=log[:, L.L_TAU_D_JOINT],
+            tau_bend=log[:, L.L_TAU_BEND],
+            tau_conduit=log[:, L.L_TAU_CONDUIT],
+            pid_p=log[:, L.L_PID_P],
+            pid_i=log[:, L.L_PID_I],
+            pid_d=log[:, L.L_PID_D],
+            tau1=ud[:, L.U_OUT],
+            tau2=ud[:, L.U_OUT + 1],
+            tau_motor=ud[:, L.U_OUT + 2],
         )
         return cols
 
@@ -642,27 +638,27 @@ def motor_energy_j(cols: dict[str, Array], st: ArmStructure | None) -> float:
 def kernel_metrics(acc: Array) -> dict[str, float | dict[str, float]]:
     """Tracking and effort metrics from the control kernel's per-step accumulators
     (``layout.A_*``): every physics step counts, whatever the logging options."""
-    n = float(acc[layout.A_COUNT])
+    n = float(acc[L.A_COUNT])
     if n < 1.0:
         raise InvalidParameterError(
             "no physics step was taken with the controllers on, so there are no metrics"
         )
     joints = ("q1", "q2", "q3")
-    rmse = {j: math.sqrt(float(acc[layout.A_SQ_ERR + i]) / n) for i, j in enumerate(joints)}
-    max_err = {j: float(acc[layout.A_MAX_ERR + i]) for i, j in enumerate(joints)}
+    rmse = {j: math.sqrt(float(acc[L.A_SQ_ERR + i]) / n) for i, j in enumerate(joints)}
+    max_err = {j: float(acc[L.A_MAX_ERR + i]) for i, j in enumerate(joints)}
     return {
         "rmse_rad": rmse,
         "rmse_deg": {k: math.degrees(v) for k, v in rmse.items()},
         "max_abs_err_rad": max_err,
         "max_abs_err_deg": {k: math.degrees(v) for k, v in max_err.items()},
-        "tau_estimate_rmse_nm": math.sqrt(float(acc[layout.A_SQ_TAU_EST]) / n),
-        "tau_estimate_max_abs_err_nm": float(acc[layout.A_MAX_TAU_EST]),
-        "peak_motor_torque_nm": float(acc[layout.A_PEAK_MOTOR_TORQUE]),
-        "peak_motor_speed_rad_s": float(acc[layout.A_PEAK_ROTOR_SPEED]),
-        "peak_shaft_torque_nm": float(acc[layout.A_PEAK_SHAFT_TORQUE]),
-        "peak_twist_rad": float(acc[layout.A_PEAK_TWIST]),
-        "peak_tau2_nm": float(acc[layout.A_PEAK_TAU2]),
-        "motor_energy_j": float(acc[layout.A_MOTOR_WORK]),
+        "tau_estimate_rmse_nm": math.sqrt(float(acc[L.A_SQ_TAU_EST]) / n),
+        "tau_estimate_max_abs_err_nm": float(acc[L.A_MAX_TAU_EST]),
+        "peak_motor_torque_nm": float(acc[L.A_PEAK_MOTOR_TORQUE]),
+        "peak_motor_speed_rad_s": float(acc[L.A_PEAK_ROTOR_SPEED]),
+        "peak_shaft_torque_nm": float(acc[L.A_PEAK_SHAFT_TORQUE]),
+        "peak_twist_rad": float(acc[L.A_PEAK_TWIST]),
+        "peak_tau2_nm": float(acc[L.A_PEAK_TAU2]),
+        "motor_energy_j": float(acc[L.A_MOTOR_WORK]),
         "metric_samples": n,
     }
 
@@ -790,7 +786,7 @@ def run_scenario(
             raise KeyboardInterrupt  # nothing worth keeping yet
         duration = sim.step_index() * float(sim.model.opt.timestep)
     metrics = compute_metrics(
-        cols, duration, wall, sim.structure, cfg.rating_nm(), acc=sim.data.userdata[layout.U_ACC :]
+        cols, duration, wall, sim.structure, cfg.rating_nm(), acc=sim.data.userdata[L.U_ACC :]
     )
     return RunResult(
         scenario=sc.name,

@@ -31,7 +31,8 @@ import numpy.typing as npt
 from fsarm_sim.engine import callbacks
 from fsarm_sim.engine.model import ArmStructure, SimConfig, build_model, read_structure
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
-from fsarm_sim.kernels import layout, physics
+from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import physics
 from fsarm_sim.plant import transmissions
 from fsarm_sim.plant.shaft import load_catalogue
 from fsarm_sim.sim import scenarios
@@ -106,11 +107,11 @@ class Pair:
 
     @property
     def params(self) -> FloatArray:
-        return self.mj.numeric(layout.PARAMS_NAME).data
+        return self.mj.numeric(L.PARAMS_NAME).data
 
     @property
     def reference(self) -> FloatArray:
-        return self.mj.numeric(layout.REF_NAME).data
+        return self.mj.numeric(L.REF_NAME).data
 
     @property
     def state_act(self) -> tuple[int, ...]:
@@ -148,7 +149,7 @@ def make_pair(config: SimConfig, ref_table: FloatArray, label: str = "") -> Pair
 
 def hold_table(n_ticks: int = 2) -> FloatArray:
     """A reference table that holds the home pose (for checks that never run the controller)."""
-    return np.zeros((n_ticks, layout.REF_COLS))
+    return np.zeros((n_ticks, L.REF_COLS))
 
 
 def open_loop(config: SimConfig) -> SimConfig:
@@ -207,7 +208,7 @@ def set_state(pair: Pair, s: State) -> None:
     d.qvel[:] = s.qvel
     d.act[:] = s.act
     d.ctrl[:] = s.ctrl
-    d.time = 0.5 * float(pair.params[layout.P_CTRL_DT])  # between control ticks
+    d.time = 0.5 * float(pair.params[L.P_CTRL_DT])  # between control ticks
     with callbacks.active("python"):
         mujoco.mj_forward(pair.mj, d)
     raise_on_warning(d)
@@ -243,7 +244,7 @@ def actuator_forces(m: mujoco.MjModel, ctrl: FloatArray, act: FloatArray) -> Flo
 def applied_forces(pair: Pair, s: State) -> FloatArray:
     """Everything but bias and inertia: shaft constitutive forces - damping + motors."""
     tau = np.zeros(pair.mj.nv)
-    log = np.zeros(layout.N_LOG)
+    log = np.zeros(L.N_LOG)
     physics.passive_forces(pair.params, s.qpos, s.qvel, s.act, tau, log)
     tau -= pair.arm.damping * s.qvel
     tau += actuator_forces(pair.mj, s.ctrl, s.act)
@@ -311,8 +312,8 @@ def controller_input_error(pair: Pair, s: State) -> float:
     mass_pin = pm.mass_matrix(pair.arm, s.qpos)
     worst = 0.0
     for p_dof, p_madr, dof in zip(
-        (layout.P_DOF_Q1, layout.P_DOF_Q2, layout.P_DOF_Q3),
-        (layout.P_MADR_Q1, layout.P_MADR_Q2, layout.P_MADR_Q3),
+        (L.P_DOF_Q1, L.P_DOF_Q2, L.P_DOF_Q3),
+        (L.P_MADR_Q1, L.P_MADR_Q2, L.P_MADR_Q3),
         pair.st.dof[:3],
         strict=True,
     ):
@@ -575,7 +576,7 @@ def passive_at(pair: Pair, x: FloatArray) -> FloatArray:
     d.qpos[st.qadr[3]] = st.i_g1 * x[3]
     for adr in st.act_branch:
         d.act[adr] = x[1]  # relaxed conduit branches: the static (eq. 4) stiffness
-    d.time = 0.5 * float(pair.params[layout.P_CTRL_DT])
+    d.time = 0.5 * float(pair.params[L.P_CTRL_DT])
     with callbacks.active("python"):
         mujoco.mj_forward(m, d)
     raise_on_warning(d)
@@ -707,7 +708,7 @@ def state_rates(
     """d/dt (qpos, qvel, act) on Pinocchio: ABA with the shaft forces, damping and motor forces."""
     prm, m = pair.params, pair.mj
     tau = np.zeros(m.nv)
-    physics.passive_forces(prm, x.qpos, x.qvel, x.act, tau, np.zeros(layout.N_LOG))
+    physics.passive_forces(prm, x.qpos, x.qvel, x.act, tau, np.zeros(L.N_LOG))
     tau += tau_ctrl - pair.arm.damping * x.qvel
     act_dot = np.zeros(m.na)
     for adr in state_act:
@@ -738,7 +739,7 @@ def control_forces(
         mem,
         mem_out,
         out,
-        np.zeros(layout.N_LOG),
+        np.zeros(L.N_LOG),
     )
     ctrl = np.zeros(m.nu)
     ctrl[list(st.ctrl)] = out
@@ -772,7 +773,7 @@ def _clamp_act(m: mujoco.MjModel, act: FloatArray) -> FloatArray:
 
 
 def substeps(pair: Pair, dt: float) -> int:
-    ctrl_dt = float(pair.params[layout.P_CTRL_DT])
+    ctrl_dt = float(pair.params[L.P_CTRL_DT])
     n = round(ctrl_dt / dt)
     if n < 1 or abs(n * dt - ctrl_dt) > 1e-9 * ctrl_dt:
         raise InvalidParameterError(
@@ -785,7 +786,7 @@ def start_state(pair: Pair) -> tuple[ArmState, FloatArray]:
     """simulation.initial_state on the MuJoCo side, copied: (state, controller memory)."""
     d = mujoco.MjData(pair.mj)
     initial_state(pair.mj, d, pair.st)
-    mem = np.array(d.userdata[layout.U_MEM : layout.U_MEM + layout.N_MEM])
+    mem = np.array(d.userdata[L.U_MEM : L.U_MEM + L.N_MEM])
     return ArmState(d.qpos.copy(), d.qvel.copy(), d.act.copy()), mem
 
 
