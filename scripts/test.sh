@@ -7,4 +7,7 @@ export MUJOCO_GL="${MUJOCO_GL:-disable}"
 .venv/bin/ruff check .
 .venv/bin/ruff format --check .
 .venv/bin/mypy
-.venv/bin/python -m pytest "$@"
+# the suite on up to four cores (pytest-xdist); `-n 0` as an argument runs it in one process
+workers=$(nproc 2>/dev/null || echo 2)
+[ "$workers" -gt 4 ] && workers=4
+.venv/bin/python -m pytest -n "$workers" "$@"

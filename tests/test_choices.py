@@ -16,6 +16,7 @@ from fsarm_sim.plant import transmissions
 from fsarm_sim.records.sidecar import SETUPS
 from fsarm_sim.records.timeseries import FORMATS
 from fsarm_sim.review.figures import FORMATS as FIGURE_FORMATS
+from fsarm_sim.sim import scenarios
 from fsarm_sim.studies.qa_joint_experiments import ADJUST_MODES
 from fsarm_sim.studies.uncertainty import CONTROLLER_MODES
 
@@ -36,6 +37,7 @@ from conftest import run_fsarm
         (choices.StiffnessAdjust, ADJUST_MODES),
         (choices.Controller, tuple(CONTROLLERS)),
         (choices.UncertaintyController, CONTROLLER_MODES),
+        (choices.Scenario, tuple(scenarios.REGISTRY)),
     ],
 )
 def test_each_enum_is_its_owners_set(choice: type[Enum], owner: tuple[str, ...]) -> None:
@@ -51,19 +53,20 @@ def test_help_lists_the_choices(
     assert "euler|rk4|implicit|implicitfast" in out
     assert "csv|parquet" in out and "native|python" in out
     assert "flexible-shaft|rtca|qa-joint" in out
+    assert "fig14-sine|p2p-payload|step-q3" in out
 
 
 def test_choices_are_case_insensitive_and_reach_the_library_as_its_strings(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
     """``--integrator rk4`` runs with MuJoCo's RK4 (its sidecar names it as the library does)."""
-    args = ["run", "step-q3", "--duration", "0.02", "--out", str(tmp_path)]
+    args = ["run", "Step-Q3", "--duration", "0.02", "--out", str(tmp_path)]
     args += ["--integrator", "rk4", "--format", "PARQUET", "--backend", "Python"]
     args += ["--json", str(tmp_path / "s.json")]
     assert run_fsarm(monkeypatch, *args) == 0
     assert (tmp_path / "step-q3.parquet").is_file()
     text = (tmp_path / "s.json").read_text() + (tmp_path / "step-q3.json").read_text()
-    assert "Integrator." not in text and "Backend." not in text
+    assert "Integrator." not in text and "Backend." not in text and "Scenario." not in text
 
 
 @pytest.mark.parametrize(

@@ -83,7 +83,7 @@ def test_run_parquet(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (["run", "nope"], "unknown scenario"),
+        (["run", "nope"], "'nope' is not one of 'fig14-sine'"),
         (["run", "fig14-sine", "--duration", "nan"], "duration"),
         (["run", "fig14-sine", "--duration", "-2"], "duration"),
         (["run", "fig14-sine", "--diameter-mm", "20"], "validity range"),

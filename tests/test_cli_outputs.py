@@ -141,7 +141,7 @@ REFUSED: list[tuple[str, list[str], str]] = [
         "is the coefficient file of --shaft-file (an input)",
     ),
     ("run-format", ["run", "fig14-sine", *SHORT, "--out", "{t}/o", "--format", "xlsx"], "format"),
-    ("run-unknown-scenario", ["run", "nope", "--out", "{t}/o"], "unknown scenario"),
+    ("run-unknown-scenario", ["run", "nope", "--out", "{t}/o"], "'nope' is not one of"),
     ("run-duration-nan", ["run", "fig14-sine", "--duration", "nan", "--out", "{t}/o"], "duration"),
     # fsarm diagnose: outputs over the dataset, files vs folders, time in milliseconds
     (

@@ -87,15 +87,17 @@ def test_an_hour_at_the_default_step_tracks_in_its_last_minute_as_in_its_first()
     assert math.degrees(sim.metrics()["rmse_rad"]["q3"]) < 0.5  # type: ignore[index]
 
 
-def test_the_last_minute_of_an_hour_at_10_us_tracks_as_its_first() -> None:
-    """At 10 us the summed data.time is furthest off in the last minute of an hour: start there
-    (t0 = 3540 s, a whole number of fig14 periods, so the reference is the first minute's)."""
+def test_the_last_20_s_of_an_hour_at_10_us_track_as_its_first_20_s() -> None:
+    """At 10 us the summed data.time is furthest off at the end of an hour: run its last 20 s
+    (t0 = 3580 s, a whole number of fig14's 4 s periods, so the reference is the first 20 s's)
+    beside its first 20 s (five periods each)."""
+    window_s = 20.0
     cfg = SimConfig(timestep_s=1e-5, gains=Gains(ctrl_dt_s=1e-3))
-    first = _fig14(MINUTE_S, cfg)
-    cols_first, _ = first.run(MINUTE_S, log_every_ticks=10)
+    first = _fig14(window_s, cfg)
+    cols_first, _ = first.run(window_s, log_every_ticks=10)
     late = _fig14(HOUR_S, cfg)
-    late.start_at(HOUR_S - MINUTE_S)
-    cols_last, _ = late.run(MINUTE_S, log_every_ticks=10)
+    late.start_at(HOUR_S - window_s)
+    cols_last, _ = late.run(window_s, log_every_ticks=10)
     assert late.data.userdata[L.U_TICK] == round(HOUR_S / 1e-3)
     for joint in ("q2", "q3"):
         a = _rmse_deg(cols_first, joint, np.ones(len(cols_first["t"]), bool))

@@ -390,6 +390,9 @@ def screenshot(
         )
         try:
             page = browser.new_page(viewport={"width": viewport[0], "height": viewport[1]})
+            # one render of the software-WebGL viewer can take longer than Playwright's 30 s
+            # default on a loaded machine: each page action gets the caller's whole budget
+            page.set_default_timeout(timeout_s * 1000.0)
             page.goto(url)
             last: bytes | None = None
             shot = analyse(page.screenshot())

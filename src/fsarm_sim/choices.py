@@ -124,6 +124,18 @@ class Controller(StrEnum):
     PAPER_PID = "paper-pid"
 
 
+class Scenario(StrEnum):
+    """The registered scenarios (``fsarm_sim.sim.scenarios.REGISTRY``; importing it costs ~0.7 s
+    of a command's start, so they are listed here and a test keeps the two equal)."""
+
+    FIG14_SINE = "fig14-sine"
+    P2P_PAYLOAD = "p2p-payload"
+    STEP_Q3 = "step-q3"
+    STEP_Q2 = "step-q2"
+    COLLISION_HIT = "collision-hit"
+    HAND_GUIDE = "hand-guide"
+
+
 class UncertaintyController(StrEnum):
     """What the controller knows of a sampled shaft
     (``fsarm_sim.studies.uncertainty.CONTROLLER_MODES``)."""

@@ -101,7 +101,7 @@ def shafts_cmd(
 @app.command("run")
 def run_cmd(
     ctx: typer.Context,
-    scenario: Annotated[str, typer.Argument(help="scenario name (see `fsarm scenarios`)")],
+    scenario_choice: opt.ScenarioArgument,
     diameter_mm: opt.DiameterMm = 9.0,
     length_mm: opt.LengthMm = 450.0,
     payload_kg: opt.PayloadKg = None,
@@ -132,7 +132,7 @@ def run_cmd(
     """Run a scenario headless, print tracking metrics, write its time series."""
     from fsarm_sim.run_request import SHAFT_OPTIONS, RunRequest, run_output_plan
 
-    options = dict(locals())
+    options = {**locals(), "scenario": scenario_choice}
     # (by name: typer 0.28 carries its own click, whose enum is not click's)
     given = tuple(
         name

@@ -107,7 +107,24 @@ def _sheet_line(stem: str, nums: dict[str, Any]) -> str:
 
 
 # the options of `select_cmd`
-SelectScenario = Annotated[str, typer.Argument(help="the task: a scenario (`fsarm scenarios`)")]
+SelectScenario = Annotated[
+    choices.Scenario | None,
+    typer.Argument(
+        metavar="[SCENARIO]",
+        help="the task: a scenario (`fsarm scenarios`), or --trajectory-file",
+        case_sensitive=False,
+        show_default=False,
+    ),
+]
+SelectTrajectoryFile = Annotated[
+    Path | None,
+    typer.Option(
+        help="the task as your trajectory: .csv or .parquet, columns t (s, from 0), "
+        "q1_ref q2_ref q3_ref (rad), optional qd1_ref..qd3_ref (rad/s) and "
+        "qdd1_ref..qdd3_ref (rad/s^2) (an `fsarm run` record works as it is); payload "
+        "0 kg unless --payload-kg",
+    ),
+]
 SelectObjective = Annotated[
     str, typer.Option(help="q3_rmse_deg, motor_energy_j or peak_motor_torque_nm")
 ]
@@ -141,12 +158,24 @@ SelectWorkers = Annotated[int, typer.Option(help="parallel simulations")]
 SelectSeed = Annotated[int, typer.Option(help="optimiser seed")]
 
 
-def _check_select(objective: str, pareto: str | None, samples: int, controller: str) -> None:
-    """The objectives and the --uncertainty settings, before any simulation."""
+def _check_select(
+    objective: str,
+    pareto: str | None,
+    samples: int,
+    controller: str,
+    scenario: str | None,
+    trajectory_file: Path | None,
+) -> None:
+    """The objectives, the task (a scenario or a trajectory file) and the --uncertainty
+    settings, before any simulation."""
     from fsarm_sim.studies import task_selection
     from fsarm_sim.studies import uncertainty as unc
 
     task_selection.check_objective(objective)
+    if (scenario is None) == (trajectory_file is None):
+        raise task_selection.SelectionError(
+            "give the task as a scenario name or as --trajectory-file FILE (one of the two)"
+        )
     if pareto is not None:
         task_selection.check_objective(pareto)
     if samples:
@@ -250,7 +279,7 @@ def _optimum_band(
 
 
 def select_cmd(
-    scenario: SelectScenario,
+    scenario_choice: SelectScenario = None,
     objective: SelectObjective = "q3_rmse_deg",
     payload_kg: SelectPayloadKg = None,
     duration: SelectDuration = None,
@@ -267,6 +296,7 @@ def select_cmd(
     shaft_file: opt.ShaftFile = None,
     uncertainty: opt.Uncertainty = 0,
     uncertainty_controller: opt.UncertaintyController = choices.UncertaintyController.NOMINAL,
+    trajectory_file: SelectTrajectoryFile = None,
 ) -> None:
     """Find D and L (continuous, in the validity box) minimising a task objective under
     constraints, by differential evolution over simulations; then the nearest catalogue
@@ -276,11 +306,21 @@ def select_cmd(
     from fsarm_sim.outputs import write_text
     from fsarm_sim.studies import task_selection
 
-    _check_select(objective, pareto, uncertainty, str(uncertainty_controller))
+    scenario = None if scenario_choice is None else str(scenario_choice)
+    _check_select(
+        objective, pareto, uncertainty, str(uncertainty_controller), scenario, trajectory_file
+    )
     plan = OutputPlan().input("the coefficient file of --shaft-file", shaft_file)
     if out is not None:
         plan = plan.folder("--out", out)
+    if trajectory_file is not None:
+        plan = plan.input("the trajectory file of --trajectory-file", trajectory_file)
     plan.check()
+    if trajectory_file is not None:
+        from fsarm_sim.studies import trajectory_file as trajectory
+
+        scenario = trajectory.scenario_name(trajectory_file)
+    assert scenario is not None
     task = task_selection.Task(
         scenario=scenario,
         payload_kg=payload_kg,

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from fsarm_sim.errors import InvalidParameterError
+from fsarm_sim.records.sidecar import UNITS
 from fsarm_sim.review.comparison import SeriesPanel, XYPanel, record_series_comparison
 from fsarm_sim.review.loop_plot import frame
 
@@ -30,6 +31,14 @@ COLORS = {
     "before (nominal)": (214, 39, 40),
     "after (final)": (31, 119, 180),
 }
+
+
+def label(column: str, what: str = "") -> str:
+    """``column [unit]`` (``column what [unit]``) with the SI unit the project gives the column
+    (:data:`fsarm_sim.records.sidecar.UNITS`); a column it does not name keeps its bare name."""
+    text = f"{column} {what}" if what else column
+    unit = UNITS.get(column)
+    return f"{text} [{unit.replace('*', '·')}]" if unit else text
 
 
 def _residual_loops(
@@ -80,17 +89,19 @@ def _bench(diag: Any) -> tuple[Any, list[SeriesPanel], list[XYPanel]]:
     fits = {"measured": y, **{m: np.asarray(getattr(diag, m).yhat) for m in MODELS}}
     before, after = y - fits["nominal"], y - fits["final"]
     panels = [
-        SeriesPanel("output", f"{ds.output_column}: measured vs models", fits, COLORS),
+        SeriesPanel("output", f"{label(ds.output_column)}: measured vs models", fits, COLORS),
         SeriesPanel(
             "residual",
-            f"{ds.output_column} residual (measured - model)",
+            f"{label(ds.output_column, 'residual')} (measured - model)",
             {"before (nominal)": before, "after (final)": after},
             COLORS,
         ),
-        SeriesPanel("input", f"{ds.input_column}", {ds.input_column: np.asarray(inp.u)}),
+        SeriesPanel("input", label(ds.input_column), {ds.input_column: np.asarray(inp.u)}),
     ]
     u = np.asarray(inp.u, dtype=np.float64)
-    loops = _residual_loops(u, before, after, ds.input_column, f"{ds.output_column} residual")
+    loops = _residual_loops(
+        u, before, after, label(ds.input_column), label(ds.output_column, "residual")
+    )
     return inp.t, panels, loops
 
 
@@ -102,12 +113,12 @@ def _arm(diag: Any) -> tuple[Any, list[SeriesPanel], list[XYPanel]]:
         y = np.asarray(ctx.y[ch], dtype=np.float64)
         fits = {m: np.asarray(getattr(diag, m).pred[ch], dtype=np.float64) for m in MODELS}
         panels.append(
-            SeriesPanel(ch, f"{ch} [rad]: measured vs models", {"measured": y, **fits}, COLORS)
+            SeriesPanel(ch, f"{label(ch)}: measured vs models", {"measured": y, **fits}, COLORS)
         )
         panels.append(
             SeriesPanel(
                 f"{ch}_residual",
-                f"{ch} residual [rad]",
+                label(ch, "residual"),
                 {"before (nominal)": y - fits["nominal"], "after (final)": y - fits["final"]},
                 COLORS,
             )
@@ -119,8 +130,8 @@ def _arm(diag: Any) -> tuple[Any, list[SeriesPanel], list[XYPanel]]:
             np.asarray(ctx.y["q3"], dtype=np.float64),
             mt - np.asarray(diag.nominal.pred["twist"]),
             mt - np.asarray(diag.final.pred["twist"]),
-            "q3 [rad]",
-            "twist residual [rad]",
+            label("q3"),
+            label("twist", "residual"),
         )
     return ctx.run.t, panels, loops
 

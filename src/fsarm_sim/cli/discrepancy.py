@@ -13,14 +13,17 @@ from typing import Annotated
 
 import typer
 
-from fsarm_sim.choices import BenchLoad, BenchTrajectory, Setup
+from fsarm_sim.choices import BenchLoad, BenchTrajectory, Scenario, Setup
 from fsarm_sim.cli.console import make_console
 from fsarm_sim.outputs import OutputPlan, SafeWriter, write_text
 
 # the options of `fsarm synth` (SynthRequest's fields)
 SynthOut = Annotated[Path, typer.Argument(help="output NAME(.csv|.parquet); NAME.json beside it")]
 SynthSetup = Annotated[Setup, typer.Option(help="the record's setup", case_sensitive=False)]
-SynthScenario = Annotated[str, typer.Option(help="arm: the scenario run (see `fsarm scenarios`)")]
+SynthScenario = Annotated[
+    Scenario,
+    typer.Option(help="arm: the scenario run (see `fsarm scenarios`)", case_sensitive=False),
+]
 SynthNoiseRad = Annotated[
     float, typer.Option(help="arm: angle noise std, rad (plus 17-bit quantisation)")
 ]
@@ -222,7 +225,7 @@ def register(app: typer.Typer) -> None:
     def synth_cmd(
         out: SynthOut,
         setup: SynthSetup = Setup.SERIES_BENCH,
-        scenario: SynthScenario = "fig14-sine",
+        scenario: SynthScenario = Scenario.FIG14_SINE,
         noise_rad: SynthNoiseRad = 2e-5,
         effect: SynthEffect = None,
         model: SynthModel = None,

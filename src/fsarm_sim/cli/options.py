@@ -14,6 +14,7 @@ import typer
 from fsarm_sim.choices import Backend as BackendChoice
 from fsarm_sim.choices import Controller as ControllerChoice
 from fsarm_sim.choices import Integrator as IntegratorChoice
+from fsarm_sim.choices import Scenario as ScenarioChoice
 from fsarm_sim.choices import TimeseriesFormat
 from fsarm_sim.choices import Transmission as TransmissionChoice
 from fsarm_sim.choices import UncertaintyController as UncertaintyControllerChoice
@@ -75,8 +76,21 @@ Uncertainty = Annotated[
         "and report the 5-95 % band of every metric; 0: off"
     ),
 ]
+ScenarioOption = Annotated[
+    ScenarioChoice,
+    typer.Option(help="scenario to run (`fsarm scenarios` describes them)", case_sensitive=False),
+]
 
 # the options of `fsarm run` alone (RunRequest's fields)
+ScenarioArgument = Annotated[
+    ScenarioChoice,
+    typer.Argument(
+        metavar="SCENARIO",
+        help="scenario (`fsarm scenarios` describes them)",
+        case_sensitive=False,
+        show_default=False,
+    ),
+]
 PayloadKg = Annotated[
     float | None, typer.Option(help="payload at the flange, kg (default: the scenario's)")
 ]

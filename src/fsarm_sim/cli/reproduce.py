@@ -119,6 +119,45 @@ def _support_table(summary: dict[str, dict[str, Any]]) -> Table:
     return table
 
 
+def _print_bands(
+    n: int, results: list[Any], quick: bool, path: Path | None, writes: SafeWriter
+) -> None:
+    """The --uncertainty hook: bands of the judged claims (a report beside the verdicts)."""
+    from fsarm_sim.outputs import write_text
+    from fsarm_sim.studies import reproduce_bands
+
+    err_console.print(f"sampling the coefficient ranges ({n} samples) for the bands ...")
+    data = reproduce_bands.claim_bands(results, n, quick=quick)
+    table = Table(
+        title=f"5-95 % bands over the coefficient ranges ({n} samples; not used by any verdict)"
+    )
+    for col in ("claim", "paper", "unit", "ours", "5 %", "50 %", "95 %"):
+        table.add_column(col, justify="left" if col in ("claim", "paper") else "right")
+    for cid, entry in data["claims"].items():
+        ours = entry["ours"] if isinstance(entry["ours"], list) else [entry["ours"]]
+        for i, (value, b) in enumerate(zip(ours, entry["band"], strict=True)):
+            table.add_row(
+                escape(cid if i == 0 else ""),
+                escape(entry["paper_text"] if i == 0 else ""),
+                escape(entry["unit"]),
+                f"{value:.4g}",
+                *(f"{b[k]:.4g}" for k in ("p05", "p50", "p95")),
+            )
+    console.print(table)
+    console.print(
+        f"{len(data['claims'])} claims banded ({data.get('failed', 0)} samples failed, "
+        f"{data.get('wall_s', 0.0):.1f} s); {len(data['not_banded'])} measured claims have no "
+        "band (not a simulation of the arm's shaft)",
+        markup=False,
+    )
+    if path is not None:
+        import json
+
+        text = json.dumps(data, indent=2, ensure_ascii=False)
+        if writes.write(path, lambda p_: write_text(p_, text + "\n"), "the bands") is not None:
+            console.print(f"bands: {path}", markup=False)
+
+
 def register(app: typer.Typer) -> None:
     @app.command("reproduce")
     def reproduce_cmd(
@@ -136,6 +175,14 @@ def register(app: typer.Typer) -> None:
         quick: Annotated[
             bool, typer.Option(help="a subset with shorter experiments (well under a minute)")
         ] = False,
+        uncertainty: Annotated[
+            int,
+            typer.Option(
+                help="also sample the coefficient file's [uncertainty] ranges N times and show "
+                "the 5-95 % band beside the paper value of each claim simulated on the arm "
+                "(never used by a verdict; --json: also <name>.uncertainty.json); 0: off"
+            ),
+        ] = 0,
     ) -> None:
         """Check the seed papers' claims on the simulator with the papers' own procedures.
 
@@ -150,7 +197,14 @@ def register(app: typer.Typer) -> None:
         from fsarm_sim.studies.reproduce.claims import Context, Result
 
         papers = parse_papers(paper)
-        OutputPlan().file("--json", json_file).check()
+        bands_file = None
+        if uncertainty:
+            from fsarm_sim.studies.uncertainty import check_samples
+
+            check_samples(uncertainty)
+            if json_file is not None:
+                bands_file = json_file.with_name(json_file.stem + ".uncertainty.json")
+        OutputPlan().file("--json", json_file).file("the bands", bands_file).check()
         runner.check_registry()
         claims = runner.select(papers or None, quick)
         report = runner.Report(
@@ -210,6 +264,8 @@ def register(app: typer.Typer) -> None:
             )
             if where is not None:
                 console.print(f"report: {where}", markup=False)
+        if uncertainty and not report.interrupted:
+            _print_bands(uncertainty, report.results, quick, bands_file, writes)
         if report.interrupted:
             err_console.print(
                 "[bold yellow]interrupted[/]: the report holds the claims finished so far"

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 from rich.console import Console
 
-from fsarm_sim.choices import FigureFormat
+from fsarm_sim.choices import FigureFormat, Scenario
 from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console
 from fsarm_sim.errors import InvalidParameterError
@@ -82,8 +82,11 @@ def review_outputs(
 # the options of `figures_cmd`
 FiguresOut = Annotated[Path, typer.Option(help="folder for the figures")]
 FiguresScenario = Annotated[
-    list[str] | None,
-    typer.Option(help="scenario to draw (repeatable; default: every registered one)"),
+    list[Scenario] | None,
+    typer.Option(
+        help="scenario to draw (repeatable; default: every registered one)",
+        case_sensitive=False,
+    ),
 ]
 FiguresFmt = Annotated[
     list[FigureFormat] | None,
@@ -121,7 +124,7 @@ def figures_cmd(
     for v, name in ((width, "--width"), (height, "--height")):
         if not math.isfinite(v) or not 0.5 <= v <= 40.0:
             raise InvalidParameterError(f"{name} must be between 0.5 and 40 inches, got {v!r}")
-    names = scenario or list(scenarios.REGISTRY)
+    names = [str(s) for s in scenario] if scenario else list(scenarios.REGISTRY)
     for n in names:
         scenarios.get(n)  # unknown names fail before any run
     formats = [str(f) for f in fmt] if fmt else ["png"]

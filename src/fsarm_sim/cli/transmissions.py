@@ -11,7 +11,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
-from fsarm_sim.choices import Transmission
+from fsarm_sim.choices import Scenario, Transmission
 from fsarm_sim.cli import options as opt
 from fsarm_sim.cli.console import make_console, number_table, write_rows_json
 from fsarm_sim.errors import InvalidParameterError
@@ -74,7 +74,6 @@ def transmissions_cmd(
 
 
 # the options of `compare_cmd`
-CompareTransmissionsScenario = Annotated[str, typer.Option(help="scenario to run")]
 CompareTransmissionsOnly = Annotated[
     list[Transmission] | None,
     typer.Option(help="compare only these (repeatable)", case_sensitive=False),
@@ -94,7 +93,7 @@ CompareTransmissionsJsonFile = Annotated[
 
 
 def compare_cmd(
-    scenario: CompareTransmissionsScenario = "fig14-sine",
+    scenario: opt.ScenarioOption = Scenario.FIG14_SINE,
     only: CompareTransmissionsOnly = None,
     payload_kg: CompareTransmissionsPayloadKg = None,
     duration: CompareTransmissionsDuration = None,
@@ -119,7 +118,7 @@ def compare_cmd(
     base = SimConfig(gains=Gains(**parse_gains(gain or [])))  # type: ignore[arg-type]
     rows = compare(
         [str(t) for t in only] if only else None,
-        scenario,
+        str(scenario),
         payload_kg=payload_kg,
         duration_s=duration,
         base=base,

@@ -311,8 +311,9 @@ def _load_inertia(record: Sidecar, where: Path) -> float | None:
 # ----------------------------------------------------------------------------------- table
 
 
-def _read_table(path: Path) -> tuple[list[str], dict[str, Any]]:
-    """Column names and raw column arrays (object arrays for CSV cells that failed to parse)."""
+def read_table(path: Path) -> tuple[list[str], dict[str, Any]]:
+    """Column names and raw column arrays (object arrays for CSV cells that failed to parse) of a
+    CSV or Parquet table; a repeated column name or an unreadable file is a named error."""
     import pandas as pd
 
     if os.path.lexists(path):  # a device or a pipe would never end or never answer
@@ -356,7 +357,8 @@ def _refuse_repeated(names: list[str], path: Path) -> None:
         seen[n] = i
 
 
-def _to_float(raw: Any, name: str, path: Path) -> FloatArray:
+def to_float(raw: Any, name: str, path: Path) -> FloatArray:
+    """A column as floats; a cell that is not a number is a NonNumericError (an empty one, NaN)."""
     arr = np.asarray(raw)
     if arr.dtype.kind in "fiu":
         return arr.astype(np.float64)
@@ -465,11 +467,11 @@ def load_dataset(path: str | Path, *, expect_setup: str | None = None) -> Datase
     setup = record.setup
     if expect_setup is not None and setup != expect_setup:
         raise SetupError(f"{side}: expected a '{expect_setup}' dataset, got setup '{setup}'")
-    names, raw = _read_table(table)
+    names, raw = read_table(table)
     if len(set(names)) != len(names):
         dup = sorted({c for c in names if names.count(c) > 1})
         raise SetupError(f"{table}: duplicate column name(s) {dup}")
-    columns = {name: _to_float(raw[name], name, table) for name in names}
+    columns = {name: to_float(raw[name], name, table) for name in names}
     declared = record.declared_columns()
     validate_columns(setup, columns, table, declared)
     _check_units(record, side)

@@ -137,13 +137,26 @@ def register(
     return wrap
 
 
+# Scenarios outside REGISTRY, by name prefix: a layer above adds the reader of its names
+# (fsarm_sim.studies.trajectory_file: "file:..." - a user's trajectory file).
+RESOLVERS: dict[str, Callable[[str], Scenario]] = {}
+
+
+def known(name: str) -> bool:
+    """A registered name, or one a resolver reads (which may still refuse it)."""
+    return name in REGISTRY or any(name.startswith(p) for p in RESOLVERS)
+
+
 def get(name: str) -> Scenario:
-    try:
-        return REGISTRY[name]
-    except KeyError:
-        raise ScenarioNotFoundError(
-            f"unknown scenario '{name}'; registered scenarios: {', '.join(sorted(REGISTRY))}"
-        ) from None
+    sc = REGISTRY.get(name)
+    if sc is not None:
+        return sc
+    for prefix, resolve in RESOLVERS.items():
+        if name.startswith(prefix):
+            return resolve(name)
+    raise ScenarioNotFoundError(
+        f"unknown scenario '{name}'; registered scenarios: {', '.join(sorted(REGISTRY))}"
+    )
 
 
 # rmse_warn_deg of the built-in scenarios (estimates): about 5x what the default configuration

@@ -69,6 +69,7 @@ from fsarm_sim.plant.shaft import Catalogue, load_catalogue, parse_catalogue
 from fsarm_sim.records.store import ResultStore, canonical_json, point_key
 from fsarm_sim.sim import scenarios
 from fsarm_sim.studies import sweep_table
+from fsarm_sim.studies import trajectory_file as _trajectory_file  # noqa: F401  (file: scenarios)
 
 POINT_SCHEMA = 1  # bump when the meaning of a point's inputs or outputs changes
 MAX_POINTS = 100_000
@@ -464,7 +465,7 @@ def validate(spec: SweepSpec) -> None:
         if d is not None and d <= 0.0:
             raise SweepSpecError(f"duration_s must be > 0 s, got {d:g}")
     for s in values["scenario"]:
-        if s not in scenarios.REGISTRY:
+        if not scenarios.known(s):
             raise SweepSpecError(
                 f"unknown scenario {s!r}; registered: {', '.join(sorted(scenarios.REGISTRY))}"
             )

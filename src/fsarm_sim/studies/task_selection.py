@@ -31,6 +31,7 @@ from fsarm_sim.errors import FsarmError
 from fsarm_sim.executors import Outcome, run_tasks
 from fsarm_sim.plant.shaft import Catalogue
 from fsarm_sim.records.store import ResultStore, point_key
+from fsarm_sim.studies import trajectory_file as _trajectory_file  # noqa: F401  (file: scenarios)
 
 OBJECTIVES: dict[str, str] = {
     "q3_rmse_deg": "joint-3 tracking RMSE [deg]",
@@ -48,7 +49,7 @@ class SelectionError(FsarmError, ValueError):
 
 @dataclass(frozen=True)
 class Task:
-    scenario: str = "fig14-sine"
+    scenario: str = "fig14-sine"  # a registered name, or trajectory_file.scenario_name(PATH)
     payload_kg: float | None = None  # None: the scenario's
     duration_s: float | None = None  # None: the scenario's
     bends_deg: tuple[float, ...] = (45.0,)  # joint-2 holds (scenarios holding joint 2) / bandwidth
@@ -110,7 +111,7 @@ class Evaluator:
         from fsarm_sim.sim import scenarios
         from fsarm_sim.studies.arm_metrics import scenario_holds_joint2
 
-        sc = scenarios.get(task.scenario) if task.scenario in scenarios.REGISTRY else None
+        sc = scenarios.get(task.scenario) if scenarios.known(task.scenario) else None
         holds = sc is not None and scenario_holds_joint2(
             task.scenario, task.duration_s or sc.duration_s
         )
