@@ -12,9 +12,13 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 import time
+from pathlib import Path
 
-from fsarm_sim.discrepancy import battery as B
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+
+from batteries import battery as B
 
 
 def main() -> None:

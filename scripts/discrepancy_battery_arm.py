@@ -12,15 +12,18 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+
+from batteries import battery as B
 from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_synth as S
-from fsarm_sim.discrepancy import battery as B
 from fsarm_sim.records.measured import load_dataset
 
 NOISES = (1e-5, 5e-5)  # rad

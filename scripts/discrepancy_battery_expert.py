@@ -11,10 +11,14 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 import time
+from pathlib import Path
 
-from fsarm_sim.discrepancy import battery as B
-from fsarm_sim.discrepancy import battery_expert as E
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+
+from batteries import battery as B
+from batteries import battery_expert as E
 from fsarm_sim.discrepancy.report import json_clean
 
 

@@ -16,7 +16,10 @@ import sys
 import tempfile
 from pathlib import Path
 
-from fsarm_sim.review import recording, viewer_check
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+
+import viewer_check
+from fsarm_sim.review import recording
 from fsarm_sim.sim.simulation import run_scenario
 
 DEFAULT = ("fig14-sine", "p2p-payload")

@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from batteries import battery as B
 from fsarm_sim.discrepancy import UnsupportedSetupError, diagnose, report, synth
-from fsarm_sim.discrepancy import battery as B
 from fsarm_sim.discrepancy import candidates as C
 from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.discrepancy import selection as S

@@ -12,9 +12,9 @@ from typing import Any
 import numpy as np
 import pytest
 
+from batteries import battery_arm_expert as E
 from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_synth as S
-from fsarm_sim.discrepancy import battery_arm_expert as E
 from fsarm_sim.discrepancy import report
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.records.measured import load_dataset

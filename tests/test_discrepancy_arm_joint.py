@@ -9,9 +9,9 @@ from pathlib import Path
 
 import pytest
 
+from batteries import battery_arm_expert as E
 from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_synth as S
-from fsarm_sim.discrepancy import battery_arm_expert as E
 from fsarm_sim.discrepancy import core
 from fsarm_sim.records.measured import Dataset, load_dataset
 

@@ -8,13 +8,13 @@ from __future__ import annotations
 
 import math
 
-from fsarm_sim.discrepancy import battery as B
+from batteries import battery as B
+from batteries.battery_expert import truth_values
 from fsarm_sim.discrepancy import candidates as C
 from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.discrepancy import selection as S
 from fsarm_sim.discrepancy import synth
 from fsarm_sim.discrepancy import variants as V
-from fsarm_sim.discrepancy.battery_expert import truth_values
 from fsarm_sim.discrepancy.bench_setup import BenchDiagnosis, diagnose
 from fsarm_sim.discrepancy.benchmodel import BenchModel, EffectInstance, stated_model
 from fsarm_sim.plant.effects import registry

@@ -11,8 +11,8 @@ from typing import Any
 import numpy as np
 import pytest
 
-from fsarm_sim.discrepancy import battery as B
-from fsarm_sim.discrepancy import battery_expert as E
+from batteries import battery as B
+from batteries import battery_expert as E
 from fsarm_sim.discrepancy import report, synth
 from fsarm_sim.discrepancy.bench_setup import diagnose
 from fsarm_sim.discrepancy.benchmodel import BenchModel

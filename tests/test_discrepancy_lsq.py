@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-import contextvars
-from concurrent.futures import ThreadPoolExecutor
-
 import numpy as np
 import pytest
 from scipy.optimize import lsq_linear
@@ -54,11 +51,9 @@ def test_the_triangle_keeps_the_residual_up_to_a_constant() -> None:
             assert d == pytest.approx(offset, rel=1e-7, abs=1e-6)
 
 
-def test_full_problem_solves_the_unreduced_problem_for_its_block_only(
-    monkeypatch: pytest.MonkeyPatch,
-) -> None:
-    """The path is told apart by what BVLS is handed (the tall problem or its n x n triangle):
-    the two solutions can agree to the last bit on some BLAS builds, so their values cannot."""
+def test_bounded_hands_bvls_the_triangle_of_a_tall_problem(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Told apart by what BVLS is handed (the tall problem or its n x n triangle): the two
+    solutions can agree to the last bit on some BLAS builds, so their values cannot."""
     rng = np.random.default_rng(9)
     a, y = _problem("plain", rng)
     lo, hi = np.full(a.shape[1], -0.5), np.full(a.shape[1], 0.5)  # some bounds active
@@ -69,31 +64,10 @@ def test_full_problem_solves_the_unreduced_problem_for_its_block_only(
         return lsq_linear(m, *args, **kw)
 
     monkeypatch.setattr(lsq, "lsq_linear", spy)
-    full = lsq_linear(a, y, bounds=(lo, hi), method="bvls").x
     r, qty = lsq.triangle(a, y)
     reduced = lsq_linear(r, qty, bounds=(lo, hi), method="bvls").x
     np.testing.assert_array_equal(lsq.bounded(a, y, lo, hi), reduced)
     assert shapes[-1] == (a.shape[1], a.shape[1])
-    with lsq.full_problem():
-        assert not lsq.reduces()
-        np.testing.assert_array_equal(lsq.bounded(a, y, lo, hi), full)
-        assert shapes[-1] == a.shape
-        with lsq.full_problem():  # nests
-            np.testing.assert_array_equal(lsq.bounded(a, y, lo, hi), full)
-            assert shapes[-1] == a.shape
-        np.testing.assert_array_equal(lsq.bounded(a, y, lo, hi), full)
-    assert lsq.reduces()
-    np.testing.assert_array_equal(lsq.bounded(a, y, lo, hi), reduced)
-    assert shapes[-1] == (a.shape[1], a.shape[1])
-    with pytest.raises(RuntimeError), lsq.full_problem():
-        raise RuntimeError("left by an exception")
-    assert lsq.reduces()  # restored on the way out
-
-
-def test_full_problem_holds_in_copied_contexts_not_in_other_threads() -> None:
-    with lsq.full_problem():
-        seen_copied = contextvars.copy_context().run(lsq.reduces)
-        with ThreadPoolExecutor(1) as ex:  # a plain worker thread starts from a fresh context
-            seen_worker = ex.submit(lsq.reduces).result()
-    assert seen_copied is False
-    assert seen_worker is True
+    wide = a[: a.shape[1] - 1]  # not tall: nothing to reduce
+    lsq.bounded(wide, y[: wide.shape[0]], lo, hi)
+    assert shapes[-1] == wide.shape

@@ -15,9 +15,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fsarm_sim.review import recording, viewer_check
-from fsarm_sim.review.viewer_check import Box, ViewerCheckError
+import viewer_check
+from fsarm_sim.review import recording
 from fsarm_sim.sim.simulation import run_scenario
+from viewer_check import Box, ViewerCheckError
 
 SEP = viewer_check.SEPARATOR_RGB
 

@@ -16,6 +16,7 @@ _API = (
     "Effects",
     "FsarmError",
     "Gains",
+    "RunRequest",
     "RunResult",
     "SimConfig",
     "column_units",

@@ -7,7 +7,7 @@ missing here. Names are relative to ``fsarm_sim`` (``__init__``: the package its
 package's name covers its submodules unless a submodule is listed itself. ``controllers`` is the
 top-level ``controllers/`` folder, installed as ``fsarm_sim.controllers``.
 
-Read top-down, the layers are the package's folders (since 0.3.0):
+Read top-down, the layers are the package's folders:
 
 * base - the command's fixed choices (enums), named errors, declared parameter blocks, checked paths and output paths, task
   executors, the lazily completed command app, the seed papers' declared claims (data: the
@@ -24,6 +24,7 @@ Read top-down, the layers are the package's folders (since 0.3.0):
   the seed papers' claims judged;
 * review - recordings and figures;
 * discrepancy - naming what a record shows that the model lacks (and synthetic records for it);
+* request (``run_request``) - a run as ``fsarm run`` makes it: options checked, outputs planned;
 * cli - the ``fsarm`` command: parse, call the library, print;
 * api - the package's own names (``from fsarm_sim import run_scenario``), imported lazily.
 """
@@ -63,6 +64,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("studies", ("studies", "gym")),
     ("review", ("review",)),
     ("discrepancy", ("discrepancy",)),
+    ("request", ("run_request",)),
     ("cli", ("cli",)),
     ("api", ("__init__", "api")),
 )

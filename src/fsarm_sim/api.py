@@ -7,6 +7,9 @@
     print(result.metrics["rmse_deg"], column_units(result)["tau_shaft"])
     write_run(result, "runs", "parquet")  # runs/fig14-sine.parquet + its sidecar
 
+A run with every option of ``fsarm run`` (checked against each other, outputs planned) is a
+:class:`RunRequest`: ``RunRequest("step-q3", payload_kg=5.0).execute()``.
+
 ``fsarm_sim/__init__`` imports these lazily (on first use), so ``import fsarm_sim`` and the
 ``fsarm`` command stay fast.
 """
@@ -20,6 +23,7 @@ from fsarm_sim.errors import FsarmError
 from fsarm_sim.plant.shaft import load_catalogue
 from fsarm_sim.records.sidecar import UNITS
 from fsarm_sim.records.timeseries import summary, write_summary, write_timeseries
+from fsarm_sim.run_request import RunRequest
 from fsarm_sim.sim.scenarios import REGISTRY
 from fsarm_sim.sim.simulation import RunResult, run_scenario
 from fsarm_sim.studies.dmc_env import load as load_environment
@@ -53,6 +57,7 @@ __all__ = [
     "Effects",
     "FsarmError",
     "Gains",
+    "RunRequest",
     "RunResult",
     "SimConfig",
     "column_units",

@@ -10,7 +10,9 @@ each enum equals its owner's set.
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Mapping
 from enum import Enum, StrEnum
+from typing import Any
 
 
 class Integrator(StrEnum):
@@ -145,3 +147,19 @@ class UncertaintyController(StrEnum):
 def values(choice: type[Enum]) -> tuple[str, ...]:
     """An enum's values, in order (what ``--help`` lists)."""
     return tuple(str(c.value) for c in choice)
+
+
+def plain_options(options: Mapping[str, Any], names: Iterable[str]) -> dict[str, Any]:
+    """The command's option values the library takes (``names``): a choice as its plain
+    string, a repeated option as a tuple; None (not given) and other names left out."""
+    wanted = set(names)
+    values: dict[str, Any] = {}
+    for name, value in options.items():
+        if name not in wanted or value is None:
+            continue
+        if isinstance(value, list | tuple):
+            value = tuple(value)
+        elif isinstance(value, str):
+            value = str(value)  # a StrEnum as its plain value
+        values[name] = value
+    return values

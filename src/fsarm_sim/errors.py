@@ -71,11 +71,6 @@ class OutputPathError(FilePathError):
     that cannot be written, two outputs on one file, or an output on one of the inputs."""
 
 
-class ConsoleWriteError(FsarmError, OSError):
-    """Standard output could not be written (a full device, a closed terminal): what the
-    command printed is lost, the files it wrote are kept."""
-
-
 class OutputWriteError(FsarmError, RuntimeError):
     """Writing a result failed after the work was done; the results went to a fallback place,
     which the message names."""

@@ -27,9 +27,9 @@ results store).
   anything). ``processes=False`` runs the workers as threads of this process (tests).
 
 MuJoCo's callbacks are process-global; :func:`fsarm_sim.engine.callbacks.active` installs them
-for every thread that steps, counted under a lock (since 0.3.0), so runs in threads of one process
+for every thread that steps, counted under a lock, so runs in threads of one process
 are safe together. Tasks of the ``local`` pool and of Dask's thread workers still run under
-:data:`PROCESS_LOCK` (one at a time per process), as before; the ``threads`` executor does not.
+:data:`PROCESS_LOCK` (one at a time per process); the ``threads`` executor does not.
 """
 
 from __future__ import annotations

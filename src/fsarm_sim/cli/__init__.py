@@ -7,7 +7,7 @@ import importlib
 import math
 import sys
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 from rich.markup import escape
@@ -22,9 +22,12 @@ from fsarm_sim.lazy_commands import (
     command_name,
     freeze_at_exit,
     freeze_imports_if_entry,
-    preload,
 )
 from fsarm_sim.outputs import guarded_streams
+
+if TYPE_CHECKING:
+    from fsarm_sim.run_request import RunRequest
+    from fsarm_sim.sim.simulation import RunResult
 
 # the extension modules' commands are registered when first needed (fsarm_sim.lazy_commands)
 app = LazyTyper(
@@ -98,71 +101,27 @@ def shafts_cmd(
 @app.command("run")
 def run_cmd(
     ctx: typer.Context,
-    scenario_choice: Annotated[
-        choices.Scenario,
-        typer.Argument(
-            metavar="SCENARIO",
-            help="scenario (`fsarm scenarios` describes them)",
-            case_sensitive=False,
-            show_default=False,
-        ),
-    ],
+    scenario_choice: opt.ScenarioArgument,
     diameter_mm: opt.DiameterMm = 9.0,
     length_mm: opt.LengthMm = 450.0,
-    payload_kg: Annotated[
-        float | None, typer.Option(help="payload at the flange, kg (default: the scenario's)")
-    ] = None,
-    duration: Annotated[
-        float | None, typer.Option(help="simulated time, s (default: the scenario's)")
-    ] = None,
-    out: Annotated[Path, typer.Option(help="folder for the time series and its sidecar")] = Path(
-        "runs"
-    ),
-    json_file: Annotated[
-        Path | None, typer.Option("--json", help="write a JSON summary here")
-    ] = None,
-    fmt: Annotated[
-        choices.TimeseriesFormat,
-        typer.Option("--format", help="time-series format", case_sensitive=False),
-    ] = choices.TimeseriesFormat.CSV,
+    payload_kg: opt.PayloadKg = None,
+    duration: opt.Duration = None,
+    out: opt.RunOut = Path("runs"),
+    json_file: opt.SummaryJson = None,
+    fmt: opt.Format = choices.TimeseriesFormat.CSV,
     shaft_file: opt.ShaftFile = None,
     extrapolate: opt.Extrapolate = False,
-    series_hysteresis: Annotated[
-        bool | None,
-        typer.Option(
-            help="Maxwell-slip series hysteresis on/off "
-            "(default: the coefficient file's series.maxwell_slip.enabled)"
-        ),
-    ] = None,
-    integrator: Annotated[
-        choices.Integrator | None,
-        typer.Option(help="MuJoCo's integrator [default: the model's]", case_sensitive=False),
-    ] = None,
-    timestep: Annotated[
-        float | None, typer.Option(help="physics timestep, s (default 0.001)")
-    ] = None,
-    ctrl_dt: Annotated[float, typer.Option(help="control period, s")] = 0.001,
-    log_every: Annotated[int, typer.Option(help="log one row every N control ticks")] = 1,
+    series_hysteresis: opt.SeriesHysteresis = None,
+    integrator: opt.Integrator = None,
+    timestep: opt.Timestep = None,
+    ctrl_dt: opt.CtrlDt = 0.001,
+    log_every: opt.LogEvery = 1,
     backend: opt.Backend = choices.Backend.NATIVE,
-    rrd: Annotated[
-        Path | None, typer.Option(help="write a Rerun recording (.rrd) of the run here")
-    ] = None,
-    rrd_rate: Annotated[
-        float | None, typer.Option(help="recording rate, rows per simulated s (default 100)")
-    ] = None,
-    spawn: Annotated[
-        bool, typer.Option(help="open the recording in the Rerun viewer if one can run here")
-    ] = False,
-    figures: Annotated[
-        Path | None, typer.Option(help="write the run's static figures (PNG) into this folder")
-    ] = None,
-    rrd_compare: Annotated[
-        list[str] | None,
-        typer.Option(
-            help="also run with KEY=VALUE changed (series-hysteresis=on|off, diameter-mm, "
-            "length-mm, payload-kg, backend; repeatable) and record both into --rrd"
-        ),
-    ] = None,
+    rrd: opt.Rrd = None,
+    rrd_rate: opt.RrdRate = None,
+    spawn: opt.Spawn = False,
+    figures: opt.Figures = None,
+    rrd_compare: opt.RrdCompare = None,
     transmission: opt.Transmission = choices.Transmission.FLEXIBLE_SHAFT,
     tr_param: opt.TrParam = None,
     controller: opt.Controller = choices.Controller.DEFAULT,
@@ -172,114 +131,68 @@ def run_cmd(
     effect: opt.Effect = None,
 ) -> None:
     """Run a scenario headless, print tracking metrics, write its time series."""
-    scenario = str(scenario_choice)
-    from fsarm_sim.cli.review import check_review_options, review_outputs, run_output_plan
-    from fsarm_sim.engine.model import Effects, Gains, SimConfig
-    from fsarm_sim.outputs import SafeWriter
-    from fsarm_sim.plant.effects.registry import parse_laws
-    from fsarm_sim.plant.shaft import load_catalogue
-    from fsarm_sim.records.timeseries import write_summary, write_timeseries
-    from fsarm_sim.sim.simulation import run_scenario
+    from fsarm_sim.run_request import SHAFT_OPTIONS, RunRequest, run_output_plan
 
-    check_review_options(rrd_rate)
-    from fsarm_sim.cli.review import parse_compare
-
-    compare_changes = parse_compare(rrd_compare or [], rrd)
-    from fsarm_sim.cli.transmissions import check_shaft_options, parse_params
-
-    shaft_flags = {
-        "diameter_mm": "--diameter-mm",
-        "length_mm": "--length-mm",
-        "shaft_file": "--shaft-file",
-        "extrapolate": "--extrapolate",
-        "series_hysteresis": "--[no-]series-hysteresis",
-    }
-    given = [
-        flag
-        for name, flag in shaft_flags.items()
-        # (by name: typer 0.28 carries its own click, whose enum is not click's)
+    options = {**locals(), "scenario": scenario_choice}
+    # (by name: typer 0.28 carries its own click, whose enum is not click's)
+    given = tuple(
+        name
+        for name in SHAFT_OPTIONS
         if getattr(ctx.get_parameter_source(name), "name", "") == "COMMANDLINE"
-    ]
-    compared = {"diameter-mm", "length-mm", "series-hysteresis"} & set(compare_changes)
-    check_shaft_options(str(transmission), given + [f"--rrd-compare {k}" for k in sorted(compared)])
-    if uncertainty:
-        from fsarm_sim.cli.uncertainty import check_run_uncertainty
-
-        check_run_uncertainty(
-            uncertainty, str(transmission), shaft_file, str(uncertainty_controller)
-        )
-    run_output_plan(
-        scenario, str(fmt), out=out, json_file=json_file, rrd=rrd, spawn=spawn, figures=figures
-    ).input("the coefficient file of --shaft-file", shaft_file).input(
-        "the hysteresis model of --hysteresis-model", hysteresis_model
-    ).check()
-    shaft = load_catalogue(shaft_file).shaft(
-        diameter_mm, length_mm, extrapolate=extrapolate, series_hysteresis=series_hysteresis
     )
-    cfg = SimConfig(
-        shaft=shaft,
-        gains=Gains(
-            ctrl_dt_s=ctrl_dt,
-            controller=str(controller),
-            hysteresis_model=opt.read_hysteresis_model(hysteresis_model),
-        ),
-        timestep_s=timestep,
-        integrator=None if integrator is None else str(integrator),
-        transmission=str(transmission),
-        transmission_params=parse_params(tr_param or []),
-        effects=Effects(laws=parse_laws(effect or [])),
-    )
-    if backend == "native":
-        # the kernels, which the run would load anyway, now: this thread then imports nothing
-        # of its own while the writer is imported beside the run
-        from fsarm_sim.engine.callbacks import load_native
+    request = RunRequest.from_options(options, given)
+    request.check()
+    run_output_plan(request).check()
+    _run(request)
 
-        load_native()
-    preload("pyarrow.csv" if fmt == "csv" else "pyarrow.parquet")  # while the run steps
+
+def _run(request: RunRequest) -> None:
+    """Run a checked request; save its files before anything is printed, then report."""
+    from fsarm_sim.cli.review import review_outputs
+    from fsarm_sim.outputs import SafeWriter
+
     try:
-        result = run_scenario(
-            scenario,
-            cfg,
-            duration_s=duration,
-            payload_kg=payload_kg,
-            backend=str(backend),  # type: ignore[arg-type]
-            log_every_ticks=log_every,
-            keep_partial=True,  # a long run cut by Ctrl-C keeps its finished part
-        )
+        result = request.run()
     except KeyboardInterrupt:
         err_console.print("[bold yellow]interrupted[/] before anything was recorded: no output")
         raise typer.Exit(130) from None
-    # the finished work is saved before anything is printed
     writes = SafeWriter(lambda msg: err_console.print(f"[bold yellow]warning:[/] {escape(msg)}"))
-    path = writes.write(
-        out, lambda d: write_timeseries(result, d, str(fmt)), "the time series (--out)", folder=True
+    path, where = request.save(result, writes)
+    _print_run(request, result)
+    if path is not None:
+        console.print(f"time series: {path}  (sidecar {path.with_suffix('.json')})")
+    if where is not None:
+        console.print(f"summary: {where}")
+    compare = request.compare_run(result)
+    if request.uncertainty:
+        from fsarm_sim.cli.uncertainty import run_uncertainty
+
+        run_uncertainty(request, result, writes)
+    review_outputs(
+        result,
+        rrd=request.rrd,
+        rrd_rate=request.rrd_rate,
+        spawn=request.spawn,
+        figures_dir=request.figures,
+        out=request.out,
+        console=console,
+        writes=writes,
+        compare=compare,
     )
+    writes.finish()
+    if result.interrupted:
+        raise typer.Exit(130)
 
-    def summary(p: Path) -> Path:
-        write_summary(result, p)
-        return p
 
-    where = None if json_file is None else writes.write(json_file, summary, "the summary (--json)")
+def _print_run(request: RunRequest, result: RunResult) -> None:
+    """The run's metrics table and lines, and its warnings."""
     m = result.metrics
     if result.interrupted:
         err_console.print(
             f"[bold yellow]interrupted[/] at t = {result.duration_s:.3f} s: metrics and time series "
             "cover the finished part only"
         )
-    tr_model = result.config.transmission_model()
-    what = (
-        f"D={diameter_mm:g} mm, L={length_mm:g} mm"
-        if tr_model.takes_shaft
-        else f"transmission {transmission}"
-        + (
-            f" (bending on joint 2: D={diameter_mm:g} mm, L={length_mm:g} mm shaft)"
-            if tr_model.routed_over_joint2
-            else ""
-        )
-    )
-    if controller != "default":
-        what += f", controller {controller}"
-    table = Table(title=f"{scenario}: {what}, payload={result.config.payload_kg:g} kg")
+    table = Table(title=request.title(result))
     table.add_column("metric")
     for j in ("q1", "q2", "q3"):
         table.add_column(j, justify="right")
@@ -288,76 +201,24 @@ def run_cmd(
         assert isinstance(vals, dict)
         table.add_row(label, *(f"{vals[j]:.4f}" for j in ("q1", "q2", "q3")))
     console.print(table)
-    for key, label in (
-        ("tau_estimate_rmse_nm", "joint-3 torque estimate error, RMSE [N·m]"),
-        ("tau_estimate_max_abs_err_nm", "joint-3 torque estimate error, max [N·m]"),
-        ("peak_shaft_torque_nm", "peak shaft torque [N·m]"),
-        ("peak_motor_torque_nm", "peak joint-3 motor torque [N·m]"),
-        ("peak_motor_speed_rad_s", "peak joint-3 motor speed [rad/s]"),
-        ("motor_energy_j", "joint-3 motor work [J]"),
-        ("realtime_factor", "real-time factor"),
-    ):
+    for key, label in RUN_LINES:
         console.print(f"{label:<45} {m[key]:.4g}", markup=False)
-    over = m["peak_shaft_torque_over_rating"]
-    if isinstance(over, float) and over > 1.0:
-        advice = (
-            f"for D = {diameter_mm:g} mm): choose a thicker shaft"
-            if result.config.transmission_model().takes_shaft
-            else f"of {transmission})"
-        )
-        err_console.print(
-            f"[bold yellow]warning:[/] peak transmission torque is {over:.1f}x the nominal "
-            f"rating ({result.config.rating_nm():.2f} N·m {advice}"
-        )
+    warning = request.rating_warning(result)
+    if warning is not None:
+        err_console.print(f"[bold yellow]warning:[/] {warning}")
     for warning in result.warnings:
         err_console.print(f"[bold yellow]warning:[/] {escape(warning)}")
-    if path is not None:
-        console.print(f"time series: {path}  (sidecar {path.with_suffix('.json')})")
-    if where is not None:
-        console.print(f"summary: {where}")
-    compare = None
-    if compare_changes:
-        from fsarm_sim.cli.review import compare_run
 
-        compare = compare_run(
-            compare_changes,
-            result,
-            shaft_file=shaft_file,
-            extrapolate=extrapolate,
-            series_hysteresis=series_hysteresis,
-            backend=str(backend),
-            log_every=log_every,
-        )
-    if uncertainty:
-        from fsarm_sim.cli.uncertainty import run_uncertainty
 
-        run_uncertainty(
-            uncertainty,
-            result,
-            shaft_file=shaft_file,
-            diameter_mm=diameter_mm,
-            length_mm=length_mm,
-            extrapolate=extrapolate,
-            series_hysteresis=series_hysteresis,
-            backend=backend,
-            json_file=json_file,
-            writes=writes,
-            controller=str(uncertainty_controller),
-        )
-    review_outputs(
-        result,
-        rrd=rrd,
-        rrd_rate=rrd_rate,
-        spawn=spawn,
-        figures_dir=figures,
-        out=out,
-        console=console,
-        writes=writes,
-        compare=compare,
-    )
-    writes.finish()
-    if result.interrupted:
-        raise typer.Exit(130)
+RUN_LINES = (
+    ("tau_estimate_rmse_nm", "joint-3 torque estimate error, RMSE [N·m]"),
+    ("tau_estimate_max_abs_err_nm", "joint-3 torque estimate error, max [N·m]"),
+    ("peak_shaft_torque_nm", "peak shaft torque [N·m]"),
+    ("peak_motor_torque_nm", "peak joint-3 motor torque [N·m]"),
+    ("peak_motor_speed_rad_s", "peak joint-3 motor speed [rad/s]"),
+    ("motor_energy_j", "joint-3 motor work [J]"),
+    ("realtime_factor", "real-time factor"),
+)
 
 
 def _register_extensions() -> None:

@@ -89,65 +89,72 @@ def convergence_table(report: DynamicsReport) -> Table | None:
     return table
 
 
+# the options of `check_dynamics_cmd`
+CheckDynamicsJsonFile = Annotated[
+    Path | None, typer.Option("--json", help="write all measured numbers here (JSON)")
+]
+CheckDynamicsSamples = Annotated[
+    int, typer.Option(help="random states per model for the mass/bias/qacc checks")
+]
+CheckDynamicsDuration = Annotated[
+    float, typer.Option(help="simulated seconds of fig14-sine for the trajectory check")
+]
+CheckDynamicsShaftInertia = Annotated[
+    float,
+    typer.Option(help="also check a model with this eq. 1 shaft inertia J, kg m^2 (0: skip)"),
+]
+CheckDynamicsTrajectory = Annotated[
+    bool, typer.Option(help="run the closed-loop trajectory comparison")
+]
+
+
+def check_dynamics_cmd(
+    json_file: CheckDynamicsJsonFile = None,
+    samples: CheckDynamicsSamples = 200,
+    duration: CheckDynamicsDuration = 4.0,
+    shaft_inertia: CheckDynamicsShaftInertia = 0.0,
+    trajectory: CheckDynamicsTrajectory = True,
+) -> None:
+    """Check MuJoCo's dynamics against Pinocchio; exit 1 if any check fails."""
+    from fsarm_sim.cli.progress import steps
+    from fsarm_sim.studies.dynamics_check import run_checks
+
+    OutputPlan().file("--json", json_file).check()
+    with steps("check-dynamics") as progress:
+        report = run_checks(
+            samples=samples,
+            duration_s=duration,
+            shaft_inertia_kgm2=shaft_inertia,
+            trajectory=trajectory,
+            progress=progress,
+        )
+    console.print(checks_table(report))
+    console.print(structure_table(report))
+    conv = convergence_table(report)
+    if conv is not None:
+        console.print(conv)
+    if report.trajectory is not None:
+        console.print(
+            "MuJoCo Euler at the default 1 ms step (implicit joint damping) vs the reference: "
+            f"{report.trajectory.mujoco_euler_default_rad:.3e} rad",
+            markup=False,
+        )
+    err = make_console(stderr=True)
+    writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
+    if json_file is not None:
+        text = json.dumps(_json_safe(report.as_dict()), indent=2)
+        where = writes.write(json_file, lambda p: write_text(p, text), "the results (--json)")
+        if where is not None:
+            console.print(f"JSON: {where}", markup=False)
+    if not report.passed:
+        failed = ", ".join(c.key for c in report.checks if not c.passed)
+        console.print(f"[bold red]dynamics check failed:[/] {escape(failed)}")
+    writes.finish()
+    if not report.passed:
+        raise typer.Exit(code=1)
+    console.print("[green]all dynamics checks passed[/]")
+
+
 def register(app: typer.Typer) -> None:
     """Add ``check-dynamics`` to the ``fsarm`` app."""
-
-    @app.command("check-dynamics")
-    def check_dynamics_cmd(
-        json_file: Annotated[
-            Path | None, typer.Option("--json", help="write all measured numbers here (JSON)")
-        ] = None,
-        samples: Annotated[
-            int, typer.Option(help="random states per model for the mass/bias/qacc checks")
-        ] = 200,
-        duration: Annotated[
-            float, typer.Option(help="simulated seconds of fig14-sine for the trajectory check")
-        ] = 4.0,
-        shaft_inertia: Annotated[
-            float,
-            typer.Option(
-                help="also check a model with this eq. 1 shaft inertia J, kg m^2 (0: skip)"
-            ),
-        ] = 0.0,
-        trajectory: Annotated[
-            bool, typer.Option(help="run the closed-loop trajectory comparison")
-        ] = True,
-    ) -> None:
-        """Check MuJoCo's dynamics against Pinocchio; exit 1 if any check fails."""
-        from fsarm_sim.cli.progress import steps
-        from fsarm_sim.studies.dynamics_check import run_checks
-
-        OutputPlan().file("--json", json_file).check()
-        with steps("check-dynamics") as progress:
-            report = run_checks(
-                samples=samples,
-                duration_s=duration,
-                shaft_inertia_kgm2=shaft_inertia,
-                trajectory=trajectory,
-                progress=progress,
-            )
-        console.print(checks_table(report))
-        console.print(structure_table(report))
-        conv = convergence_table(report)
-        if conv is not None:
-            console.print(conv)
-        if report.trajectory is not None:
-            console.print(
-                "MuJoCo Euler at the default 1 ms step (implicit joint damping) vs the reference: "
-                f"{report.trajectory.mujoco_euler_default_rad:.3e} rad",
-                markup=False,
-            )
-        err = make_console(stderr=True)
-        writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
-        if json_file is not None:
-            text = json.dumps(_json_safe(report.as_dict()), indent=2)
-            where = writes.write(json_file, lambda p: write_text(p, text), "the results (--json)")
-            if where is not None:
-                console.print(f"JSON: {where}", markup=False)
-        if not report.passed:
-            failed = ", ".join(c.key for c in report.checks if not c.passed)
-            console.print(f"[bold red]dynamics check failed:[/] {escape(failed)}")
-        writes.finish()
-        if not report.passed:
-            raise typer.Exit(code=1)
-        console.print("[green]all dynamics checks passed[/]")
+    app.command("check-dynamics")(check_dynamics_cmd)

@@ -13,7 +13,9 @@ import typer
 
 from fsarm_sim.choices import Backend as BackendChoice
 from fsarm_sim.choices import Controller as ControllerChoice
+from fsarm_sim.choices import Integrator as IntegratorChoice
 from fsarm_sim.choices import Scenario as ScenarioChoice
+from fsarm_sim.choices import TimeseriesFormat
 from fsarm_sim.choices import Transmission as TransmissionChoice
 from fsarm_sim.choices import UncertaintyController as UncertaintyControllerChoice
 
@@ -66,15 +68,6 @@ HysteresisModelFile = Annotated[
 ]
 
 
-def read_hysteresis_model(path: Path | None) -> tuple[float, ...]:
-    """The twelve numbers of a hysteresis-model file, or () (the identified default)."""
-    if path is None:
-        return ()
-    from fsarm_sim.engine.hysteresis_model import load_file
-
-    return load_file(path)
-
-
 UncertaintyController = Annotated[
     UncertaintyControllerChoice,
     typer.Option(
@@ -94,4 +87,55 @@ Uncertainty = Annotated[
 ScenarioOption = Annotated[
     ScenarioChoice,
     typer.Option(help="scenario to run (`fsarm scenarios` describes them)", case_sensitive=False),
+]
+
+# the options of `fsarm run` alone (RunRequest's fields)
+ScenarioArgument = Annotated[
+    ScenarioChoice,
+    typer.Argument(
+        metavar="SCENARIO",
+        help="scenario (`fsarm scenarios` describes them)",
+        case_sensitive=False,
+        show_default=False,
+    ),
+]
+PayloadKg = Annotated[
+    float | None, typer.Option(help="payload at the flange, kg (default: the scenario's)")
+]
+Duration = Annotated[float | None, typer.Option(help="simulated time, s (default: the scenario's)")]
+RunOut = Annotated[Path, typer.Option(help="folder for the time series and its sidecar")]
+SummaryJson = Annotated[Path | None, typer.Option("--json", help="write a JSON summary here")]
+Format = Annotated[
+    TimeseriesFormat, typer.Option("--format", help="time-series format", case_sensitive=False)
+]
+SeriesHysteresis = Annotated[
+    bool | None,
+    typer.Option(
+        help="Maxwell-slip series hysteresis on/off "
+        "(default: the coefficient file's series.maxwell_slip.enabled)"
+    ),
+]
+Integrator = Annotated[
+    IntegratorChoice | None,
+    typer.Option(help="MuJoCo's integrator [default: the model's]", case_sensitive=False),
+]
+Timestep = Annotated[float | None, typer.Option(help="physics timestep, s (default 0.001)")]
+CtrlDt = Annotated[float, typer.Option(help="control period, s")]
+LogEvery = Annotated[int, typer.Option(help="log one row every N control ticks")]
+Rrd = Annotated[Path | None, typer.Option(help="write a Rerun recording (.rrd) of the run here")]
+RrdRate = Annotated[
+    float | None, typer.Option(help="recording rate, rows per simulated s (default 100)")
+]
+Spawn = Annotated[
+    bool, typer.Option(help="open the recording in the Rerun viewer if one can run here")
+]
+Figures = Annotated[
+    Path | None, typer.Option(help="write the run's static figures (PNG) into this folder")
+]
+RrdCompare = Annotated[
+    list[str] | None,
+    typer.Option(
+        help="also run with KEY=VALUE changed (series-hysteresis=on|off, diameter-mm, "
+        "length-mm, payload-kg, backend; repeatable) and record both into --rrd"
+    ),
 ]

@@ -6,8 +6,7 @@ from __future__ import annotations
 import functools
 import json
 from collections.abc import Iterable, Mapping
-from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from rich.table import Table
 
@@ -15,29 +14,10 @@ from fsarm_sim.cli.console import make_console
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.outputs import SafeWriter, write_text
 
+if TYPE_CHECKING:
+    from fsarm_sim.run_request import RunRequest
+
 console = make_console()
-
-
-def check_run_uncertainty(
-    n: int, transmission: str, shaft_file: Path | None, controller: str = "nominal"
-) -> None:
-    """Refuse bad --uncertainty settings before the run starts."""
-    from fsarm_sim.plant.shaft import load_catalogue
-    from fsarm_sim.studies.uncertainty import UncertaintyError, check_controller, check_samples
-
-    check_samples(n)
-    check_controller(controller)
-    if transmission != "flexible-shaft":
-        raise UncertaintyError(
-            f"--uncertainty samples the shaft coefficient file's ranges, so it needs "
-            f"--transmission flexible-shaft, got {transmission!r}"
-        )
-    cat = load_catalogue(shaft_file)
-    if not cat.uncertainty:
-        raise UncertaintyError(
-            f"--uncertainty: {cat.source} declares no [uncertainty] ranges; add "
-            "[uncertainty.<group>] relative = [low, high] and reason (see `fsarm shafts --export`)"
-        )
 
 
 def band_table(
@@ -63,40 +43,28 @@ def band_table(
     return table
 
 
-def run_uncertainty(
-    n: int,
-    result: Any,
-    *,
-    shaft_file: Path | None,
-    diameter_mm: float,
-    length_mm: float,
-    extrapolate: bool,
-    series_hysteresis: bool | None,
-    backend: str,
-    json_file: Path | None,
-    writes: SafeWriter,
-    controller: str = "nominal",
-) -> dict[str, Any]:
+def run_uncertainty(request: RunRequest, result: Any, writes: SafeWriter) -> dict[str, Any]:
     """Sample the run's metrics over the declared coefficient ranges, print their band and,
     with ``--json``, write it beside the summary as ``<name>.uncertainty.json``."""
     from fsarm_sim.plant.shaft import load_catalogue
     from fsarm_sim.studies import uncertainty as unc
 
-    cat = load_catalogue(shaft_file)
+    controller, json_file = request.uncertainty_controller, request.json_file
+    cat = load_catalogue(request.shaft_file)
     metric = functools.partial(
         unc.run_metrics,
         scenario=result.scenario,
         config=result.config,
-        diameter_mm=diameter_mm,
-        length_mm=length_mm,
-        extrapolate=extrapolate,
-        series_hysteresis=series_hysteresis,
+        diameter_mm=request.diameter_mm,
+        length_mm=request.length_mm,
+        extrapolate=request.extrapolate,
+        series_hysteresis=request.series_hysteresis,
         duration_s=result.duration_s,
         payload_kg=result.config.payload_kg,
-        backend=backend,
+        backend=request.backend,
         controller=controller,
     )
-    prop = unc.propagate(metric, cat, n)
+    prop = unc.propagate(metric, cat, request.uncertainty)
     report = unc.to_json(prop, result.metrics, controller)
     console.print(
         band_table(

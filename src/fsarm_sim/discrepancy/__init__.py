@@ -9,7 +9,8 @@ protocol, judged by the rules of :mod:`.selection`; output :mod:`.report`), two 
   history; inertia load: the load simulated in segments from its measured state) and
   ``parallel_bench``, replayed by the Numba engine (:mod:`.replay`), candidates fitted grey-box
   (:mod:`.candidates`), model file :mod:`.benchmodel` (shared with ``fsarm synth``), the
-  recorded inputs' own errors :mod:`.input_errors`, the synthetic battery :mod:`.battery`;
+  recorded inputs' own errors :mod:`.input_errors` (the synthetic batteries that test all this
+  live in the repository's ``tests/batteries``);
 * the arm (:mod:`.arm`): records replayed closed loop by the simulator (:mod:`.arm_fit`), model
   file :mod:`.arm_modelfile`, synthetic records :mod:`.arm_synth`.
 

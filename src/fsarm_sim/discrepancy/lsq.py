@@ -6,22 +6,9 @@ runs on the triangle, the same minimiser at a fraction of the cost (BVLS on 30 0
 ``Q^T y = R^-T A^T y`` where that is well conditioned (``cond(R)`` below :data:`CHOLESKY_COND`:
 the normal equations' error in x, ~cond(R)^2 eps, stays below 1e-8), a thin QR of ``A``
 otherwise (nearly dependent columns, e.g. look-alike candidates).
-
-:func:`full_problem` switches the reduction off for a block (BVLS on the full problem, as 0.4.0
-did; ``scripts/bench_diagnose.py`` times both paths). It is scoped, not a module global: it
-holds in the thread (and asyncio task) that entered it and in contexts copied from it
-(``contextvars.copy_context``), never in other threads. Threads started inside it do not see it
-unless they run in a copied context: ``ThreadPoolExecutor`` workers do not (Python 3.11), so
-their ``bounded`` calls solve the reduced problem. The diagnosis calls :func:`bounded` only in the
-calling thread (``arm_fit``'s worker threads run simulations only), and the benchmark's 0.4.0
-path runs its simulations one after the other (``arm_fit.simulation_threads(1)``) anyway.
 """
 
 from __future__ import annotations
-
-from collections.abc import Iterator
-from contextlib import contextmanager
-from contextvars import ContextVar
 
 import numpy as np
 import numpy.typing as npt
@@ -31,25 +18,6 @@ from scipy.optimize import lsq_linear
 FloatArray = npt.NDArray[np.float64]
 
 CHOLESKY_COND = 1e4  # cond(R) above which the triangle comes from a QR of A
-# True inside full_problem(): BVLS on the full problem, as 0.4.0 did
-_FULL_PROBLEM: ContextVar[bool] = ContextVar("fsarm_lsq_full_problem", default=False)
-
-
-@contextmanager
-def full_problem() -> Iterator[None]:
-    """For the block, :func:`bounded` solves the full tall problem instead of its triangle
-    (0.4.0's path, for benchmarks; module docstring for which threads see it). Nests; the
-    previous setting comes back on exit, also on an exception."""
-    token = _FULL_PROBLEM.set(True)
-    try:
-        yield
-    finally:
-        _FULL_PROBLEM.reset(token)
-
-
-def reduces() -> bool:
-    """Whether :func:`bounded` reduces tall problems here (False inside :func:`full_problem`)."""
-    return not _FULL_PROBLEM.get()
 
 
 def triangle(a: FloatArray, y: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -65,9 +33,8 @@ def triangle(a: FloatArray, y: FloatArray) -> tuple[FloatArray, FloatArray]:
 
 
 def bounded(a: FloatArray, y: FloatArray, lower: FloatArray, upper: FloatArray) -> FloatArray:
-    """``argmin |a x - y|`` with ``lower <= x <= upper`` (BVLS on the reduced problem; on the
-    full one inside :func:`full_problem`)."""
-    if not reduces() or a.shape[0] <= a.shape[1]:  # not tall: nothing to reduce
+    """``argmin |a x - y|`` with ``lower <= x <= upper`` (BVLS on the reduced problem)."""
+    if a.shape[0] <= a.shape[1]:  # not tall: nothing to reduce
         r, qty = a, y
     else:
         r, qty = triangle(a, y)

@@ -207,10 +207,6 @@ class Recording:
     def memory_bytes(self) -> int:
         """Estimated working memory of :func:`synthesize` (oversampled float64 arrays)."""
         return WORK_ARRAYS * 8 * ((self.n_samples() - 1) * self.oversample + 1)
-        if self.trajectory not in TRAJECTORIES:
-            raise InvalidParameterError(
-                f"unknown trajectory {self.trajectory!r}; known: {', '.join(TRAJECTORIES)}"
-            )
 
 
 def default_amplitude(model: BenchModel, shaft: ShaftParams) -> float:

@@ -188,14 +188,6 @@ def intervals(
     }
 
 
-def covers(ci: dict[str, Any], name: str, value: float) -> bool | None:
-    """Does the interval of parameter ``name`` hold ``value``? None when it has no interval."""
-    for p in ci.get("parameters", []):
-        if p["name"] == name:
-            return bool(p["lower"] <= value <= p["upper"])
-    return None
-
-
 def interval_lines(ci: dict[str, Any] | None) -> list[str]:
     """The print-out of the fitted parameters' confidence intervals."""
     if not ci or not ci.get("parameters"):

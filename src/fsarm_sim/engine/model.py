@@ -626,19 +626,9 @@ def max_stiffness(config: SimConfig) -> float:
     return config.transmission_model().max_stiffness(config.transmission_blocks()[0])
 
 
-def shaft_mode_rad_s(
-    model: mujoco.MjModel, st: ArmStructure, k: float, q: npt.NDArray[np.float64]
-) -> float:
-    """Frequency of the rotor-against-load transmission mode at pose ``q`` with stiffness ``k``.
-
-    Two inertias on one spring: w^2 = K (c_m^2 / I_rotor + c_s^2 / M_33), with the twist
-    coefficients c_m = 1/i_G1 and c_s = i_G2 of the tendon.
-    """
-    return float(np.sqrt(k * _mode_inertia(model, st, q)))
-
-
 def _mode_inertia(model: mujoco.MjModel, st: ArmStructure, q: npt.NDArray[np.float64]) -> float:
-    """c_m^2 / I_rotor + c_s^2 / M_33 at pose ``q`` (:func:`shaft_mode_rad_s`)."""
+    """c_m^2 / I_rotor + c_s^2 / M_33 at pose ``q``: the rotor-against-load transmission mode's
+    w^2 / K (two inertias on one spring; twist coefficients c_m = 1/i_G1, c_s = i_G2)."""
     data = mujoco.MjData(model)
     data.qpos[list(st.qadr[:3])] = q
     mujoco.mj_kinematics(model, data)

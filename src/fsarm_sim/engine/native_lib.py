@@ -221,14 +221,6 @@ def build() -> Path:
     return d / LIB_NAME
 
 
-def build_quietly() -> None:
-    """:func:`build`, with any failure said once on stderr (the Numba path keeps working)."""
-    try:
-        build()
-    except Exception as exc:  # a build problem must never break a run
-        sys.stderr.write(f"fsarm: the prebuilt callbacks library was not built ({exc})\n")
-
-
 LOCK_NAME = "building.lock"
 LOCK_STALE_S = 900.0  # a lock older than this is a build that died: another may start
 

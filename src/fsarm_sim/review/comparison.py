@@ -24,7 +24,7 @@ import numpy as np
 import numpy.typing as npt
 
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.review import recording as R
+from fsarm_sim.review import recording
 from fsarm_sim.review.loop_panels import (
     ARM_LOOPS,
     Loop,
@@ -46,10 +46,10 @@ Array = npt.NDArray[np.float64]
 
 # one colour per configuration (loops, and series that have a single colour per panel)
 CONFIG_COLORS: tuple[tuple[int, int, int], ...] = (
-    R.BLUE,
-    R.RED,
-    R.GREEN,
-    R.PURPLE,
+    recording.BLUE,
+    recording.RED,
+    recording.GREEN,
+    recording.PURPLE,
 )
 TAG_RE = re.compile(r"^[^\x00-\x1f/]{1,80}$")  # a configuration's name (shown in legends)
 
@@ -98,7 +98,9 @@ class Tagged:
 
 
 def log_runs(
-    rec: rr.RecordingStream, runs: Sequence[Tagged], rate_hz: float | None = R.DEFAULT_RATE_HZ
+    rec: rr.RecordingStream,
+    runs: Sequence[Tagged],
+    rate_hz: float | None = recording.DEFAULT_RATE_HZ,
 ) -> rrb.Blueprint:
     """Log the configurations into ``rec``; return the blueprint."""
     import rerun as rr
@@ -111,9 +113,9 @@ def log_runs(
         raise InvalidParameterError(f"compare runs of one scenario, got {sorted(scen)}")
     first = runs[0].result
     # the 3-D view shows the first configuration (its columns carry the motor-limit lines)
-    first_cols, _ = R.log_arm_world(rec, first, rate_hz)
+    first_cols, _ = recording.log_arm_world(rec, first, rate_hz)
     pages = [
-        f"## {r.tag}\n\n" + R.metadata_markdown(run_metadata(r.result), r.result.metrics)
+        f"## {r.tag}\n\n" + recording.metadata_markdown(run_metadata(r.result), r.result.metrics)
         for r in runs
     ]
     rec.log(
@@ -125,15 +127,15 @@ def log_runs(
         static=True,
     )
     all_cols = []
-    panels_shown: dict[str, R.Panel] = {}
-    curves: dict[str, list[R.Curve]] = {}
+    panels_shown: dict[str, recording.Panel] = {}
+    curves: dict[str, list[recording.Curve]] = {}
     for k, r in enumerate(runs):
-        cols = first_cols if k == 0 else R.with_derived(r.result.columns)
-        rows = R.decimate(cols["t"], rate_hz)
+        cols = first_cols if k == 0 else recording.with_derived(r.result.columns)
+        rows = recording.decimate(cols["t"], rate_hz)
         all_cols.append((r, cols, rows))
         # references and limits are the same for every configuration: shown once
         panels = [
-            R.Panel(
+            recording.Panel(
                 f"{p.name}/{entity_name(r.tag)}",
                 p.title,
                 tuple(
@@ -147,12 +149,12 @@ def log_runs(
                     if k == 0 or not (s.column.endswith("_ref") or "limit" in s.column)
                 ),
             )
-            for p in R.ARM_PANELS
+            for p in recording.ARM_PANELS
         ]
-        R.log_scalar_panels(rec, cols, panels, rows)
-        for base, tagged in zip(R.ARM_PANELS, panels, strict=True):
-            curves.setdefault(base.name, []).extend(R.panel_curves(tagged, cols))
-        for p in R.informative_panels(cols, R.ARM_PANELS):
+        recording.log_scalar_panels(rec, cols, panels, rows)
+        for base, tagged in zip(recording.ARM_PANELS, panels, strict=True):
+            curves.setdefault(base.name, []).extend(recording.panel_curves(tagged, cols))
+        for p in recording.informative_panels(cols, recording.ARM_PANELS):
             panels_shown.setdefault(p.name, p)
     views = []
     for lp in ARM_LOOPS:
@@ -182,13 +184,15 @@ def log_runs(
             subtitle=f"{first.scenario}: {' vs '.join(r.tag for r, _, _ in members)}",
         )
         log_loop_panel(rec, lp, traces, image)
-        views.append(R.LoopView(lp.entity, lp.title, image.width, image.height))
-    ordered = [p for p in R.ARM_PANELS if p.name in panels_shown]
-    return R.blueprint(ordered, views, curves=curves)
+        views.append(recording.LoopView(lp.entity, lp.title, image.width, image.height))
+    ordered = [p for p in recording.ARM_PANELS if p.name in panels_shown]
+    return recording.blueprint(ordered, views, curves=curves)
 
 
 def record_runs(
-    runs: Sequence[tuple[str, RunResult]], path: Path, rate_hz: float | None = R.DEFAULT_RATE_HZ
+    runs: Sequence[tuple[str, RunResult]],
+    path: Path,
+    rate_hz: float | None = recording.DEFAULT_RATE_HZ,
 ) -> Path:
     """Write the configurations ``(tag, result)`` as one Rerun recording; return the path."""
     import rerun as rr
@@ -196,7 +200,7 @@ def record_runs(
     tagged = [Tagged(t, r) for t, r in runs]
     check_tags([t.tag for t in tagged])
     rec = rr.RecordingStream(
-        R.APPLICATION_ID,
+        recording.APPLICATION_ID,
         recording_id=f"{tagged[0].result.scenario}:" + " vs ".join(t.tag for t in tagged),
     )
     path = Path(path)
@@ -241,12 +245,12 @@ class XYPanel:
 
 SERIES_COLORS: tuple[tuple[int, int, int], ...] = (
     (20, 20, 20),  # the first curve (e.g. measured): black
-    R.GREY,
-    R.RED,
-    R.BLUE,
-    R.ORANGE,
-    R.GREEN,
-    R.PURPLE,
+    recording.GREY,
+    recording.RED,
+    recording.BLUE,
+    recording.ORANGE,
+    recording.GREEN,
+    recording.PURPLE,
 )
 MAX_SERIES_ROWS = 4000  # logged rows per series at most (a long record is decimated)
 
@@ -280,27 +284,29 @@ def record_series_comparison(
                 raise InvalidParameterError(f"panel {p.name}: {k} has {len(v)} values, t has {n}")
     step = max(1, math.ceil(n / MAX_SERIES_ROWS))
     rows = np.arange(0, n, step)
-    rec = rr.RecordingStream(R.APPLICATION_ID, recording_id=recording_id)
+    rec = rr.RecordingStream(recording.APPLICATION_ID, recording_id=recording_id)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     rec.save(path)
     try:
         rec.log("run/metadata", rr.TextDocument(markdown, media_type="text/markdown"), static=True)
         shown = []
-        curves: dict[str, list[R.Curve]] = {}
+        curves: dict[str, list[recording.Curve]] = {}
         for p in panels:
             series = tuple(
-                R.Series(_slug(k), k, 1.0, p.colors.get(k, SERIES_COLORS[i % len(SERIES_COLORS)]))
+                recording.Series(
+                    _slug(k), k, 1.0, p.colors.get(k, SERIES_COLORS[i % len(SERIES_COLORS)])
+                )
                 for i, k in enumerate(p.curves)
             )
             cols = {
                 "t": t,
                 **{_slug(k): np.asarray(v, dtype=np.float64) for k, v in p.curves.items()},
             }
-            panel = R.Panel(p.name, p.title, series)
-            R.log_scalar_panels(rec, cols, [panel], rows)
+            panel = recording.Panel(p.name, p.title, series)
+            recording.log_scalar_panels(rec, cols, [panel], rows)
             shown.append(panel)
-            curves[panel.name] = R.panel_curves(panel, cols)
+            curves[panel.name] = recording.panel_curves(panel, cols)
         views = []
         for lp in loops:
             loop = Loop(lp.name, lp.title, "x", lp.x_label, 1.0, "y", lp.y_label)
@@ -317,9 +323,9 @@ def record_series_comparison(
                 runs.append((Trace(_slug(k), k, color, "y"), cols, rows))
             image = loop_image(loop, [(tr, c) for tr, c, _ in runs], y_range=lp.y_range)
             log_loop_panel(rec, loop, runs, image)
-            views.append(R.LoopView(loop.entity, loop.title, image.width, image.height))
+            views.append(recording.LoopView(loop.entity, loop.title, image.width, image.height))
         rec.send_blueprint(
-            R.blueprint(shown, views, with_3d=False, curves=curves),
+            recording.blueprint(shown, views, with_3d=False, curves=curves),
             make_active=True,
             make_default=True,
         )

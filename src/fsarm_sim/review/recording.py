@@ -45,7 +45,7 @@ from fsarm_sim._version import __version__
 from fsarm_sim.engine import callbacks
 from fsarm_sim.engine.model import build_spec, read_structure
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 from fsarm_sim.review.figures import moving_joints
 from fsarm_sim.review.loop_panels import (
     ARM_LOOPS,
@@ -116,11 +116,6 @@ class Panel:
     @property
     def entity(self) -> str:
         return f"signals/{self.name}"
-
-
-def _ui(points: float) -> float:
-    """A radius in UI points (Rerun's convention: negative radii are screen-space points)."""
-    return -abs(points)
 
 
 def _deg(column: str, label: str, color: tuple[int, int, int]) -> Series:
@@ -788,7 +783,7 @@ def log_arm_world(
     import rerun as rr
 
     with callbacks.suspended():  # a private copy for kinematics only; it is never stepped
-        model = build_spec(result.config, np.zeros((1, L.REF_COLS))).compile()
+        model = build_spec(result.config, np.zeros((1, layout.REF_COLS))).compile()
     st = read_structure(model)
     cols = with_derived(result.columns, tau_motor_limit_nm=st.tau_max[2])
     rows = decimate(cols["t"], rate_hz)

@@ -73,9 +73,9 @@ import numpy.typing as npt
 from fsarm_sim.engine.callbacks import DEFAULT_BACKEND, Backend
 from fsarm_sim.engine.model import PAYLOAD_MAX_KG, SimConfig, build_model, read_structure
 from fsarm_sim.errors import FsarmError
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 from fsarm_sim.plant.transmissions.base import TransmissionError
-from fsarm_sim.sim import references as R
+from fsarm_sim.sim import references
 
 Array = npt.NDArray[np.float64]
 
@@ -227,7 +227,7 @@ def observer_residual(
         raise CollisionError(
             "the observer needs one recorded row per control tick (log_every_ticks = 1)"
         )
-    model = build_model(config, np.zeros((1, L.REF_COLS)))
+    model = build_model(config, np.zeros((1, layout.REF_COLS)))
     obs = JointThreeObserver(model, config, gain_rad_s)
     q = np.stack([columns["q1"], columns["q2"], columns["q3"]], axis=1)
     return np.array([obs.update(q[k], columns["theta_m"][k]) for k in range(len(t))])
@@ -256,11 +256,11 @@ IDENTIFICATION_PAYLOADS_KG = (0.0, PAYLOAD_MAX_KG)  # no payload and the rated o
 def identification_reference(t: Array) -> Array:
     """Joint 3 over 0-90 deg at 94 deg/s peak while joint 2 swings 15-60 deg (bend and gravity
     change): the seed identifies its model on sinusoids without disturbance (Sec. III-IV)."""
-    return R.stack(
+    return references.stack(
         (
-            R.hold(t, 0.0),
-            R.cosine_sweep(t, 15.0 * DEG, 60.0 * DEG, 6.0),
-            R.cosine_sweep(t, 0.0, 90.0 * DEG, 3.0),
+            references.hold(t, 0.0),
+            references.cosine_sweep(t, 15.0 * DEG, 60.0 * DEG, 6.0),
+            references.cosine_sweep(t, 0.0, 90.0 * DEG, 3.0),
         )
     )
 
@@ -322,7 +322,9 @@ def calibrate(
 
 
 def _ref_rows(sim: Simulator) -> Array:
-    return sim.model.numeric(L.REF_NAME).data.reshape(-1, L.REF_COLS)  # a view: writes land
+    return sim.model.numeric(layout.REF_NAME).data.reshape(
+        -1, layout.REF_COLS
+    )  # a view: writes land
 
 
 class CollisionReaction:

@@ -23,7 +23,7 @@ import numpy as np
 import numpy.typing as npt
 
 from fsarm_sim.errors import ScenarioNotFoundError
-from fsarm_sim.sim import references as R
+from fsarm_sim.sim import references
 from fsarm_sim.sim.outer_loops import OuterLoop as OuterLoop
 from fsarm_sim.sim.outer_loops import TickHook as TickHook
 from fsarm_sim.sim.outer_loops import hand_guiding_loop, reaction_loop
@@ -179,8 +179,12 @@ FIG14_POSE_Q2 = (
     rmse_warn_deg=(0.5, 0.5, 2.0),
 )
 def _fig14(t: Array) -> Array:
-    return R.stack(
-        (R.hold(t, 0.0), R.hold(t, FIG14_POSE_Q2), R.cosine_sweep(t, 0.0, 90.0 * DEG, 4.0))
+    return references.stack(
+        (
+            references.hold(t, 0.0),
+            references.hold(t, FIG14_POSE_Q2),
+            references.cosine_sweep(t, 0.0, 90.0 * DEG, 4.0),
+        )
     )
 
 
@@ -197,10 +201,10 @@ def _p2p(t: Array) -> Array:
     b = (60.0 * DEG, 60.0 * DEG, 20.0 * DEG)
     out = []
     for j in range(3):
-        go = R.quintic(t, a[j], b[j], 0.5, 2.5)
-        back = R.quintic(t, 0.0, a[j] - b[j], 4.0, 2.5)
+        go = references.quintic(t, a[j], b[j], 0.5, 2.5)
+        back = references.quintic(t, 0.0, a[j] - b[j], 4.0, 2.5)
         out.append((go[0] + back[0], go[1] + back[1], go[2] + back[2]))
-    return R.stack((out[0], out[1], out[2]))
+    return references.stack((out[0], out[1], out[2]))
 
 
 @register(
@@ -210,8 +214,12 @@ def _p2p(t: Array) -> Array:
     rmse_warn_deg=(0.5, 0.5, 6.0),
 )
 def _step_q3(t: Array) -> Array:
-    return R.stack(
-        (R.hold(t, 0.0), R.hold(t, FIG14_POSE_Q2), R.step(t, 30.0 * DEG, 40.0 * DEG, 0.5))
+    return references.stack(
+        (
+            references.hold(t, 0.0),
+            references.hold(t, FIG14_POSE_Q2),
+            references.step(t, 30.0 * DEG, 40.0 * DEG, 0.5),
+        )
     )
 
 
@@ -222,7 +230,13 @@ def _step_q3(t: Array) -> Array:
     rmse_warn_deg=(0.5, 6.0, 2.0),
 )
 def _step_q2(t: Array) -> Array:
-    return R.stack((R.hold(t, 0.0), R.step(t, 30.0 * DEG, 40.0 * DEG, 0.5), R.hold(t, 30.0 * DEG)))
+    return references.stack(
+        (
+            references.hold(t, 0.0),
+            references.step(t, 30.0 * DEG, 40.0 * DEG, 0.5),
+            references.hold(t, 30.0 * DEG),
+        )
+    )
 
 
 # --- contact scenarios: scripted external forces on the flange (seed 004 Sec. V, Fig. 12) ---
@@ -288,4 +302,6 @@ def _hand_force(t: float) -> tuple[float, float, float]:
     rmse_warn_deg=(0.5, 2.0, 10.0),
 )
 def _hand_guide(t: Array) -> Array:
-    return R.stack((R.hold(t, 0.0), R.hold(t, FIG14_POSE_Q2), R.hold(t, 30.0 * DEG)))
+    return references.stack(
+        (references.hold(t, 0.0), references.hold(t, FIG14_POSE_Q2), references.hold(t, 30.0 * DEG))
+    )

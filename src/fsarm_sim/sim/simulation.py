@@ -57,8 +57,7 @@ MEMORY_SHARE = 0.5
 SMALL_RUN_BYTES = 64 << 20  # a run this small is not checked against the free memory
 # steps: MuJoCo warnings and the run's health are checked this often (2 s at the default 1 ms
 # step, ~5 ms of a native run's wall time). Every check hands the GIL back and forth, which
-# threads stepping side by side (a sweep's default executor) pay for: 500 gave 1.78x on 2 cores
-# against 1.88x at 2000 (15 interleaved pairs of the 12-point bench-speed sweep, 0.5.4).
+# threads stepping side by side (a sweep's default executor) pay for (`fsarm bench-speed`).
 WARNING_CHECK_EVERY = 2000
 # A joint whose tracking error exceeds this has left any controlled motion (the worst seed
 # transmission, tendon-sheath hunting, stays below 15 deg): the run is reported as diverged.

@@ -44,7 +44,7 @@ import numpy.typing as npt
 
 from fsarm_sim.engine.model import SimConfig
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 from fsarm_sim.sim import scenarios
 from fsarm_sim.sim.simulation import (
     DEFAULT_BACKEND,
@@ -113,7 +113,12 @@ def tracking(
         # metrics do (the recorded rows would sample once per control tick)
         cols, wall = sim.run(duration, log_every_ticks=0)
         metrics = compute_metrics(
-            cols, duration, wall, sim.structure, cfg.rating_nm(), acc=sim.data.userdata[L.U_ACC :]
+            cols,
+            duration,
+            wall,
+            sim.structure,
+            cfg.rating_nm(),
+            acc=sim.data.userdata[layout.U_ACC :],
         )
     rmse, mx = metrics["rmse_deg"], metrics["max_abs_err_deg"]
     assert isinstance(rmse, dict) and isinstance(mx, dict)
@@ -221,7 +226,7 @@ def held_arm(
     dt = cfg.gains.ctrl_dt_s
     n = round(duration_s / dt) + 1
     t = np.arange(n, dtype=np.float64) * dt
-    table = np.zeros((n, L.REF_COLS))
+    table = np.zeros((n, layout.REF_COLS))
     table[:, 1] = bend_rad
     table[:, 2] = q3_rad
     sim = Simulation(cfg, table, backend)
@@ -270,7 +275,7 @@ def torque_bandwidth(
     chirp = np.where(t >= settle_s, log_chirp(tc, f_start_hz, f_stop_hz, chirp_s), 0.0)
     tau_d = rating * (bias_fraction * smooth + amplitude_fraction * chirp)
     table[:, 8] = st.coef_s * tau_d / m33
-    ref = m.numeric(L.REF_NAME).data
+    ref = m.numeric(layout.REF_NAME).data
     ref[:] = table.ravel()
     initial_state(m, d, st)
     cols, _ = sim.run(settle_s + chirp_s)

@@ -48,8 +48,7 @@ from fsarm_sim.engine.model import (
     write_params,
 )
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
-from fsarm_sim.kernels import layout as L
-from fsarm_sim.kernels import physics
+from fsarm_sim.kernels import layout, physics
 from fsarm_sim.plant.effects import series_stiffness
 from fsarm_sim.plant.shaft import ShaftParams, load_catalogue
 from fsarm_sim.plant.transmissions import flexible_shaft
@@ -212,17 +211,17 @@ def write_bench_params(
     read a state at index -1); the arm's control kernel is always off (``P_EN_CONTROL = 0``).
     """
     write_params(model, st.as_arm_structure(), SimConfig(shaft=shaft, effects=effects), 1)
-    p = model.numeric(L.PARAMS_NAME).data
-    p[L.P_EN_CONTROL] = 0.0
-    p[L.P_SETUP] = setup
-    p[L.P_BEND_FIXED] = bend_fixed_rad
+    p = model.numeric(layout.PARAMS_NAME).data
+    p[layout.P_EN_CONTROL] = 0.0
+    p[layout.P_SETUP] = setup
+    p[layout.P_BEND_FIXED] = bend_fixed_rad
     if st.act_slip < 0:  # no state slots: the shaft's slip elements are off
-        p[L.P_TR + flexible_shaft.I_SLIP_K : L.P_TR + flexible_shaft.I_SLIP_F] = 0.0
+        p[layout.P_TR + flexible_shaft.I_SLIP_K : layout.P_TR + flexible_shaft.I_SLIP_F] = 0.0
     if st.act_branch[0] < 0 or st.bend_qadr < 0:
-        p[L.P_EN_CONDUIT] = 0.0
+        p[layout.P_EN_CONDUIT] = 0.0
     if st.bend_qadr < 0:
-        p[L.P_EN_BEND] = 0.0
-        p[L.P_EN_COUPLING] = 0.0
+        p[layout.P_EN_BEND] = 0.0
+        p[layout.P_EN_COUPLING] = 0.0
 
 
 def _spec(name: str, shaft: ShaftParams) -> mujoco.MjSpec:
@@ -238,9 +237,9 @@ def _spec(name: str, shaft: ShaftParams) -> mujoco.MjSpec:
         block = SimConfig(shaft=shaft).transmission_blocks()[0]
         lim = flexible_shaft.state_limits(block)[i] or (-1e-12, 1e-12)
         act.actrange = [lim[0], lim[1]]
-    spec.add_numeric(name=L.PARAMS_NAME, size=L.N_PARAMS, data=np.zeros(L.N_PARAMS))
-    spec.add_numeric(name=L.REF_NAME, size=L.REF_COLS, data=np.zeros(L.REF_COLS))
-    spec.nuserdata = L.N_USERDATA
+    spec.add_numeric(name=layout.PARAMS_NAME, size=layout.N_PARAMS, data=np.zeros(layout.N_PARAMS))
+    spec.add_numeric(name=layout.REF_NAME, size=layout.REF_COLS, data=np.zeros(layout.REF_COLS))
+    spec.nuserdata = layout.N_USERDATA
     return spec
 
 
@@ -457,7 +456,7 @@ class SeriesBench:
 
     @property
     def params(self) -> Array:
-        return self.model.numeric(L.PARAMS_NAME).data
+        return self.model.numeric(layout.PARAMS_NAME).data
 
     def _new_data(self, theta_s0: float) -> mujoco.MjData:
         d = mujoco.MjData(self.model)
@@ -671,7 +670,7 @@ def build_series_bench(
     st = read_bench_structure(model)
     if st.twist_tendon >= 0:
         model.tendon_armature[st.twist_tendon] = sh.inertia_kgm2  # eq. 1 J, as on the arm
-    write_bench_params(model, st, sh, fx, L.SETUP_SERIES_BENCH, bend)
+    write_bench_params(model, st, sh, fx, layout.SETUP_SERIES_BENCH, bend)
     return SeriesBench(
         model=model,
         structure=st,
@@ -730,7 +729,7 @@ class ParallelBench:
 
     @property
     def params(self) -> Array:
-        return self.model.numeric(L.PARAMS_NAME).data
+        return self.model.numeric(layout.PARAMS_NAME).data
 
     def replay(
         self,
@@ -820,7 +819,7 @@ def build_parallel_bench(
     st = read_bench_structure(model)
     if st.bend_qadr < 0:
         raise ModelStructureError("the parallel bench MJCF needs a joint named 'bend'")
-    write_bench_params(model, st, sh, fx, L.SETUP_PARALLEL_BENCH, 0.0)
+    write_bench_params(model, st, sh, fx, layout.SETUP_PARALLEL_BENCH, 0.0)
     return ParallelBench(
         model=model, structure=st, shaft=sh, twist_rad=twist, effects=fx, backend=backend
     )

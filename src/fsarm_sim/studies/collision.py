@@ -25,7 +25,7 @@ import numpy.typing as npt
 from fsarm_sim.controllers.tendon_sheath_compliance import collision_monitor
 from fsarm_sim.engine.model import SimConfig, build_model, read_structure
 from fsarm_sim.errors import RunHealthError
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 from fsarm_sim.plant.transmissions.base import TransmissionError
 from fsarm_sim.sim import scenarios
 from fsarm_sim.sim.outer_loops import (
@@ -156,7 +156,7 @@ def alarms(t: Array, r: Array, threshold_nm: float) -> list[Alarm]:
 def external_torque(result: RunResult, dist: scenarios.Disturbance) -> Array:
     """The true external joint-3 torque a scripted disturbance applied, per recorded row."""
     c, cfg = result.columns, result.config
-    model = build_model(cfg, np.zeros((1, L.REF_COLS)))
+    model = build_model(cfg, np.zeros((1, layout.REF_COLS)))
     st = read_structure(model)
     site = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, dist.site)
     if site < 0:
@@ -464,7 +464,7 @@ class Algorithm2Guiding:
 
     def __init__(self, sim: Simulator) -> None:
         self.sim = sim
-        self.ref = sim.model.numeric(L.REF_NAME).data.reshape(-1, L.REF_COLS)
+        self.ref = sim.model.numeric(layout.REF_NAME).data.reshape(-1, layout.REF_COLS)
         self.qadr = int(read_structure(sim.model).qadr[2])
 
     def __call__(self, k: int) -> None:

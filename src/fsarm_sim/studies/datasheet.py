@@ -266,3 +266,81 @@ def series_of(sheet: Mapping[str, Any], head: str, bends: Sequence[float]) -> li
     """The per-bend values of one quantity, in the order of ``bends``."""
     nums = sheet["numbers"]
     return [nums.get(f"{head}.{_b(b)}", {"value": math.nan})["value"] for b in bends]
+
+
+def picks(
+    catalogue: Catalogue,
+    names: Sequence[str],
+    *,
+    every: bool = False,
+    diameter_mm: float | None = None,
+    length_mm: float | None = None,
+    extrapolate: bool = False,
+) -> list[tuple[str | None, float, float]]:
+    """The shafts to describe, (name or None, D, L): catalogue shafts by name, ``every`` one of
+    them, and a D/L pair; each checked against the catalogue's validity before the first is
+    computed."""
+    out: list[tuple[str | None, float, float]] = []
+    known = {s.name: s for s in catalogue.shafts}
+    for wanted in names:
+        if wanted not in known:
+            raise DatasheetError(
+                f"--shaft {wanted!r} is not in {catalogue.source}; its shafts: {', '.join(known)}"
+            )
+        out.append((wanted, known[wanted].diameter_mm, known[wanted].length_mm))
+    if every:
+        out += [(s.name, s.diameter_mm, s.length_mm) for s in catalogue.shafts]
+    if (diameter_mm is None) != (length_mm is None):
+        raise DatasheetError("give both --diameter-mm and --length-mm (or a --shaft)")
+    if diameter_mm is not None and length_mm is not None:
+        out.append((None, diameter_mm, length_mm))
+    if not out:
+        raise DatasheetError(
+            "say which shaft: --shaft NAME, --all, or --diameter-mm D --length-mm L"
+        )
+    for _, d, ell in out:
+        catalogue.shaft(d, ell, extrapolate=extrapolate)
+    return out
+
+
+def sheet_for(
+    catalogue: Catalogue,
+    pick: tuple[str | None, float, float],
+    settings: Settings,
+    *,
+    samples: int = 0,
+    controller: str = "nominal",
+    extrapolate: bool = False,
+) -> dict[str, Any]:
+    """The datasheet of one pick (:func:`picks`), with ``samples`` > 0 every number's 5-95 %
+    band over the catalogue's coefficient ranges (``controller``: "nominal" keeps the
+    catalogue shaft in the controller, "matched" gives it each sample's)."""
+    import functools
+
+    from fsarm_sim.studies import uncertainty as unc
+
+    name, d, ell = pick
+    metric = functools.partial(
+        measure, diameter_mm=d, length_mm=ell, settings=settings, extrapolate=extrapolate
+    )
+    values = metric(catalogue)
+    bands, report = None, None
+    if samples:
+        if controller == "nominal":
+            metric = functools.partial(
+                metric, controller_shaft=catalogue.shaft(d, ell, extrapolate=extrapolate)
+            )
+        prop = unc.propagate(metric, catalogue, samples)
+        report = unc.to_json(prop, controller=controller)
+        bands = report.pop("metrics")
+    return datasheet(
+        catalogue,
+        diameter_mm=d,
+        length_mm=ell,
+        name=name,
+        settings=settings,
+        values=values,
+        bands=bands,
+        uncertainty=report,
+        extrapolate=extrapolate,
+    )

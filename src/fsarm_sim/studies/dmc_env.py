@@ -43,9 +43,8 @@ from dm_env import specs
 from fsarm_sim.engine import callbacks
 from fsarm_sim.engine.model import ArmStructure, SimConfig, build_model, read_structure
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.kernels import layout as L
-from fsarm_sim.sim import references as R
-from fsarm_sim.sim import scenarios
+from fsarm_sim.kernels import layout
+from fsarm_sim.sim import references, scenarios
 from fsarm_sim.sim.simulation import DEFAULT_BACKEND, Backend, initial_state
 
 Array = npt.NDArray[np.float64]
@@ -214,16 +213,16 @@ class FsarmPhysics(dm_mujoco.Physics):
 
     def torque_estimate(self) -> float:
         """The controller's modeled shaft torque τ_m (eq. 8) of the last control tick (N·m)."""
-        return float(self.data.userdata[L.U_LOG + L.L_TAU_MODEL])
+        return float(self.data.userdata[layout.U_LOG + layout.L_TAU_MODEL])
 
     def reference_table(self) -> Array:
         """The reference table the controllers read (a writable view), one row per tick."""
-        table: Array = self.model.ptr.numeric(L.REF_NAME).data.reshape(-1, L.REF_COLS)
+        table: Array = self.model.ptr.numeric(layout.REF_NAME).data.reshape(-1, layout.REF_COLS)
         return table
 
     def tick(self) -> int:
         """Index of the control tick at the current time, clamped to the table."""
-        dt = float(self.model.ptr.numeric(L.PARAMS_NAME).data[L.P_CTRL_DT])
+        dt = float(self.model.ptr.numeric(layout.PARAMS_NAME).data[layout.P_CTRL_DT])
         k = round(float(self.data.time) / dt)
         return min(max(k, 0), self.reference_table().shape[0] - 1)
 
@@ -258,7 +257,7 @@ class Joint3Tracking(base.Task):
         if self._randomize:
             period = float(self.random.uniform(*RANDOM_PERIOD_S))
             high = float(self.random.uniform(*RANDOM_HIGH_RAD))
-            pos, vel, acc = R.cosine_sweep(t, 0.0, high, period)
+            pos, vel, acc = references.cosine_sweep(t, 0.0, high, period)
             table[:, 2], table[:, 5], table[:, 8] = pos, vel, acc
         return table
 

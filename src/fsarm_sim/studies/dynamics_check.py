@@ -673,8 +673,8 @@ def check_structure(structure: ElasticJointStructure) -> CheckResult:
 # MuJoCo's RK4 calls mjcb_control at every stage; its fourth stage of the step that ends on a
 # control tick sits exactly on that tick. physics.control keeps the held output there (P_RK4), so
 # MuJoCo's closed loop is a true zero-order hold like the reference's, and the two can be compared
-# step for step at the same dt. (An earlier version applied tick k+1 in that stage; this check
-# found it: the loop was then only first order.)
+# step for step at the same dt (applying tick k+1 in that stage would make the loop only first
+# order: this check would find it).
 
 STATE_ACT_DYN = int(mujoco.mjtDyn.mjDYN_USER)
 

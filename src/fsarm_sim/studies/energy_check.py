@@ -20,8 +20,7 @@ import numpy as np
 
 from fsarm_sim.engine import callbacks
 from fsarm_sim.engine.model import Effects, Gains, SimConfig, build_model, read_structure
-from fsarm_sim.kernels import layout as L
-from fsarm_sim.kernels import physics
+from fsarm_sim.kernels import layout, physics
 from fsarm_sim.plant import transmissions
 from fsarm_sim.sim.simulation import initial_state, raise_on_warning
 
@@ -70,7 +69,7 @@ def free_arm_energy_drift(
 ) -> EnergyDrift:
     """Largest change of the free, undamped arm's total energy over ``seconds`` (J)."""
     cfg = conservative_config(name, timestep_s)
-    table = np.zeros((1, L.REF_COLS))
+    table = np.zeros((1, layout.REF_COLS))
     table[0, :3] = (0.0, bend_rad, 0.4)
     m = build_model(cfg, table)
     m.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_ENERGY
@@ -81,7 +80,7 @@ def free_arm_energy_drift(
     tr = cfg.transmission_model()
     d.qpos[st.qadr[3]] += TWIST_FRACTION * tr.twist_range_rad / st.coef_m
     d.qvel[st.dof[1]] = Q2_RATE_RAD_S
-    prm = m.numeric(L.PARAMS_NAME).data
+    prm = m.numeric(layout.PARAMS_NAME).data
     q2 = [float(d.qpos[st.qadr[1]])]
 
     def energy() -> float:

@@ -337,33 +337,6 @@ def best_throw(
     )
 
 
-def efficiency_map(
-    sigmas_deg: tuple[float, ...], speeds_deg_s: tuple[float, ...]
-) -> dict[float, list[Throw]]:
-    """Fig. 10: the best throw at each preset and motor speed."""
-    return {s: [best_throw(bench(s), v) for v in speeds_deg_s] for s in sigmas_deg}
-
-
-def throw_with_adjustment(b: Bench, v_deg_s: float, adjust: str = "ideal") -> tuple[Throw, Throw]:
-    """Fig. 12: the best constant-preset throw, and the same switch time with eq. 20."""
-    const = best_throw(b, v_deg_s)
-    if not const.feasible:
-        return const, const
-    batch = simulate_throws(b, v_deg_s * DEG, np.array([const.t_switch_s]), adjust=adjust)
-    qf = float(batch.q_dot_final[0])
-    adj = Throw(
-        v_deg_s=v_deg_s,
-        sigma_deg=const.sigma_deg,
-        feasible=bool(np.isfinite(qf)),
-        t_switch_s=const.t_switch_s,
-        link_velocity_deg_s=qf / DEG,
-        epsilon=qf / (v_deg_s * DEG),
-        phi_max_deg=float(batch.phi_max[0]) / DEG,
-        tau_j_max_nm=float(batch.tau_j_max[0]),
-    )
-    return const, adj
-
-
 # ------------------------------------------------------------------------------------ impact
 
 

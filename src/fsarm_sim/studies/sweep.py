@@ -690,9 +690,8 @@ THREADED_OUTPUTS = frozenset({"tracking", "bandwidth", "relief"})
 def pick_executor(spec: SweepSpec, executor: str = AUTO, workers: int | None = None) -> str:
     """The executor for ``executor="auto"`` (any other name is returned as it is): threads of
     this process where every point is a native simulation (outputs tracking, bandwidth,
-    relief: the stepping runs with the GIL released, and threads pay no worker start-up -
-    ``fsarm bench-speed``, 0.5.4: 2 threads 1.83-1.90x one in nine runs of ten against 1.48-1.77x
-    for 2 forked processes on 12 tracking points of 10 s), the process pool ("local") where points fit benches in Python
+    relief: the stepping runs with the GIL released, and threads pay no worker start-up; ``fsarm
+    bench-speed`` compares the two), the process pool ("local") where points fit benches in Python
     (``bench``) or step through the Python callbacks, and one worker runs the points here one
     after the other (the local executor's inline path)."""
     check_workers(workers)

@@ -63,15 +63,14 @@ neither.
 
 Seed 004's bench (``SEED004_BENCH``: single tendon; sheath stiffness, routing curvature and mu
 fitted, with ``friction_speed_rad_s``, to the six branch gaps of Tables 1 and 2 together) gives
-branch gaps within 8.2 % of both tables (``fsarm reproduce --paper 004``; until 0.5.2 the fit
-was to Table 2 alone, and Table 1's slowest row was 17 % off); the arm's defaults keep a rigid
+branch gaps within 8.2 % of both tables (``fsarm reproduce --paper 004``); the arm's defaults keep a rigid
 sheath and mu = 0.15 (estimates), whose gap is ~100x smaller.
 
 Energy (sliding, ``|z| = 1``, taut ``x > 0``): with ``tau_j = K_m x - K_d x z`` and ``tau_m`` the
 other branch, the power lost is ``tau_m vm - tau_j vj - K_m x x' = K_d x z (vm + vj)``: it is
-``K_d |x| |vm + vj| >= 0`` exactly because z follows ``sgn(vm + vj)``. (0.4.0 let z follow
-``vm`` alone, which returned energy wherever the joint end was pushed back faster than the motor
-pulled, ``vj < -vm``: a held motor with the joint pushed by hand or by a collision.) Only while
+``K_d |x| |vm + vj| >= 0`` exactly because z follows ``sgn(vm + vj)`` (a z following ``vm``
+alone would return energy wherever the joint end is pushed back faster than the motor pulls,
+``vj < -vm``: a held motor with the joint pushed by hand or by a collision). Only while
 z reverses (the stick phase, ``|z| < 1``) can the power be briefly negative: the Dahl state's
 own presliding spring.
 """

@@ -11,7 +11,7 @@ The views are found in the picture itself (:func:`find_views`): Rerun separates 
 blueprint by one-pixel lines of one grey, so the screenshot is split recursively at lines that
 cross a whole tile, the way the blueprint's containers nest. :func:`check_views` then says, per
 view, whether it is blank, and for a loop panel (a plot image with a black axes frame,
-:mod:`.loop_plot`) how much of the frame its data (blue) fill.
+:mod:`fsarm_sim.review.loop_plot`) how much of the frame its data (blue) fill.
 
 Nothing here changes a recording; it needs ``playwright`` (a dev dependency) and a Chromium
 executable (``FSARM_CHROMIUM`` or ``/usr/bin/chromium``); without one it raises

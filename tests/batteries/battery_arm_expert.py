@@ -37,9 +37,9 @@ from typing import Any
 
 import numpy as np
 
+from batteries import battery_expert as BE
 from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_synth as S
-from fsarm_sim.discrepancy import battery_expert as BE
 from fsarm_sim.discrepancy import core
 from fsarm_sim.discrepancy.arm_fit import ArmModel
 from fsarm_sim.plant import transmissions

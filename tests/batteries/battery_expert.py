@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from fsarm_sim.discrepancy import battery as B
+from batteries import battery as B
 from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.discrepancy.bench_setup import diagnose
 from fsarm_sim.discrepancy.benchmodel import BenchModel
