@@ -90,12 +90,15 @@ def _prediction_table(summary: dict[str, dict[str, Any]]) -> Table:
         table.add_column(role, justify="right")
     for v in VERDICTS:
         table.add_column(f"[{STYLE[v]}]prediction {v}[/]", justify="right")
+    table.add_column("post-hoc (not evidence)", justify="right")
     for paper, entry in summary.items():
         pred = entry["prediction"]
+        late = entry.get("post_hoc", {})
         table.add_row(
             paper,
             *(str(entry["roles"][r]) for r in ("calibration", "prediction", "consistency")),
             *(str(pred[v]) for v in VERDICTS),
+            ", ".join(f"{n} {v}" for v, n in late.items() if v != "total" and n) or "-",
             end_section=paper == list(summary)[-2] if len(summary) > 1 else False,
         )
     return table
