@@ -603,7 +603,53 @@ def adjustment_raises_joint_torque(ctx: Context) -> Measured:
     )
 
 
+ADJUSTER_LAG_MIN_DEG = 0.1  # the claim's bounds (002-adjuster-slightly-slow), estimates
+ADJUSTER_LAG_SLIGHT = 0.3
+
+
+def adjuster_slightly_slow(ctx: Context) -> Measured:
+    """Fig. 12 at sigma = 9 deg: the best eq. 20 throw through the stiffness drive (Table III
+    rate) at the speed of :func:`_adjust_speed`, traced; from the moment the adjuster leaves the
+    preset to the end of the throw, sigma against eq. 20's sigma_d = phi (clamped to the preset
+    range, as the drive is commanded)."""
+    from fsarm_sim.plant.transmissions import qa_joint as qa
+
+    qx = _qx()
+    b = qx.bench(9.0)
+    v = _adjust_speed(ctx)
+    drive = qx.best_throw(b, v, adjust="drive")
+    if not drive.feasible:
+        return Measured(ours=[False, False], text="no feasible eq. 20 throw at this speed")
+    td = qx.simulate_throws(
+        b, v * DEG, np.array([drive.t_switch_s]), adjust="drive", keep_trace=True
+    )
+    t = np.asarray(td.traces["t"])[:, 0]
+    sig = np.asarray(td.traces["sigma"])[:, 0]
+    phi = np.asarray(td.traces["phi"])[:, 0]
+    moved = np.flatnonzero(np.abs(sig - sig[0]) > 1e-9)
+    if moved.size == 0:
+        return Measured(ours=[False, False], text="the adjuster never left the preset")
+    end = float(td.t_final[0]) if np.isfinite(td.t_final[0]) else float(t[-1])
+    w = (t >= t[moved[0]]) & (t <= end)
+    lo, hi = float(b.block[qa.I_SIGMA_MIN]), float(b.block[qa.I_SIGMA_MAX])
+    sig_d = np.clip(phi[w], lo, hi)
+    lag = float(np.max(np.abs(sig[w] - sig_d))) / DEG
+    travel = (float(sig[0]) - float(np.min(sig_d))) / DEG
+    share = lag / travel if travel > 0.0 else math.inf
+    return Measured(
+        ours=[lag >= ADJUSTER_LAG_MIN_DEG, share <= ADJUSTER_LAG_SLIGHT],
+        text=f"largest |σ − σ_d| {lag:.3g}° = {100 * share:.3g} % of the {travel:.3g}° the "
+        f"preset travels ({t[moved[0]]:.3g}-{end:.3g} s, θ'_d = {v:.3g} °/s, switch "
+        f"{drive.t_switch_s:.3g} s)",
+        details={"lag_deg": lag, "travel_deg": travel, "v_deg_s": v},
+        note="the stiffness drive (Table III: full range in 0.12 s, 002-adjust-time) commanded "
+        "with σ_d = φ clamped to the preset range in the relaxation phase; same speed as "
+        "002-stiffness-adjustment-266",
+    )
+
+
 MEASURES: dict[str, MeasureFn] = {
+    "adjuster_slightly_slow": adjuster_slightly_slow,
     "low_stiffness_needs_faster": low_stiffness_needs_faster,
     "adjustment_raises_joint_torque": adjustment_raises_joint_torque,
     "speed_window": speed_window,

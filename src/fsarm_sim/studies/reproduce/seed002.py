@@ -10,7 +10,6 @@ from __future__ import annotations
 from fsarm_sim.studies.reproduce.claims import AllOf, AtMost, Between, Claim, Rel, Trend
 
 P = "002"
-PENDING = "measurement pending: the claim was written from the paper before any of ours"
 NO_IMPACT = (
     "the impact test (4.2 kg impactor at 1.07 m/s on the link, Sec. VII) runs on our bench "
     "(fsarm_sim.studies.qa_joint_experiments.impact), but its peak joint torque depends on the "
@@ -416,7 +415,7 @@ CLAIMS: tuple[Claim, ...] = (
                 "slightly: largest |σ − σ_d| ≤ 30 % of the preset's travel in the relaxation",
             )
         ),
-        not_implemented=PENDING,
+        measure="adjuster_slightly_slow",
         quick=False,
         role="prediction",
         role_why="the drive's speed comes from 002-adjust-time (calibration); nothing was "
