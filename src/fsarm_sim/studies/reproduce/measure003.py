@@ -298,7 +298,14 @@ def free_run_no_model_beats_f(ctx: Context) -> Measured:
     """Sec. 6.2: B, C, D, E against F in both classes (the claim's order of conditions)."""
     w, b, text = _free_run(ctx)
     flags = [cls[m] >= NOT_BETTER_THAN_F * cls["F"] for cls in (w, b) for m in ("B", "C", "D", "E")]
-    return Measured(ours=flags, text=text, note=FREE_RUN_NOTE)
+    return Measured(
+        ours=flags,
+        text=text,
+        note=FREE_RUN_NOTE + ". Where ours departs: our bench's output shaft has bearing drag "
+        "(y, magnetic_spring_selection.BenchConfig.output_damping_nms, an estimate) as well as "
+        "the spring's relative damping z; E models y and F models z, so beyond the critical "
+        "angle, where the output spins fast, E can follow our bench better than F",
+    )
 
 
 def free_run_critical(ctx: Context) -> Measured:
