@@ -20,7 +20,6 @@ from fsarm_sim.studies.reproduce.claims import (
 )
 
 P = "000"
-PENDING = "measurement pending: the claim was written from the paper before any of ours"
 SCRAMBLED = (
     "Table I is scrambled in the extracted text (coefficients, RMSE_p, RMSE_n and bend angles "
     "interleaved); its entries cannot be assigned to rows and columns without guessing digits "
@@ -574,7 +573,7 @@ CLAIMS: tuple[Claim, ...] = (
                 "i_G1 = 1, i_G2 = 160: the diameter needed is at most 9 mm",
             )
         ),
-        not_implemented=PENDING,
+        measure="thick_shaft_without_joint_gear",
         role="prediction",
         role_why="the rating law is the catalogue's D³ rule anchored on seed 001's 6 N·m "
         "(001-rating-6nm); nothing was chosen from this claim",
