@@ -272,6 +272,7 @@ CLAIMS: tuple[Claim, ...] = (
         quick=False,
         role="prediction",
         role_why="the bench's sheath parameters were fitted to Tables 1-2's gaps (triangle "
-        "strokes), not to eq. 23's sine run",
+        "strokes), not to eq. 23's sine run; a near prediction: the sine runs at the fitted "
+        "π/2 bend, only its speed profile differs from the fitted row",
     ),
 )
