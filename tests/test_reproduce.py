@@ -25,6 +25,7 @@ from fsarm_sim.studies.reproduce.claims import (
     Measured,
     Ranking,
     Rel,
+    Result,
     Trend,
 )
 
@@ -82,9 +83,36 @@ def test_a_malformed_claim_is_refused() -> None:
         {"role": "calibration"},  # names no parameter
         {"role": "calibration", "calibrates": ("",)},
         {"calibrates": ("k",)},  # a prediction names no calibrated parameter
+        {"role": "consistency", "post_hoc": "seen"},  # only a prediction can be post-hoc
     ):
         with pytest.raises(ClaimError):
             Claim(**{**good, **change}).validate()  # type: ignore[arg-type]
+
+
+def test_post_hoc_predictions_are_counted_apart_and_never_as_evidence() -> None:
+    base = {
+        "paper": "002",
+        "title": "t",
+        "locator": "Sec. I",
+        "quote": "q",
+        "paper_text": "1",
+        "unit": "-",
+        "tolerance": AtLeast(1.0),
+        "measure": "m",
+        "role": "prediction",
+    }
+    blind = Claim(id="002-blind", **base)  # type: ignore[arg-type]
+    late = Claim(id="002-late", post_hoc="written after ours was seen", **base)  # type: ignore[arg-type]
+    results = [Result(blind, "reproduced"), Result(late, "reproduced")]
+    s = runner.summarize(results, ["002"])["002"]
+    assert s["prediction"]["reproduced"] == 1 and s["post_hoc"]["reproduced"] == 1
+    assert s["roles"]["prediction"] == 1 and s["roles"]["post_hoc"] == 1
+    assert sum(s["roles"].values()) == s["total"] == 2
+    assert [r.as_dict()["evidence"] for r in results] == [True, False]
+    assert results[1].as_dict()["post_hoc"] == "written after ours was seen"
+    # the two claims of issue 27 written after our numbers are marked
+    marked = {c.id for c in runner.all_claims() if c.post_hoc}
+    assert {"002-efficiency-largest-where", "002-speed-window"} <= marked
 
 
 # --------------------------------------------------------------------------- verdict rules

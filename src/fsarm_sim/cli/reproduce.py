@@ -192,19 +192,29 @@ def register(app: typer.Typer) -> None:
                 console.print(_paper_table(p, by_paper[p]))
         console.print(_support_table(summary))
         pred = summary["all"]["prediction"]
-        checkable = sum(summary["all"][r]["total"] for r in ("calibration", "prediction")) - sum(
-            summary["all"][r][v]
-            for r in ("calibration", "prediction")
-            for v in ("not_implemented", "uncheckable")
-        )
-        cal = summary["all"]["calibration"]
-        cal_checkable = cal["total"] - cal["not_implemented"] - cal["uncheckable"]
+        late = summary["all"].get("post_hoc", {"total": 0})
+
+        def checkable(*rows: str) -> int:
+            return sum(
+                summary["all"][r]["total"]
+                - summary["all"][r]["not_implemented"]
+                - summary["all"][r]["uncheckable"]
+                for r in rows
+                if r in summary["all"]
+            )
+
+        cal = checkable("calibration")
+        fitted_or_predicted = checkable("calibration", "prediction", "post_hoc")
+        every = checkable("calibration", "prediction", "post_hoc", "consistency")
         total = f"{len(report.results)} of {report.planned} claims in {report.elapsed_s:.1f} s"
         console.print(
-            f"{total}{' (quick)' if quick else ''}: predictions reproduced {pred['reproduced']} "
-            f"of {pred['total']} ({pred['partly']} partly, {pred['contradicted']} contradicted); "
-            f"calibration {cal_checkable} of {checkable} checkable claims (consistency "
-            f"checks are not counted)",
+            f"{total}{' (quick)' if quick else ''}: blind predictions reproduced "
+            f"{pred['reproduced']} of {pred['total']} ({pred['partly']} partly, "
+            f"{pred['contradicted']} contradicted, {pred['not_implemented']} not implemented, "
+            f"{pred['uncheckable']} uncheckable); {late['total']} post-hoc prediction(s) not "
+            f"counted; calibration {cal} of {every} checkable claims "
+            f"({100 * cal / max(every, 1):.0f} %), {cal} of {fitted_or_predicted} without the "
+            f"consistency checks ({100 * cal / max(fitted_or_predicted, 1):.0f} %)",
             markup=False,
         )
         if json_file is not None:
