@@ -275,6 +275,26 @@ def eq19_max_error(ctx: Context) -> Measured:
     )
 
 
+def error_greatest_at_reversal(ctx: Context) -> Measured:
+    """Sec. V-B: the cycle at total bend pi/2 (``_by_bend``); per recorded step the distance of
+    theta_1 to the nearer of eq. 19's two fitted branches at the joint's angle; where the
+    largest lies (a reversal's dwell: the joint static, phases C/F, or a moving phase)."""
+    r = _by_bend(ctx)[0]
+    t1, t2, moving = r["theta1"], r["theta2"], r["moving"]
+    branch = [np.polyval([r["fits"][b][k] for k in ("P", "Q", "M")], t2) for b in ("up", "down")]
+    err = np.minimum(np.abs(t1 - branch[0]), np.abs(t1 - branch[1]))
+    i = int(np.argmax(err))
+    dwell = not bool(moving[i])
+    return Measured(
+        ours=[dwell],
+        text=f"largest nearer-branch error {err[i]:.3g} rad at θ2 = {t2[i]:+.3g} rad, "
+        + ("in a reversal's dwell" if dwell else "in a moving phase")
+        + f"; largest in the moving phases {float(np.max(err[moving])):.3g} rad",
+        details={"max_error_rad": float(err[i]), "at_theta2_rad": float(t2[i])},
+        note=NOTE + "; total bend π/2 (Sec. III), Algorithm 2's nearer branch",
+    )
+
+
 def error_vs_bend(ctx: Context) -> Measured:
     errs = [r["max_error"] for r in _by_bend(ctx)]
     return Measured(ours=errs, text="M.E. " + " → ".join(f"{e:.3g}" for e in errs) + " rad")
@@ -489,6 +509,7 @@ def eq23_gap(ctx: Context) -> Measured:
 
 
 MEASURES: dict[str, MeasureFn] = {
+    "error_greatest_at_reversal": error_greatest_at_reversal,
     "eq23_gap": eq23_gap,
     "pull_only": pull_only,
     "bandwidth_vs_wrap": bandwidth_vs_wrap,
