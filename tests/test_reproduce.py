@@ -309,6 +309,10 @@ def test_reproduce_paper_000_quick_writes_json(
             assert c["id"] in data["calibrated_parameters"][name]
     shown = capsys.readouterr().out
     assert "predictions by paper" in shown and "000-length-lever" in shown
+    # every contradicted prediction is listed with the cause its note names
+    for c in data["claims"]:
+        if c["role"] == "prediction" and c["verdict"] == "contradicted":
+            assert f"- {c['id']}: " in shown and "no cause named" not in shown
 
 
 def test_bad_paper_is_one_line_exit_2(

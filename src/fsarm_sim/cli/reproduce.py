@@ -80,6 +80,25 @@ def _paper_table(paper: str, results: list[object]) -> Table:
     return table
 
 
+CAUSE_MARK = "Where ours departs:"
+
+
+def _causes(results: list[object]) -> list[str]:
+    """One line per contradicted prediction: its id and the cause its note names (the part from
+    "Where ours departs:" on, else the whole note)."""
+    from fsarm_sim.studies.reproduce.claims import Result
+
+    lines = []
+    for r in results:
+        assert isinstance(r, Result)
+        if r.claim.role != "prediction" or r.verdict != "contradicted":
+            continue
+        note = r.note.strip()
+        cause = note[note.index(CAUSE_MARK) + len(CAUSE_MARK) :] if CAUSE_MARK in note else note
+        lines.append(f"{r.claim.id}: {cause.strip() or 'no cause named'}")
+    return lines
+
+
 def _prediction_table(summary: dict[str, dict[str, Any]]) -> Table:
     """The headline: per paper the roles' counts and the predictions' verdicts."""
     from fsarm_sim.studies.reproduce.claims import VERDICTS
@@ -190,6 +209,11 @@ def register(app: typer.Typer) -> None:
         for p in report.papers:
             if p in by_paper:
                 console.print(_paper_table(p, by_paper[p]))
+        causes = _causes(list(report.results))
+        if causes:
+            console.print("contradicted predictions and their causes:", markup=False)
+            for line in causes:
+                console.print(f"- {line}", markup=False)
         console.print(_support_table(summary))
         pred = summary["all"]["prediction"]
         late = summary["all"].get("post_hoc", {"total": 0})
