@@ -51,6 +51,9 @@ TENDON_RADII_M = (0.0010, 0.0012, 0.0015)  # Fig. 10(b)
 # bracket grows by at most this many motor steps; the root is found to the tolerance
 FIXED_POINT_ITERATIONS = 20
 FIXED_POINT_TOL_RAD = 1e-9
+TWIST_TOL_RAD = (
+    1e-13  # the twist balancing the load (Brent's method; far below any result's digits)
+)
 
 
 def _ts() -> tuple[Any, Any]:
@@ -84,13 +87,7 @@ def _solve_twist(residual: Callable[[float], float], x: float) -> float:
         lo -= 4.0 * STEP_RAD
     while residual(hi) < 0.0:
         hi += 4.0 * STEP_RAD
-    for _ in range(50):
-        mid = 0.5 * (lo + hi)
-        if residual(mid) < 0.0:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+    return float(brentq(residual, lo, hi, xtol=TWIST_TOL_RAD))
 
 
 def position_transmission(
