@@ -542,6 +542,12 @@ def calibrate_kp(
         return tracking(act, Pid(kp, 0.0, 0.0), amplitude_nm=amplitude_nm, periods=2).offset_ms
 
     lo, hi = 0.2, 200.0  # the offset falls as kp rises
+    fastest = offset(hi)
+    if fastest > target_offset_ms + 1.0:  # even the highest gain lags more: refuse at once
+        raise BenchError(
+            f"no P gain in [0.2, 200] rad/s per N*m gives a {target_offset_ms:g} ms offset on "
+            f"this bench (closest {fastest:.3g} ms at {hi:.3g})"
+        )
     for _ in range(24):
         mid = math.sqrt(lo * hi)
         if offset(mid) > target_offset_ms:
