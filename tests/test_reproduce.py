@@ -112,7 +112,11 @@ def test_post_hoc_predictions_are_counted_apart_and_never_as_evidence() -> None:
     assert results[1].as_dict()["post_hoc"] == "written after ours was seen"
     # the two claims of issue 27 written after our numbers are marked
     marked = {c.id for c in runner.all_claims() if c.post_hoc}
-    assert {"002-efficiency-largest-where", "002-speed-window"} <= marked
+    assert {
+        "002-efficiency-largest-where",
+        "002-speed-window",
+        "000-thick-shaft-without-joint-gear",
+    } <= marked
 
 
 # --------------------------------------------------------------------------- verdict rules
@@ -275,6 +279,7 @@ FIELDS = {
     "verdict",
     "why",
     "details",
+    "post_hoc",
 }
 
 
@@ -298,12 +303,17 @@ def test_reproduce_paper_000_quick_writes_json(
     summary = data["summary"]["000"]
     assert summary["total"] == len(data["claims"])
     assert sum(summary["roles"].values()) == summary["total"]
-    for role in ROLES:
+    for role in (*ROLES, "post_hoc"):
         assert sum(summary[role][v] for v in VERDICTS) == summary[role]["total"]
-        assert summary[role]["total"] == sum(c["role"] == role for c in data["claims"])
+        assert summary[role]["total"] == sum(
+            bool(c["post_hoc"]) if role == "post_hoc" else c["role"] == role and not c["post_hoc"]
+            for c in data["claims"]
+        )
     for c in data["claims"]:
         assert c["role"] in ROLES
-        assert c["evidence"] == (c["role"] == "prediction" and c["verdict"] == "reproduced")
+        assert c["evidence"] == (
+            c["role"] == "prediction" and not c["post_hoc"] and c["verdict"] == "reproduced"
+        )
         assert bool(c["calibrates"]) == (c["role"] == "calibration")
         for name in c["calibrates"]:
             assert c["id"] in data["calibrated_parameters"][name]

@@ -577,6 +577,8 @@ CLAIMS: tuple[Claim, ...] = (
         role="prediction",
         role_why="the rating law is the catalogue's D³ rule anchored on seed 001's 6 N·m "
         "(001-rating-6nm); nothing was chosen from this claim",
+        post_hoc="the readings of 'very thick' (> 13 mm) and 'thin' (≤ 9 mm) were written after "
+        "the D³ law's answer (about 18 mm and 3 mm) had been worked out by hand",
     ),
     Claim(
         id="000-k-falls-with-length",
