@@ -9,7 +9,9 @@ from fsarm_sim.studies import magnetic_spring_selection as sel
 
 @pytest.fixture(scope="module")
 def study() -> sel.Study:
-    return sel.run_study(sel.BenchConfig(trial_s=2.5), free_run=True)
+    return sel.run_study(
+        sel.BenchConfig(trial_s=2.5), free_run=True, free_run_models=("A", "F", "FL")
+    )
 
 
 def test_experiments_a_and_b_identify_the_bench(study: sel.Study) -> None:

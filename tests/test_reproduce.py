@@ -25,6 +25,7 @@ from fsarm_sim.studies.reproduce.claims import (
     Measured,
     Ranking,
     Rel,
+    Result,
     Trend,
 )
 
@@ -82,9 +83,40 @@ def test_a_malformed_claim_is_refused() -> None:
         {"role": "calibration"},  # names no parameter
         {"role": "calibration", "calibrates": ("",)},
         {"calibrates": ("k",)},  # a prediction names no calibrated parameter
+        {"role": "consistency", "post_hoc": "seen"},  # only a prediction can be post-hoc
     ):
         with pytest.raises(ClaimError):
             Claim(**{**good, **change}).validate()  # type: ignore[arg-type]
+
+
+def test_post_hoc_predictions_are_counted_apart_and_never_as_evidence() -> None:
+    base = {
+        "paper": "002",
+        "title": "t",
+        "locator": "Sec. I",
+        "quote": "q",
+        "paper_text": "1",
+        "unit": "-",
+        "tolerance": AtLeast(1.0),
+        "measure": "m",
+        "role": "prediction",
+    }
+    blind = Claim(id="002-blind", **base)  # type: ignore[arg-type]
+    late = Claim(id="002-late", post_hoc="written after ours was seen", **base)  # type: ignore[arg-type]
+    results = [Result(blind, "reproduced"), Result(late, "reproduced")]
+    s = runner.summarize(results, ["002"])["002"]
+    assert s["prediction"]["reproduced"] == 1 and s["post_hoc"]["reproduced"] == 1
+    assert s["roles"]["prediction"] == 1 and s["roles"]["post_hoc"] == 1
+    assert sum(s["roles"].values()) == s["total"] == 2
+    assert [r.as_dict()["evidence"] for r in results] == [True, False]
+    assert results[1].as_dict()["post_hoc"] == "written after ours was seen"
+    # the two claims of issue 27 written after our numbers are marked
+    marked = {c.id for c in runner.all_claims() if c.post_hoc}
+    assert {
+        "002-efficiency-largest-where",
+        "002-speed-window",
+        "000-thick-shaft-without-joint-gear",
+    } <= marked
 
 
 # --------------------------------------------------------------------------- verdict rules
@@ -247,6 +279,7 @@ FIELDS = {
     "verdict",
     "why",
     "details",
+    "post_hoc",
 }
 
 
@@ -270,17 +303,26 @@ def test_reproduce_paper_000_quick_writes_json(
     summary = data["summary"]["000"]
     assert summary["total"] == len(data["claims"])
     assert sum(summary["roles"].values()) == summary["total"]
-    for role in ROLES:
+    for role in (*ROLES, "post_hoc"):
         assert sum(summary[role][v] for v in VERDICTS) == summary[role]["total"]
-        assert summary[role]["total"] == sum(c["role"] == role for c in data["claims"])
+        assert summary[role]["total"] == sum(
+            bool(c["post_hoc"]) if role == "post_hoc" else c["role"] == role and not c["post_hoc"]
+            for c in data["claims"]
+        )
     for c in data["claims"]:
         assert c["role"] in ROLES
-        assert c["evidence"] == (c["role"] == "prediction" and c["verdict"] == "reproduced")
+        assert c["evidence"] == (
+            c["role"] == "prediction" and not c["post_hoc"] and c["verdict"] == "reproduced"
+        )
         assert bool(c["calibrates"]) == (c["role"] == "calibration")
         for name in c["calibrates"]:
             assert c["id"] in data["calibrated_parameters"][name]
     shown = capsys.readouterr().out
     assert "predictions by paper" in shown and "000-length-lever" in shown
+    # every contradicted prediction is listed with the cause its note names
+    for c in data["claims"]:
+        if c["role"] == "prediction" and c["verdict"] == "contradicted":
+            assert f"- {c['id']}: " in shown and "no cause named" not in shown
 
 
 def test_bad_paper_is_one_line_exit_2(

@@ -100,3 +100,14 @@ def test_free_run_claims_read_both_classes() -> None:
     ctx.memo["003/study"] = _Study({"beyond 31.5° (9 trials)": {"A": 1.0, "F": 1.0}})
     with pytest.raises(ValueError, match="lacks a class"):
         measure003.free_run_critical(ctx)
+
+
+def test_no_model_beats_f_flags_each_model_and_class() -> None:
+    ctx = Context()
+    within = {"A": 10.0, "B": 0.8, "C": 0.8, "D": 0.6, "E": 0.49, "F": 0.5, "AL": 9.0, "FL": 3.0}
+    beyond = {"A": 300.0, "B": 1.5, "C": 1.6, "D": 1.3, "E": 1.1, "F": 1.3, "AL": 480.0, "FL": 97.0}
+    ctx.memo["003/study"] = _Study({"within ±31.5° (2 trials)": within, "beyond 31.5°": beyond})
+    # E within 2 % of F is not better (5 % tie); E beyond, 15 % below F, is
+    assert measure003.free_run_no_model_beats_f(ctx).ours == [True] * 7 + [False]
+    # the beyond-class claim still compares F with A, F, A_L, F_L only
+    assert measure003.free_run_beyond(ctx).ours == [True, True, True]

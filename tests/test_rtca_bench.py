@@ -29,6 +29,8 @@ def test_bad_inputs_raise_named_errors() -> None:
         rb.run(ACT, rb.Pid(1.0, 0.0, 0.0), np.full(10, math.nan))
     with pytest.raises(rb.BenchError, match="theta_s"):
         rb.run(ACT, rb.Pid(1.0, 0.0, 0.0), td, theta_s=np.zeros(3))
+    with pytest.raises(rb.BenchError, match="bend_rad"):
+        rb.run(ACT, rb.Pid(1.0, 0.0, 0.0), td, bend_rad=np.full(td.size, -0.1))
     with pytest.raises(rb.BenchError, match="quadrature"):
         rb.with_(ACT, quadrature=3)
     with pytest.raises(rb.BenchError, match="velocity_bw_hz"):
@@ -253,3 +255,19 @@ def test_fig12_rise_below_peak_reads_the_bands_below_every_bends_peak() -> None:
     assert list(bands) == ["0.5 Hz", "1 Hz", "2 Hz"]  # below the lower (bent) peak only
     assert bands["2 Hz"] == [3.0, 3.3]
     np.testing.assert_array_equal(fig.rows[0].side(below=False), [4])
+
+
+def test_a_bend_per_cycle_is_the_bend_of_its_radius_and_moves_the_estimate() -> None:
+    td = 3.0 * np.sin(2.0 * math.pi * np.arange(_steps(0.3)) * ACT.ctrl_dt_s)
+    pid = rb.Pid(KP, 0.0, 0.0)
+    bend = rb.bend_of(0.300, ACT.shaft_block())
+    held = rb.run(ACT, pid, td, radius_m=0.300)
+    per_cycle = rb.run(ACT, pid, td, bend_rad=np.full(td.size, bend))
+    np.testing.assert_array_equal(held.tau_est, per_cycle.tau_est)
+    # the knee bending halfway through: the first half as straight, the second as bent
+    half = np.where(np.arange(td.size) < td.size // 2, 0.0, bend)
+    moving = rb.run(ACT, pid, td, bend_rad=half)
+    straight = rb.run(ACT, pid, td)
+    k = td.size // 2
+    np.testing.assert_array_equal(moving.tau_est[:k], straight.tau_est[:k])
+    assert not np.array_equal(moving.tau_est[k:], straight.tau_est[k:])

@@ -80,6 +80,25 @@ def _paper_table(paper: str, results: list[object]) -> Table:
     return table
 
 
+CAUSE_MARK = "Where ours departs:"
+
+
+def _causes(results: list[object]) -> list[str]:
+    """One line per contradicted prediction: its id and the cause its note names (the part from
+    "Where ours departs:" on, else the whole note)."""
+    from fsarm_sim.studies.reproduce.claims import Result
+
+    lines = []
+    for r in results:
+        assert isinstance(r, Result)
+        if r.claim.role != "prediction" or r.verdict != "contradicted":
+            continue
+        note = r.note.strip()
+        cause = note[note.index(CAUSE_MARK) + len(CAUSE_MARK) :] if CAUSE_MARK in note else note
+        lines.append(f"{r.claim.id}: {cause.strip() or 'no cause named'}")
+    return lines
+
+
 def _prediction_table(summary: dict[str, dict[str, Any]]) -> Table:
     """The headline: per paper the roles' counts and the predictions' verdicts."""
     from fsarm_sim.studies.reproduce.claims import VERDICTS
@@ -90,12 +109,15 @@ def _prediction_table(summary: dict[str, dict[str, Any]]) -> Table:
         table.add_column(role, justify="right")
     for v in VERDICTS:
         table.add_column(f"[{STYLE[v]}]prediction {v}[/]", justify="right")
+    table.add_column("post-hoc (not evidence)", justify="right")
     for paper, entry in summary.items():
         pred = entry["prediction"]
+        late = entry.get("post_hoc", {})
         table.add_row(
             paper,
             *(str(entry["roles"][r]) for r in ("calibration", "prediction", "consistency")),
             *(str(pred[v]) for v in VERDICTS),
+            ", ".join(f"{n} {v}" for v, n in late.items() if v != "total" and n) or "-",
             end_section=paper == list(summary)[-2] if len(summary) > 1 else False,
         )
     return table
@@ -241,21 +263,36 @@ def register(app: typer.Typer) -> None:
         for p in report.papers:
             if p in by_paper:
                 console.print(_paper_table(p, by_paper[p]))
+        causes = _causes(list(report.results))
+        if causes:
+            console.print("contradicted predictions and their causes:", markup=False)
+            for line in causes:
+                console.print(f"- {line}", markup=False)
         console.print(_support_table(summary))
         pred = summary["all"]["prediction"]
-        checkable = sum(summary["all"][r]["total"] for r in ("calibration", "prediction")) - sum(
-            summary["all"][r][v]
-            for r in ("calibration", "prediction")
-            for v in ("not_implemented", "uncheckable")
-        )
-        cal = summary["all"]["calibration"]
-        cal_checkable = cal["total"] - cal["not_implemented"] - cal["uncheckable"]
+        late = summary["all"].get("post_hoc", {"total": 0})
+
+        def checkable(*rows: str) -> int:
+            return sum(
+                summary["all"][r]["total"]
+                - summary["all"][r]["not_implemented"]
+                - summary["all"][r]["uncheckable"]
+                for r in rows
+                if r in summary["all"]
+            )
+
+        cal = checkable("calibration")
+        fitted_or_predicted = checkable("calibration", "prediction", "post_hoc")
+        every = checkable("calibration", "prediction", "post_hoc", "consistency")
         total = f"{len(report.results)} of {report.planned} claims in {report.elapsed_s:.1f} s"
         console.print(
-            f"{total}{' (quick)' if quick else ''}: predictions reproduced {pred['reproduced']} "
-            f"of {pred['total']} ({pred['partly']} partly, {pred['contradicted']} contradicted); "
-            f"calibration {cal_checkable} of {checkable} checkable claims (consistency "
-            f"checks are not counted)",
+            f"{total}{' (quick)' if quick else ''}: blind predictions reproduced "
+            f"{pred['reproduced']} of {pred['total']} ({pred['partly']} partly, "
+            f"{pred['contradicted']} contradicted, {pred['not_implemented']} not implemented, "
+            f"{pred['uncheckable']} uncheckable); {late['total']} post-hoc prediction(s) not "
+            f"counted; calibration {cal} of {every} checkable claims "
+            f"({100 * cal / max(every, 1):.0f} %), {cal} of {fitted_or_predicted} without the "
+            f"consistency checks ({100 * cal / max(fitted_or_predicted, 1):.0f} %)",
             markup=False,
         )
         if json_file is not None:

@@ -245,12 +245,15 @@ def run(
     *,
     radius_m: float = math.inf,
     theta_s: Array | None = None,
+    bend_rad: Array | None = None,
 ) -> BenchRun:
     """Run the cascade on ``tau_des`` (one value per control cycle, as logged: the loop acts on
     it ``reference_delay_s`` later).
 
     ``theta_s``: the output angle per cycle (what the load motor delivers: :func:`load_motion`
     turns its chirp into that, Sec. 4.2); ``None`` blocks the output (Fig. 4A, Sec. 4.1).
+    ``bend_rad``: the law's bend angle per cycle (Sec. 5.1: the knee bending the shaft while it
+    works; the estimate reads it as the knee encoder does); ``None`` holds ``radius_m``'s.
     """
     act.check()
     tau_des = np.asarray(tau_des, dtype=float)
@@ -271,6 +274,10 @@ def run(
     band = rtca.slip_band_rad(tr, 0.0)
     k_fr = rtca.slip_k(tr) * tr[rtca.I_SCALE] * (CORE_FRICTION_FACTOR if core else 1.0)
     bend = bend_of(radius_m, tr)
+    if bend_rad is not None:
+        bends = np.asarray(bend_rad, dtype=float)
+        if bends.shape != tau_des.shape or not np.all(np.isfinite(bends)) or np.any(bends < 0):
+            raise BenchError("bend_rad must be finite, >= 0 and as long as tau_des")
     if core and tr[rtca.I_SLIP_F] > 0.0:
         band = rtca.slip_band_rad(tr, bend)
     dt = act.ctrl_dt_s
@@ -300,6 +307,10 @@ def run(
     res = {k: np.empty(n) for k in ("est", "true", "sens", "thm", "cmd")}
     n_sat = 0
     for k in range(n):
+        if bend_rad is not None and bends[k] != bend:
+            bend = float(bends[k])
+            if core and tr[rtca.I_SLIP_F] > 0.0:
+                band = rtca.slip_band_rad(tr, bend)
         ths = out[k]  # the output angle at the start of cycle k
         ths_next = out[k + 1] if k + 1 < n else ths
         v_s = (ths_next - ths) / dt
@@ -531,6 +542,12 @@ def calibrate_kp(
         return tracking(act, Pid(kp, 0.0, 0.0), amplitude_nm=amplitude_nm, periods=2).offset_ms
 
     lo, hi = 0.2, 200.0  # the offset falls as kp rises
+    fastest = offset(hi)
+    if fastest > target_offset_ms + 1.0:  # even the highest gain lags more: refuse at once
+        raise BenchError(
+            f"no P gain in [0.2, 200] rad/s per N*m gives a {target_offset_ms:g} ms offset on "
+            f"this bench (closest {fastest:.3g} ms at {hi:.3g})"
+        )
     for _ in range(24):
         mid = math.sqrt(lo * hi)
         if offset(mid) > target_offset_ms:

@@ -22,7 +22,9 @@ Verdicts (:data:`VERDICTS`):
 Roles (:data:`ROLES`): every claim says what it is to the model, so that fitting and checking stay
 apart (issue 27):
 
-* ``prediction``   - nothing in the model was chosen from it: the only evidence of fidelity;
+* ``prediction``   - nothing in the model was chosen from it: the only evidence of fidelity
+  (a prediction written after ours was seen says so in ``post_hoc`` and is counted apart, never
+  as evidence);
 * ``calibration``  - a parameter was chosen or fitted from it (``calibrates`` names which); its
   verdict says the calibration holds, not that the model predicts it;
 * ``consistency``  - a number transcribed into the model, a formula checked against itself, a
@@ -418,6 +420,9 @@ class Claim:
     role: str = ""  # one of ROLES (module docstring); required
     calibrates: tuple[str, ...] = ()  # calibration: the parameter(s) chosen/fitted from it
     role_why: str = ""  # why this role: which parameter, transcription or identity
+    # a prediction written (or its tolerance chosen) after ours was seen: what was seen. It is
+    # reported apart from the blind predictions and never counts as reproduced.
+    post_hoc: str = ""
 
     def __post_init__(self) -> None:
         self.check_role()
@@ -444,12 +449,17 @@ class Claim:
                 f"{self.id}: only a calibration claim names calibrated parameters "
                 f"(role {self.role!r}, calibrates {self.calibrates!r})"
             )
+        if self.post_hoc and self.role != "prediction":
+            raise ClaimError(
+                f"{self.id}: only a prediction can be marked post_hoc (role {self.role!r})"
+            )
 
     @property
     def counts_as_reproduced(self) -> bool:
-        """Only a prediction's verdict is evidence (a calibration or consistency claim that
-        holds says the model was built from it)."""
-        return self.role == "prediction"
+        """Only a blind prediction's verdict is evidence (a calibration or consistency claim
+        that holds says the model was built from it; a post-hoc prediction was written after
+        ours was seen)."""
+        return self.role == "prediction" and not self.post_hoc
 
     def validate(self) -> None:
         self.check_role()
@@ -522,6 +532,7 @@ class Result:
             "role": c.role,
             "calibrates": list(c.calibrates),
             "role_why": c.role_why,
+            "post_hoc": c.post_hoc,
             "evidence": c.counts_as_reproduced and self.verdict == "reproduced",
             "failed": self.failed,
             "seconds": round(self.seconds, 3),

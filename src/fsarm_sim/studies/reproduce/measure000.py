@@ -548,6 +548,36 @@ def prototype_rating(ctx: Context) -> Measured:
     return Measured(ours=r, text=f"{r:.3g} N·m")
 
 
+TAU3_NOM_NM = 67.0  # Table III
+GEAR_TOTAL = 16.0 * 10.0  # the prototype's i_G1 * i_G2 (Sec. IV-A2)
+
+
+def _diameter_for(cat: Any, torque_nm: float) -> float:
+    """The smallest diameter whose rating carries ``torque_nm`` (the rating rises with D)."""
+    lo, hi = 0.1, 100.0
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        if cat.rating_nm(mid) < torque_nm:
+            lo = mid
+        else:
+            hi = mid
+    return hi
+
+
+def thick_shaft_without_joint_gear(ctx: Context) -> Measured:
+    cat = _catalogue()
+    d_direct = _diameter_for(cat, TAU3_NOM_NM)
+    d_geared = _diameter_for(cat, TAU3_NOM_NM / GEAR_TOTAL)
+    largest = max(s.diameter_mm for s in cat.shafts)
+    return Measured(
+        ours=[d_direct > largest, d_geared <= 9.0],
+        text=f"D needed for {TAU3_NOM_NM:g} N·m: {d_direct:.3g} mm with i_G2 = 1 (largest of "
+        f"the nine {largest:g} mm); {d_geared:.3g} mm with i_G2 = {GEAR_TOTAL:g}",
+        details={"d_direct_mm": d_direct, "d_geared_mm": d_geared},
+        note="the catalogue's rating law (D³ rule, anchored on seed 001's 6 N·m at 8 mm)",
+    )
+
+
 def _grid(cat: Any) -> tuple[np.ndarray, np.ndarray]:
     d = np.linspace(cat.diameter_range[0], cat.diameter_range[1], 10)
     ell = np.linspace(cat.length_range[0], cat.length_range[1], 7)
@@ -835,6 +865,7 @@ def unwinding_softer_everywhere(ctx: Context) -> Measured:
 
 
 MEASURES: dict[str, MeasureFn] = {
+    "thick_shaft_without_joint_gear": thick_shaft_without_joint_gear,
     "fig14_loaded": fig14_loaded,
     "bending_assists_gravity": bending_assists_gravity,
     "static_relief_on_arm": static_relief_on_arm,

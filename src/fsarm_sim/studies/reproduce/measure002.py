@@ -603,7 +603,124 @@ def adjustment_raises_joint_torque(ctx: Context) -> Measured:
     )
 
 
+# Sec. VII gives no lever arm r of the impact point: the claims are judged at every r of this
+# range (estimate: a forearm-length link, 0.3-0.6 m, for the link's 0.524 kg m^2 of Table V;
+# fixed before any impact was run for the report); ours is the worst case over r
+IMPACT_LEVERS_M = (0.3, 0.45, 0.6)
+IMPACT_STIFFEST_DEG, IMPACT_SOFTEST_DEG = 3.0, 15.0  # "covering the entire range" (Table IV)
+IMPACT_NOTE = (
+    "4.2 kg at 1.07 m/s on the link at lever arm r (not printed: judged at every r of "
+    "{levers} m, the worst case), the joint in position control (Table V's PD), a stiff "
+    "linear contact (qa_joint_experiments.impact, estimates)"
+)
+
+
+def _impacts(ctx: Context) -> dict[tuple[float, float], float]:
+    """Peak |tau_J| per (preset, lever arm)."""
+    qx = _qx()
+    return ctx.once(
+        "002/impacts",
+        lambda: {
+            (s, r): qx.impact(s, r).peak_joint_torque_nm
+            for s in (IMPACT_STIFFEST_DEG, IMPACT_SOFTEST_DEG)
+            for r in IMPACT_LEVERS_M
+        },
+    )
+
+
+def _impact_text(peaks: dict[tuple[float, float], float]) -> str:
+    return "; ".join(
+        f"r = {r:g} m: σ {IMPACT_STIFFEST_DEG:g}° {peaks[(IMPACT_STIFFEST_DEG, r)]:.3g} N·m, "
+        f"σ {IMPACT_SOFTEST_DEG:g}° {peaks[(IMPACT_SOFTEST_DEG, r)]:.3g} N·m"
+        for r in IMPACT_LEVERS_M
+    )
+
+
+def impact_below_capacity(ctx: Context) -> Measured:
+    peaks = _impacts(ctx)
+    worst = max(peaks[(IMPACT_STIFFEST_DEG, r)] for r in IMPACT_LEVERS_M)
+    return Measured(
+        ours=worst,
+        text=f"largest peak |τ_J| at σ = {IMPACT_STIFFEST_DEG:g}°: {worst:.3g} N·m; "
+        + _impact_text(peaks),
+        details={f"{s:g}/{r:g}": v for (s, r), v in peaks.items()},
+        note=IMPACT_NOTE.format(levers="/".join(f"{r:g}" for r in IMPACT_LEVERS_M))
+        + ". Where ours departs: the lever arm does not set the verdict (above 40 N·m at every "
+        "r), the contact does: ours is nearly elastic (damping ratio 0.05, an estimate for "
+        "metal on metal; the paper prints no restitution), so the link takes almost twice the "
+        "impactor's momentum share; a more dissipative contact (damping ratio 0.3, checked once "
+        "at r = 0.45 m) gives 34.9 N·m, below 40. Not tuned to this claim",
+    )
+
+
+def impact_halved(ctx: Context) -> Measured:
+    peaks = _impacts(ctx)
+    ratios = [
+        peaks[(IMPACT_SOFTEST_DEG, r)] / peaks[(IMPACT_STIFFEST_DEG, r)] for r in IMPACT_LEVERS_M
+    ]
+    worst = max(ratios, key=lambda q: abs(q / 0.5 - 1.0))
+    return Measured(
+        ours=worst,
+        text="peak |τ_J| σ 15° / σ 3°: "
+        + ", ".join(f"{q:.3g} (r = {r:g} m)" for q, r in zip(ratios, IMPACT_LEVERS_M, strict=True))
+        + f"; judged: {worst:.3g}",
+        details={"ratios": ratios, "levers_m": list(IMPACT_LEVERS_M)},
+        note=IMPACT_NOTE.format(levers="/".join(f"{r:g}" for r in IMPACT_LEVERS_M))
+        + "; the ratio farthest from the paper's 0.5 is judged",
+    )
+
+
+ADJUSTER_LAG_MIN_DEG = 0.1  # the claim's bounds (002-adjuster-slightly-slow), estimates
+ADJUSTER_LAG_SLIGHT = 0.3
+
+
+def adjuster_slightly_slow(ctx: Context) -> Measured:
+    """Fig. 12 at sigma = 9 deg: the best eq. 20 throw through the stiffness drive (Table III
+    rate) at the speed of :func:`_adjust_speed`, traced; from the moment the adjuster leaves the
+    preset to the end of the throw, sigma against eq. 20's sigma_d = phi (clamped to the preset
+    range, as the drive is commanded)."""
+    from fsarm_sim.plant.transmissions import qa_joint as qa
+
+    qx = _qx()
+    b = qx.bench(9.0)
+    v = _adjust_speed(ctx)
+    drive = qx.best_throw(b, v, adjust="drive")
+    if not drive.feasible:
+        return Measured(ours=[False, False], text="no feasible eq. 20 throw at this speed")
+    td = qx.simulate_throws(
+        b, v * DEG, np.array([drive.t_switch_s]), adjust="drive", keep_trace=True
+    )
+    t = np.asarray(td.traces["t"])[:, 0]
+    sig = np.asarray(td.traces["sigma"])[:, 0]
+    phi = np.asarray(td.traces["phi"])[:, 0]
+    moved = np.flatnonzero(np.abs(sig - sig[0]) > 1e-9)
+    if moved.size == 0:
+        return Measured(ours=[False, False], text="the adjuster never left the preset")
+    end = float(td.t_final[0]) if np.isfinite(td.t_final[0]) else float(t[-1])
+    w = (t >= t[moved[0]]) & (t <= end)
+    lo, hi = float(b.block[qa.I_SIGMA_MIN]), float(b.block[qa.I_SIGMA_MAX])
+    sig_d = np.clip(phi[w], lo, hi)
+    lag = float(np.max(np.abs(sig[w] - sig_d))) / DEG
+    travel = (float(sig[0]) - float(np.min(sig_d))) / DEG
+    share = lag / travel if travel > 0.0 else math.inf
+    return Measured(
+        ours=[lag >= ADJUSTER_LAG_MIN_DEG, share <= ADJUSTER_LAG_SLIGHT],
+        text=f"largest |σ − σ_d| {lag:.3g}° = {100 * share:.3g} % of the {travel:.3g}° the "
+        f"preset travels ({t[moved[0]]:.3g}-{end:.3g} s, θ'_d = {v:.3g} °/s, switch "
+        f"{drive.t_switch_s:.3g} s)",
+        details={"lag_deg": lag, "travel_deg": travel, "v_deg_s": v},
+        note="the stiffness drive (Table III: full range in 0.12 s, 002-adjust-time) commanded "
+        "with σ_d = φ clamped to the preset range in the relaxation phase; same speed as "
+        "002-stiffness-adjustment-266. The 30 % bound of 'slightly' is the claim's estimate; "
+        "the drive's rate and its first-order lag are the module's (qa_joint: sigma_rate, "
+        "sigma_tau)",
+    )
+
+
 MEASURES: dict[str, MeasureFn] = {
+    "impact_below_capacity": impact_below_capacity,
+    "impact_halved": impact_halved,
+    "adjuster_slightly_slow": adjuster_slightly_slow,
     "low_stiffness_needs_faster": low_stiffness_needs_faster,
     "adjustment_raises_joint_torque": adjustment_raises_joint_torque,
     "speed_window": speed_window,

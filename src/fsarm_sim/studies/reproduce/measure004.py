@@ -51,6 +51,9 @@ TENDON_RADII_M = (0.0010, 0.0012, 0.0015)  # Fig. 10(b)
 # bracket grows by at most this many motor steps; the root is found to the tolerance
 FIXED_POINT_ITERATIONS = 20
 FIXED_POINT_TOL_RAD = 1e-9
+TWIST_TOL_RAD = (
+    1e-13  # the twist balancing the load (Brent's method; far below any result's digits)
+)
 
 
 def _ts() -> tuple[Any, Any]:
@@ -84,13 +87,7 @@ def _solve_twist(residual: Callable[[float], float], x: float) -> float:
         lo -= 4.0 * STEP_RAD
     while residual(hi) < 0.0:
         hi += 4.0 * STEP_RAD
-    for _ in range(50):
-        mid = 0.5 * (lo + hi)
-        if residual(mid) < 0.0:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+    return float(brentq(residual, lo, hi, xtol=TWIST_TOL_RAD))
 
 
 def position_transmission(
@@ -272,6 +269,26 @@ def eq19_max_error(ctx: Context) -> Measured:
         note="each condition's maximal error (both directions) at the three bends and speeds; "
         "our transmission is noise-free and its joint encoder needs no compensation (eq. 15), "
         "so eq. 19 fits it closer than the paper's measurements",
+    )
+
+
+def error_greatest_at_reversal(ctx: Context) -> Measured:
+    """Sec. V-B: the cycle at total bend pi/2 (``_by_bend``); per recorded step the distance of
+    theta_1 to the nearer of eq. 19's two fitted branches at the joint's angle; where the
+    largest lies (a reversal's dwell: the joint static, phases C/F, or a moving phase)."""
+    r = _by_bend(ctx)[0]
+    t1, t2, moving = r["theta1"], r["theta2"], r["moving"]
+    branch = [np.polyval([r["fits"][b][k] for k in ("P", "Q", "M")], t2) for b in ("up", "down")]
+    err = np.minimum(np.abs(t1 - branch[0]), np.abs(t1 - branch[1]))
+    i = int(np.argmax(err))
+    dwell = not bool(moving[i])
+    return Measured(
+        ours=[dwell],
+        text=f"largest nearer-branch error {err[i]:.3g} rad at θ2 = {t2[i]:+.3g} rad, "
+        + ("in a reversal's dwell" if dwell else "in a moving phase")
+        + f"; largest in the moving phases {float(np.max(err[moving])):.3g} rad",
+        details={"max_error_rad": float(err[i]), "at_theta2_rad": float(t2[i])},
+        note=NOTE + "; total bend π/2 (Sec. III), Algorithm 2's nearer branch",
     )
 
 
@@ -489,6 +506,7 @@ def eq23_gap(ctx: Context) -> Measured:
 
 
 MEASURES: dict[str, MeasureFn] = {
+    "error_greatest_at_reversal": error_greatest_at_reversal,
     "eq23_gap": eq23_gap,
     "pull_only": pull_only,
     "bandwidth_vs_wrap": bandwidth_vs_wrap,

@@ -129,21 +129,28 @@ def summarize(results: Sequence[Result], papers: Sequence[str]) -> dict[str, dic
     """Per paper (and ``all``): how many claims of each role (``roles``), and for each role the
     counts per verdict with their ``total``. Only the ``prediction`` row is evidence: a
     calibration claim that holds says the fit holds, a consistency claim that holds says the
-    code carries the paper's number or formula; neither counts as reproduced."""
+    code carries the paper's number or formula; neither counts as reproduced. The
+    ``prediction`` row counts the blind predictions only; those written after ours was seen
+    (``Claim.post_hoc``) have their own row, ``post_hoc``, and ``roles`` counts them apart."""
     out: dict[str, dict[str, Any]] = {}
     for p in [*papers, "all"]:
         mine = [r for r in results if p in ("all", r.claim.paper)]
         entry: dict[str, Any] = {"roles": {role: 0 for role in ROLES}, "total": len(mine)}
-        for role in ROLES:
+        for role in (*ROLES, "post_hoc"):
             row: dict[str, int] = {v: 0 for v in VERDICTS}
             for r in mine:
-                if r.claim.role == role:
+                if _row_of(r.claim) == role:
                     row[r.verdict] += 1
             row["total"] = sum(row[v] for v in VERDICTS)
             entry["roles"][role] = row["total"]
             entry[role] = row
         out[p] = entry
     return out
+
+
+def _row_of(claim: Claim) -> str:
+    """The summary row a claim counts in: its role, or ``post_hoc`` for a post-hoc prediction."""
+    return "post_hoc" if claim.post_hoc else claim.role
 
 
 def calibrated_parameters(claims: Sequence[Claim]) -> dict[str, list[str]]:

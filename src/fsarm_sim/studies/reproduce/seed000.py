@@ -554,6 +554,33 @@ CLAIMS: tuple[Claim, ...] = (
         "not chosen from this claim",
     ),
     Claim(
+        id="000-thick-shaft-without-joint-gear",
+        paper=P,
+        title="without a gearbox at joint 3 the shaft must be very thick; with all of it there, "
+        "thin",
+        locator="Sec. IV-A, Fig. 11",
+        quote="i_G1 = 1, i_G2 ≠ 1 allows for a selection of thin, flexible shaft with a gearbox "
+        "to be placed at joint 3 ... i_G1 ≠ 1, i_G2 = 1 could be ideal for low moving mass but "
+        "requires a very thick flexible shaft for high joint torque requirements",
+        paper_text="the diameter whose rating carries τ_3nom = 67 N·m: with i_G2 = 1 above the "
+        "nine shafts' largest, 13 mm ('very thick'); with the prototype's whole reduction at "
+        "joint 3 (i_G1 = 1, i_G2 = 16 × 10) at most the prototype's 9 mm ('thin'); both "
+        "readings are estimates, the paper gives no diameters",
+        unit="-",
+        tolerance=AllOf(
+            (
+                "i_G2 = 1: the diameter needed for 67 N·m exceeds 13 mm",
+                "i_G1 = 1, i_G2 = 160: the diameter needed is at most 9 mm",
+            )
+        ),
+        measure="thick_shaft_without_joint_gear",
+        role="prediction",
+        role_why="the rating law is the catalogue's D³ rule anchored on seed 001's 6 N·m "
+        "(001-rating-6nm); nothing was chosen from this claim",
+        post_hoc="the readings of 'very thick' (> 13 mm) and 'thin' (≤ 9 mm) were written after "
+        "the D³ law's answer (about 18 mm and 3 mm) had been worked out by hand",
+    ),
+    Claim(
         id="000-k-falls-with-length",
         paper=P,
         title="series and bending stiffness fall with length",

@@ -459,6 +459,42 @@ CLAIMS: tuple[Claim, ...] = (
         role_why="nothing in the model was chosen from it",
     ),
     Claim(
+        id="001-impedance-becomes-shaft-above-peak",
+        paper=P,
+        title="Fig. 12: from the resonance on, the output impedance is the shaft's own",
+        locator="Sec. 4.2.1, Fig. 12",
+        quote="as the frequency increases, the controller displays higher impedance values, and "
+        "therefore lower transparency, until the resonance point is achieved where the output "
+        "impedance becomes the flexible shaft's mechanical impedance",
+        paper_text="|T̂_s/θ̇_s| in the bands above the peak ≈ the held shaft's μK/ω, at every "
+        "bend (the paper gives no number: within ×2 counts, an estimate; at low frequency the "
+        "controller keeps |Z| below 10 % of it, 001-transparent-low-frequency)",
+        paper_value=1.0,
+        unit="-",
+        tolerance=Factor(2.0, partly=4.0),
+        measure="fig12_shaft_above_peak",
+        role="prediction",
+        role_why="nothing in the model was chosen from it (written before the bands above the "
+        "peak were looked at)",
+    ),
+    Claim(
+        id="001-deadzone-error-near-zero",
+        paper=P,
+        title="the dead zone lowers the tracking accuracy for torques close to 0 N·m",
+        locator="Sec. 4.1.1, Fig. 9",
+        quote="the presence of the deadzone could not be totally compensated, decreasing the "
+        "accuracy of the controller for torques close to 0 Nm",
+        paper_text="1 Hz, 6 N·m sine: RMS tracking error (sensor, the loop's mean offset removed) "
+        "where |T_des| < 1 N·m ≥ 1.2 × where |T_des| ≥ 1 N·m (the paper gives no number; the "
+        "band and the 1.2 are estimates of 'close to 0' and 'decreasing')",
+        unit="-",
+        tolerance=AtLeast(1.2, partly=1.0),
+        measure="bench_deadzone_error",
+        role="prediction",
+        role_why="nothing in the model was chosen from it (the dead zone is Table 1's law, "
+        "001-deadzone)",
+    ),
+    Claim(
         id="001-zn-pid",
         paper=P,
         title="the torque loop is a PID tuned by Ziegler-Nichols",
