@@ -20,8 +20,8 @@ from fsarm_sim.studies.reproduce.targets import claim_value
 # transmission's default block, the benches' settings. Run as: python -c SNAPSHOT ROLE
 SNAPSHOT = r"""
 import dataclasses, json, sys
-from fsarm_sim.studies.reproduce import seed000, seed001, seed002, seed003, seed004
 from fsarm_sim.studies.reproduce import claims as C
+from fsarm_sim.studies.reproduce import claims_file
 
 ROLE = sys.argv[1]
 SCALE = 1.5
@@ -44,10 +44,11 @@ def moved(c):
 
 
 n = 0
-for seed in (seed000, seed001, seed002, seed003, seed004):
-    new = tuple(moved(c) if c.role == ROLE else c for c in seed.CLAIMS)
-    n += sum(a != b for a, b in zip(new, seed.CLAIMS))
-    seed.CLAIMS = new
+for paper in C.PAPERS:
+    old = claims_file.paper_claims(paper)
+    new = tuple(moved(c) if c.role == ROLE else c for c in old)
+    n += sum(a != b for a, b in zip(new, old))
+    claims_file.LOADED[paper] = new
 
 from fsarm_sim.engine.model import SimConfig
 from fsarm_sim.plant import transmissions

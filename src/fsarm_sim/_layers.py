@@ -47,11 +47,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
             "paths",
             # the papers' claims are declared data, read by calibration code below studies
             "studies.reproduce.claims",
-            "studies.reproduce.seed000",
-            "studies.reproduce.seed001",
-            "studies.reproduce.seed002",
-            "studies.reproduce.seed003",
-            "studies.reproduce.seed004",
+            "studies.reproduce.claims_file",
             "studies.reproduce.targets",
         ),
     ),

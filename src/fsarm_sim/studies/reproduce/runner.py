@@ -32,11 +32,6 @@ from fsarm_sim.studies.reproduce import (
     measure002,
     measure003,
     measure004,
-    seed000,
-    seed001,
-    seed002,
-    seed003,
-    seed004,
 )
 from fsarm_sim.studies.reproduce.claims import (
     PAPERS,
@@ -49,13 +44,14 @@ from fsarm_sim.studies.reproduce.claims import (
     Result,
     judge,
 )
+from fsarm_sim.studies.reproduce.claims_file import paper_claims
 
 REGISTRY: dict[str, tuple[tuple[Claim, ...], dict[str, MeasureFn]]] = {
-    "000": (seed000.CLAIMS, measure000.MEASURES),
-    "001": (seed001.CLAIMS, measure001.MEASURES),
-    "002": (seed002.CLAIMS, measure002.MEASURES),
-    "003": (seed003.CLAIMS, measure003.MEASURES),
-    "004": (seed004.CLAIMS, measure004.MEASURES),
+    "000": (paper_claims("000"), measure000.MEASURES),
+    "001": (paper_claims("001"), measure001.MEASURES),
+    "002": (paper_claims("002"), measure002.MEASURES),
+    "003": (paper_claims("003"), measure003.MEASURES),
+    "004": (paper_claims("004"), measure004.MEASURES),
 }
 
 

@@ -6,25 +6,23 @@ repeating the digits, so the claim and the calibration cannot drift apart. Only 
 claims can be read: a prediction's value must never reach the model (tests move every
 prediction's value and check that no parameter moves).
 
-This module and the seed files it reads are plain data (the ``base`` layer, ``_layers.py``), so
-the laws (``plant/``) may import it.
+This module and the claims files it reads (:mod:`.claims_file`) are plain data (the ``base``
+layer, ``_layers.py``), so the laws (``plant/``) may import it.
 """
 
 from __future__ import annotations
 
-from fsarm_sim.studies.reproduce import seed000, seed001, seed002, seed003, seed004
-from fsarm_sim.studies.reproduce.claims import Claim, ClaimError
-
-SEEDS = (seed000, seed001, seed002, seed003, seed004)
+from fsarm_sim.studies.reproduce.claims import PAPERS, Claim, ClaimError
+from fsarm_sim.studies.reproduce.claims_file import paper_claims
 
 
 def find_claim(claim_id: str) -> Claim:
     """The declared claim ``claim_id`` (ClaimError naming it when there is none)."""
-    for seed in SEEDS:
-        for c in seed.CLAIMS:
+    for paper in PAPERS:
+        for c in paper_claims(paper):
             if c.id == claim_id:
                 return c
-    raise ClaimError(f"no claim {claim_id!r} is declared (seed000..seed004)")
+    raise ClaimError(f"no claim {claim_id!r} is declared (data/claims/*.toml)")
 
 
 def claim_value(claim_id: str) -> float:
