@@ -31,6 +31,7 @@ file, the claim and the key, and saying what is allowed. Every claim read is val
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import tomllib
 import types
@@ -101,6 +102,11 @@ def _convert(value: Any, hint: Any) -> tuple[bool, Any]:
     raise TypeError(f"no file form for the type {hint!r}")
 
 
+@functools.cache
+def _hints(cls: type) -> dict[str, Any]:
+    return typing.get_type_hints(cls)
+
+
 def _fields(
     cls: type, where: str, table: Any, skip: tuple[str, ...] = (), extra: tuple[str, ...] = ()
 ) -> dict[str, Any]:
@@ -108,7 +114,7 @@ def _fields(
     not taken from the table; ``extra``: keys of the table read by the caller)."""
     if not isinstance(table, dict):
         raise ClaimsFileError(f"{where}: must be a table, got {table!r}")
-    hints = typing.get_type_hints(cls)
+    hints = _hints(cls)
     fields = {f.name: f for f in dataclasses.fields(cls) if f.name not in skip}
     unknown = sorted(set(table) - set(fields) - set(extra))
     if unknown:
