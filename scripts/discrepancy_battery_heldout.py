@@ -55,7 +55,9 @@ def signature_right(sig: dict[str, Any] | None, want: dict[str, Any] | None) -> 
             return True
         if want.get("saturation") and k == "saturation":
             return True
-        if "signal" in want and k == "signal" and f["signal"] == want["signal"]:
+        want_sig = want.get("signal")
+        sigs = [want_sig] if isinstance(want_sig, str) else list(want_sig or [])
+        if k == "signal" and f.get("signal") in sigs:
             return True
     return False
 
@@ -149,6 +151,13 @@ def main() -> None:
     ap.add_argument("--set", choices=("dev", "heldout"), default="dev")
     ap.add_argument("--per-kind", type=int, default=3)
     ap.add_argument("--only", default="", help="kinds whose name contains this text")
+    ap.add_argument(
+        "--round",
+        type=int,
+        choices=(1, 2),
+        default=0,
+        help="only the kinds of this round (1: seen in earlier development; 2: added since)",
+    )
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--out", default="", help="JSON lines, one per record (appended)")
     ap.add_argument("--resume", action="store_true", help="skip records already in --out")
@@ -163,7 +172,10 @@ def main() -> None:
                 r["signature_right"] = signature_right({"findings": r["findings"]}, want)
         print(summarise(rows))
         return
-    recs = [r for r in G.battery(args.set, args.per_kind) if args.only in r.kind.name]
+    rounds = (args.round,) if args.round else (1, 2)
+    recs = [
+        r for r in G.battery(args.set, args.per_kind, rounds=rounds) if args.only in r.kind.name
+    ]
     done: set[str] = set()
     if args.resume and args.out and Path(args.out).exists():
         done = {

@@ -45,17 +45,48 @@ def test_generator_imports_no_diagnosis_code() -> None:
     assert r.returncode == 0, r.stdout + r.stderr
 
 
+# round 2's held-out kinds, as the seeded split drew them before any diagnosis ran on them
+HELDOUT_ROUND2 = {
+    "backlash+coulomb_friction",
+    "viscous_damping+sensor_offset",
+    "delay+coulomb_friction+nonlinear_stiffness",
+    "hysteresis+viscous_damping+delay",
+    "emi_spikes",
+    "emi_spikes+hysteresis",
+    "gain_step",
+    "gain_step+nonlinear_stiffness",
+    "pwm_crosstalk",
+    "pwm_crosstalk+coulomb_friction+nonlinear_stiffness",
+    "table_knock",
+    "table_knock+coulomb_friction+sensor_offset",
+    "null_ar1_slow",
+    "null_pink_short",
+}
+
+
 def test_split_is_fixed_and_covers_every_category() -> None:
     sp = G.split()
     assert sp == G.split()
     assert set(sp) == {k.name for k in G.KINDS}
-    for cat in ("library", "library_multi", "outside", "outside_plus", "null"):
-        sets = {sp[k.name] for k in G.KINDS if k.category == cat}
-        assert sets == {"dev", "heldout"}, cat
-    outside = [k for k in G.KINDS if k.category == "outside"]
-    assert len(outside) >= 7  # at least six new outside kinds beside the project's 50 Hz line
-    nulls = [k for k in G.KINDS if k.category == "null" and sp[k.name] == "heldout"]
-    assert any(k.noise != "white" for k in nulls)
+    assert {n for n, s in sp.items() if s == "heldout"} == HELDOUT_ROUND2
+    # every kind seen before (round 1, both of its sets) is development now
+    assert all(sp[k.name] == "dev" for k in G.KINDS if k.round == 1)
+    held = [k for k in G.KINDS if sp[k.name] == "heldout"]
+    for cat in ("library_multi", "outside", "outside_plus", "null"):
+        assert {sp[k.name] for k in G.KINDS if k.category == cat and k.round == 2} == {
+            "dev",
+            "heldout",
+        }, cat
+    assert {len(k.library) for k in held if k.category == "library_multi"} == {2, 3}
+    assert {len(k.library) for k in held if k.category == "outside_plus"} == {1, 2}
+    # no outside cause of the held-out set appears in development
+    dev_causes = {k.outside for k in G.KINDS if sp[k.name] == "dev"}
+    assert not dev_causes & {k.outside for k in held if k.outside}
+    new_outside = [k for k in G.KINDS if k.category == "outside" and k.round == 2]
+    assert len(new_outside) >= 6
+    assert all(k.noise != "white" for k in held if k.category == "null")
+    r1 = G.split_round1()
+    assert sum(s == "heldout" for s in r1.values()) == 18  # round 1's, as it was
 
 
 @pytest.mark.parametrize("kind", ["null_pink", "mesh_ripple", "backlash+delay+sensor_offset"])
