@@ -251,3 +251,41 @@ def test_a_pink_noise_null_is_not_unexplained(tmp_path: Path) -> None:
     assert res["named_effects"] == [] and res["stand_ins"] == []
     assert res["residual_over_noise"]["final"] > 1.3  # above the old sqrt 2 test's reach
     assert res["unexplained"] is False
+
+
+def test_the_noise_floor_is_not_raised_by_a_narrow_line() -> None:
+    """A 300 Hz line (a vibration aliased by the sampling) passes the 4th differences nearly
+    whole: with ``lines=True`` it is cut and the floor is the noise's; without lines the two
+    estimates are the same."""
+    from fsarm_sim.discrepancy.residuals import noise_floor
+
+    rng = np.random.default_rng(5)
+    t = np.arange(20000) * 1e-3
+    e = 0.04 * rng.standard_normal(t.size)
+    y = 3.0 * np.sin(2 * np.pi * 0.3 * t) + e
+    assert noise_floor(y, lines=True) == noise_floor(y)
+    y_line = y + 0.2 * np.sin(2 * np.pi * 300.0 * t)
+    assert noise_floor(y_line) > 2.0 * 0.04
+    assert noise_floor(y_line, lines=True) == pytest.approx(0.04, rel=0.1)
+
+
+def test_a_slowly_wandering_offset_is_found_and_1_over_f_noise_is_not(bench_like: tuple) -> None:
+    from fsarm_sim.discrepancy.residual_search import Signals, slow_offset
+
+    t, ang = bench_like
+
+    def run(r: np.ndarray) -> dict:
+        sig = Signals("tau_s", "N·m", t, r, 15.0 * ang, 1.0, [ang])
+        return slow_offset(sig)
+
+    n = t.size
+    cycle = 4.0 * np.sqrt(2.0) * np.sin(2 * np.pi * t / 20.0 + 0.4)  # 4 x the noise RMS
+    assert run(cycle + np.random.default_rng(0).standard_normal(n))["significant"]
+    for seed in range(5):
+        f = np.fft.rfftfreq(n, 1e-3)
+        rng = np.random.default_rng(seed)
+        spec = (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)) / np.sqrt(
+            np.maximum(f, 0.05)
+        )
+        pink = np.fft.irfft(spec, n)
+        assert not run(pink / pink.std())["significant"]
