@@ -289,3 +289,37 @@ def test_a_slowly_wandering_offset_is_found_and_1_over_f_noise_is_not(bench_like
         )
         pink = np.fft.irfft(spec, n)
         assert not run(pink / pink.std())["significant"]
+
+
+def test_sizes_that_drift_across_the_parts_fail_jointly() -> None:
+    """Each part's size within the per-part tolerance (0.7 ... 1.3 x the whole record's), but
+    drifting steadily well beyond their intervals: a stand-in (the joint test)."""
+    from fsarm_sim.discrepancy import realness as Real
+
+    rng = np.random.default_rng(2)
+    n = 20000
+    t = np.arange(n) * 1e-3
+    c = 0.05 * np.sign(np.sin(2 * np.pi * 0.7 * t))
+    g = np.repeat([0.7, 0.9, 1.1, 1.3], n // 4)
+    use = np.ones(n, dtype=bool)
+    y = g * c + 0.005 * rng.standard_normal(n)
+    segs, reasons = Real.segment_agreement(y, c, np.zeros(n), t, use, 0.005)
+    assert all(abs(s["scale"] - 1.0) < Real.REL_TOL for s in segs)
+    assert any("differs between the record's parts" in r for r in reasons)
+    _, ok = Real.segment_agreement(
+        c + 0.005 * rng.standard_normal(n), c, np.zeros(n), t, use, 0.005
+    )
+    assert ok == [], ok
+
+
+def test_a_bound_is_waived_only_for_a_parameter_at_it() -> None:
+    """With nothing unexplained, a parameter at its range's end is no stand-in; one beyond the
+    range or at zero (absent) still fails."""
+    from fsarm_sim.discrepancy import realness as Real
+
+    at = Real.params_at_bounds("backlash", "coupling", {"width_rad": 0.5, "center_rad": 0.0})
+    c = Real.EffectCheck("backlash", "coupling", False, [f"parameter {b}" for b in at], [], at)
+    assert at and Real.bound_waived(c).passed
+    zero = Real.params_at_bounds("coulomb_friction", "shaft", {"f_c_nm": 0.0})
+    c = Real.EffectCheck("coulomb_friction", "shaft", False, [f"parameter {b}" for b in zero])
+    assert not Real.bound_waived(c).passed
