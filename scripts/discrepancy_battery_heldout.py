@@ -155,7 +155,12 @@ def summarise(rows: Iterable[dict[str, Any]]) -> str:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--set", choices=("dev", "heldout"), default="dev")
+    ap.add_argument(
+        "--set",
+        choices=("dev", "heldout", "round1-heldout"),
+        default="dev",
+        help="round1-heldout: round 1's held-out kinds (seen since: development now)",
+    )
     ap.add_argument("--per-kind", type=int, default=3)
     ap.add_argument("--only", default="", help="kinds whose name contains this text")
     ap.add_argument(
@@ -180,9 +185,17 @@ def main() -> None:
         print(summarise(rows))
         return
     rounds = (args.round,) if args.round else (1, 2)
-    recs = [
-        r for r in G.battery(args.set, args.per_kind, rounds=rounds) if args.only in r.kind.name
-    ]
+    if args.set == "round1-heldout":
+        r1 = G.split_round1()
+        recs = [
+            G.make_record(k, i)
+            for k in G.KINDS
+            if k.round == 1 and r1[k.name] == "heldout"
+            for i in range(args.per_kind)
+        ]
+    else:
+        recs = G.battery(args.set, args.per_kind, rounds=rounds)
+    recs = [r for r in recs if args.only in r.kind.name]
     done: set[str] = set()
     if args.resume and args.out and Path(args.out).exists():
         done = {
