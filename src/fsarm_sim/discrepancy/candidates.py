@@ -109,7 +109,7 @@ def make_context(inp: R.ReplayInputs, stated: BenchModel) -> Context:
         inp=inp,
         teach=teach,
         held=held,
-        sigma_y=noise_floor(inp.y),
+        sigma_y=noise_floor(inp.y, lines=True),
         sigma_u=sigma_u,
         x_ref=x_ref,
         multi_bend=multi,

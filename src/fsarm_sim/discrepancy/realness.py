@@ -16,14 +16,20 @@ selection's rules (:mod:`.selection`):
   is the segment's own parameter over the whole record's. Real: ``beta`` = 1 in every segment
   where the effect acts (its contribution at least :data:`ACTIVE` x the noise floor RMS),
   within ``max(`` :data:`Z_AGREE` x its standard error, :data:`REL_TOL` ``)``; the standard error
-  from the segment's residual inflated by its autocorrelation time.
+  from the segment's residual inflated by its autocorrelation time. And jointly: the segments'
+  ``beta`` must not disagree among themselves both significantly (chi-square about their
+  weighted mean beyond the :data:`JOINT_P` quantile) and by more than :data:`SPREAD_TOL` (a law
+  that is a model, not the truth, lets a real effect's size scatter by ~0.2 between parts; a
+  stand-in for a cause that changes over the record drifts by more).
 * **the residual it removes has the shape its physics predicts, everywhere.** In each segment
   where it acts the effect must lower the residual's mean square (by at least
   :data:`MIN_SEGMENT_GAIN` x the noise variance): a stand-in that helps on average and hurts in
   parts does not.
 * **its parameters sit inside their physical ranges and off the fit's bounds** (the registry's
   ranges, :mod:`fsarm_sim.plant.effects.registry`; within :data:`BOUND_FRACTION` of a bound's
-  span counts as at it).
+  span counts as at it). A parameter *at* a bound (not beyond it, not at zero) only counts while
+  the model leaves something unexplained - a true parameter may lie at its range's end, and with
+  nothing left over there is nothing for the effect to stand in for (:func:`bound_waived`).
 
 The checks read arrays only; the setup supplies the fits (:mod:`.bench_setup`).
 """
@@ -36,6 +42,7 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
+from scipy import stats
 
 from fsarm_sim.discrepancy.residuals import tau_int
 from fsarm_sim.plant.effects import registry
@@ -47,6 +54,8 @@ N_SEGMENTS = 4
 ACTIVE = 0.5  # contribution RMS / noise floor from which the effect acts in a segment
 Z_AGREE = 4.0  # standard errors within which a segment's scale must agree with 1
 REL_TOL = 0.35  # ... or this relative tolerance (the effect's law is a model, not the truth)
+JOINT_P = 1e-4  # chance of the segments' sizes disagreeing this much by noise alone
+SPREAD_TOL = 0.3  # ... and by more than this (largest minus smallest beta)
 MIN_SEGMENT_GAIN = 0.0  # noise variances the effect must remove in every segment where it acts
 BOUND_FRACTION = 1e-6  # of the range: a fit pinned at a bound sits on it (clipped)
 ZERO_FRACTION = 1e-9  # a magnitude with a zero lower bound this close to it is at zero
@@ -129,9 +138,22 @@ def segment_agreement(
             reasons.append(
                 f"it makes the residual worse in {where} (by {-gain:.2g} noise variances)"
             )
-    n_active = sum(1 for s in out if s.get("active"))
-    if n_active < 2 and not reasons:
+    act = [s for s in out if s.get("active") and s.get("scale_se", 0.0) > 0.0]
+    if len(act) < 2 and not reasons:
         return out, []  # acts in one part only: no second part to agree with (not judged)
+    if len(act) >= 3:
+        w = np.array([1.0 / s["scale_se"] ** 2 for s in act])
+        b = np.array([s["scale"] for s in act])
+        chi2 = float(np.sum(w * (b - float(np.sum(w * b) / np.sum(w))) ** 2))
+        p = float(stats.chi2.sf(chi2, b.size - 1))
+        spread = float(np.ptp(b))
+        if p < JOINT_P and spread > SPREAD_TOL:
+            sizes = ", ".join(f"{x:.2f}" for x in b)
+            reasons.append(
+                f"its size differs between the record's parts ({sizes} x the whole record's: "
+                f"chi-square {chi2:.3g} on {b.size - 1} dof, p = {p:.1e}; spread {spread:.2f} "
+                f"> {SPREAD_TOL:g})"
+            )
     return out, reasons
 
 
@@ -185,3 +207,11 @@ def check(
     bounds = params_at_bounds(effect, variant, params)
     reasons = reasons + [f"parameter {b}" for b in bounds]
     return EffectCheck(effect, variant, not reasons, reasons, segs, bounds)
+
+
+def bound_waived(c: EffectCheck) -> EffectCheck:
+    """``c`` without its at-a-bound reasons (the caller's model leaves nothing unexplained)."""
+    keep = [r for r in c.reasons if " at a bound of " not in r]
+    if keep == c.reasons:
+        return c
+    return EffectCheck(c.effect, c.variant, not keep, keep, c.segments, c.at_bound)

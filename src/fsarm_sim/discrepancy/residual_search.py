@@ -24,6 +24,13 @@ found with numbers, and each is judged against what noise of the record's own co
 * **trends in time** - an offset and a gain (stiffness) drifting (:func:`.unexplained.trends`):
   ``|t|`` above the normal quantile at :data:`ALPHA`, standard errors inflated by the
   autocorrelation time of what the regression leaves.
+* **slow variation in time** - the offset wandering (a zero following the room's temperature):
+  Legendre polynomials in time up to about :data:`SLOW_HZ` (beside the model's output and the
+  twist rate, so an input-driven misfit is not counted), their explained variance against what
+  the same number of basis functions takes from noise of the record's own colour - the
+  residual's Welch spectrum over :data:`SLOW_REF_HZ`, extrapolated down on its log-log slope
+  (flat or rising: 1/f noise is not a drift), times :data:`SLOW_MARGIN`; chi-square at the
+  search's share of :data:`ALPHA` (:func:`slow_offset`).
 * **localisation in time** - windows of :data:`.unexplained.WINDOW_S` s whose energy stands out
   of the windows' robust spread by more than :data:`LOCAL_Z` (sparse events, stretches).
 * **saturation** - the residual against the model's output beyond a level ``c``: a hinge
@@ -54,7 +61,7 @@ from fsarm_sim.discrepancy.residuals import tau_int
 FloatArray = npt.NDArray[np.float64]
 
 ALPHA = 0.02  # the false-alarm rate aimed at, per record
-N_SEARCHES = 6  # spectral, angle, dependence, trend, localisation, saturation
+N_SEARCHES = 7  # spectral, angle, dependence, trend, slow offset, localisation, saturation
 WELCH_S = 2.0
 BASE_OCTAVES = 1.0
 MIN_LINE_HZ = 1.0  # below: trends, not lines
@@ -62,6 +69,10 @@ ANGLE_BINS = 1024
 MIN_CYCLES = 2.0
 MAX_CYCLES_PER_BIN = 0.25  # a period spans at least 4 bins
 LOCAL_Z = 12.0
+SLOW_HZ = 0.1  # the slow basis reaches about this frequency (Legendre degree 2 T SLOW_HZ)
+SLOW_DEG = (2, 8)
+SLOW_REF_HZ = (0.5, 5.0)  # the band whose noise level is extrapolated to the slow basis
+SLOW_MARGIN = 6.0  # the extrapolation scatters: 1/f noise on 10 s records reaches ~5 x (dev nulls)
 MIN_STRUCT = 0.5  # noise variances a significant finding must explain for "unexplained"
 GENERIC_WEIGHT = 0.5
 GENERIC = ("signal", "localized")
@@ -365,6 +376,51 @@ def trend_findings(s: Signals, tr: dict[str, Any]) -> list[dict[str, Any]]:
     return out
 
 
+def slow_offset(s: Signals) -> dict[str, Any]:
+    """The offset wandering slowly (module docstring), as a finding."""
+    r, t = s.residual, s.t
+    dur = float(t[-1] - t[0])
+    out: dict[str, Any] = {"kind": "drift", "trend": "offset", "significant": False}
+    fs = 1.0 / float(np.median(np.diff(t))) if t.size > 1 else 0.0
+    if r.size < 200 or dur <= 0 or fs <= 2 * SLOW_REF_HZ[1]:
+        return {**out, "explained_var": 0.0, "text": ""}
+    deg = int(np.clip(round(2 * dur * SLOW_HZ), *SLOW_DEG))
+    tau = 2.0 * (t - t[0]) / dur - 1.0
+    leg = np.polynomial.legendre.legvander(tau, deg)
+    nuis = [np.ones_like(r), s.output - float(np.mean(s.output))]
+    if "twist rate" in s.signals and s.signals["twist rate"].shape == r.shape:
+        nuis.append(s.signals["twist rate"])
+    a0 = np.column_stack(nuis)
+    a1 = np.column_stack([a0, leg[:, 1:]])
+    e0 = r - a0 @ np.linalg.lstsq(a0, r, rcond=None)[0]
+    e1 = r - a1 @ np.linalg.lstsq(a1, r, rcond=None)[0]
+    explained = (float(e0 @ e0) - float(e1 @ e1)) / r.size
+    f, p = welch(e1, fs=fs, nperseg=min(r.size, int(4.0 * fs)))
+    band = (f >= SLOW_REF_HZ[0]) & (f <= SLOW_REF_HZ[1]) & (p > 0)
+    if band.sum() < 4:
+        return {**out, "explained_var": 0.0, "text": ""}
+    slope, icpt = np.polyfit(np.log(f[band]), np.log(p[band]), 1)
+    slope = min(float(slope), 0.0)
+    fk = np.arange(1, deg + 1) / (2.0 * dur)
+    expected = float(np.sum(np.exp(icpt + slope * np.log(fk)))) / (2.0 * dur)
+    ratio = explained / expected if expected > 0 else math.inf
+    thr = SLOW_MARGIN * float(stats.chi2.isf(_alpha_each(), deg)) / deg
+    slow = e0 - e1
+    swing = float(np.ptp(slow))
+    return {
+        **out,
+        "shape": "slow",
+        "degree": deg,
+        "swing": swing,
+        "over_coloured_noise": ratio,
+        "threshold": thr,
+        "explained_var": max(explained, 0.0),
+        "significant": bool(ratio > thr),
+        "text": f"the offset of {s.channel} wanders slowly over the record (swing "
+        f"{swing:.3g} {s.unit}, {explained / max(s.sigma**2, 1e-300):.3g} noise variances)",
+    }
+
+
 def localisation(s: Signals, window_s: float) -> dict[str, Any]:
     """Windows whose energy stands out of the windows' robust spread (events, stretches)."""
     r = s.residual
@@ -465,6 +521,7 @@ def findings(
                 continue
         allf.append(d)
     allf += trend_findings(s, tr)
+    allf.append(slow_offset(s))
     allf.append(localisation(s, window_s))
     allf.append(saturation(s))
     allf = [f for f in allf if f.get("text")]
