@@ -143,9 +143,9 @@ _THREADS: ContextVar[int | None] = ContextVar("fsarm_arm_sim_threads", default=N
 @contextmanager
 def simulation_threads(n: int) -> Iterator[None]:
     """For the block, a diagnosis step runs at most ``n`` simulations side by side (1: one after
-    the other, as 0.4.0 did; ``scripts/bench_diagnose.py``). Scoped like
-    :func:`lsq.full_problem`: it holds in the thread that entered it, where
-    :meth:`ArmContext.prefetch` reads it; the previous limit comes back on exit."""
+    the other; ``scripts/bench_diagnose.py`` compares the two). Scoped by a context variable: it
+    holds in the thread that entered it, where :meth:`ArmContext.prefetch` reads it; the previous
+    limit comes back on exit."""
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise InvalidParameterError(f"simulation threads must be a whole number >= 1, got {n!r}")
     token = _THREADS.set(n)

@@ -175,8 +175,7 @@ def adjust_time(ctx: Context) -> Measured:
         text=f"{worst:.3g} s for 99 % of the preset range",
         details={"stiffen_s": times[1], "soften_s": times[0]},
         note="a consistency check, not a prediction: the drive's speed sigma_rate is set from "
-        "this number with the estimated 20 ms lag (qa_joint.SIGMA_RATE_TABLE_III); until 0.5.2 "
-        "it was the range over 0.12 s, which with the lag settled in 0.156 s",
+        "this number with the estimated 20 ms lag (qa_joint.SIGMA_RATE_TABLE_III)",
     )
 
 
