@@ -187,29 +187,6 @@ def test_cli_select_shaft(
     )
 
 
-def test_old_module_name_is_a_deprecated_alias() -> None:
-    """fsarm_sim.studies.selection (renamed fsarm_sim.studies.shaft_selection) still works for one release."""
-    import ast
-    import inspect
-
-    import fsarm_sim.studies.selection as old
-    import fsarm_sim.studies.shaft_selection as new
-
-    tree = ast.parse(inspect.getsource(new))
-    defined = {n.name for n in tree.body if isinstance(n, ast.FunctionDef | ast.ClassDef)}
-    defined |= {
-        t.id
-        for n in tree.body
-        if isinstance(n, ast.Assign | ast.AnnAssign)
-        for t in (n.targets if isinstance(n, ast.Assign) else [n.target])
-        if isinstance(t, ast.Name)
-    }
-    assert set(old.__all__) == {n for n in defined if not n.startswith("_")}
-    for name in old.__all__:
-        assert getattr(old, name) is getattr(new, name), name
-    assert "deprecated" in (old.__doc__ or "").lower()
-
-
 def test_length_is_the_series_stiffness_lever() -> None:
     """Eq. 3 as printed (the default): K falls linearly with L for every D, bend and side, so
     Algorithm 1 reaches a K_des between two of a diameter's stiffnesses by choosing L; with the

@@ -38,13 +38,10 @@ def _bends(ctx: Context) -> tuple[float, ...]:
 
 
 def _selection() -> Any:
-    """The shaft selectors (``fsarm_sim.studies.shaft_selection``; older trees: ``fsarm_sim.studies.selection``)."""
+    """The shaft selectors (:mod:`fsarm_sim.studies.shaft_selection`), imported when used."""
     import importlib
 
-    try:
-        return importlib.import_module("fsarm_sim.studies.shaft_selection")
-    except ImportError:
-        return importlib.import_module("fsarm_sim.studies.selection")
+    return importlib.import_module("fsarm_sim.studies.shaft_selection")
 
 
 def _catalogue() -> Any:

@@ -256,10 +256,7 @@ def _masterflex08_eq3(side: int) -> Measured:
 
     from fsarm_sim.plant.shaft import load_catalogue
 
-    try:
-        sel = importlib.import_module("fsarm_sim.studies.shaft_selection")
-    except ImportError:
-        sel = importlib.import_module("fsarm_sim.studies.selection")
+    sel = importlib.import_module("fsarm_sim.studies.shaft_selection")
     k = float(sel.stiffness(load_catalogue(), "series", 8.0, 865.0, 0.0, side))
     return Measured(
         ours=k,
