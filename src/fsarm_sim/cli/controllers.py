@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 from pathlib import Path
 from typing import Annotated, Any
@@ -10,6 +11,7 @@ import typer
 from rich.table import Table
 
 from fsarm_sim.cli.console import make_console, number_table, write_rows_json
+from fsarm_sim.cli.progress import steps
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.outputs import OutputPlan, SafeWriter, write_text
 
@@ -87,15 +89,17 @@ def compare_controllers_cmd(
     shafts = [cat.shaft(*parse_shaft(s), series_hysteresis=True) for s in (shaft or ["9,450"])]
     controllers = tuple(controller) if controller else controller_comparison.DEFAULT_CONTROLLERS
     models = _identified_models(shafts) if identify and "hysteresis-comp" in controllers else {}
-    rows = controller_comparison.compare(
-        shafts,
-        controllers,
-        bends_deg=bend_list,
-        duration_s=duration,
-        models=models,
-        frequency=frequency,
-        progress=lambda msg: err.print(msg, markup=False, end="\r"),
-    )
+    with steps("compare-controllers") as report:
+        count = itertools.count(1)
+        rows = controller_comparison.compare(
+            shafts,
+            controllers,
+            bends_deg=bend_list,
+            duration_s=duration,
+            models=models,
+            frequency=frequency,
+            progress=lambda msg: report(msg, next(count), None),
+        )
     console.print(_comparison_table(rows, bend_list, frequency))
     if frequency:
         console.print(

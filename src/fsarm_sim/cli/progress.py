@@ -12,9 +12,10 @@ from fsarm_sim.cli.console import make_console
 
 
 @contextmanager
-def steps(title: str) -> Iterator[Callable[[str, int, int], None]]:
+def steps(title: str) -> Iterator[Callable[[str, int, int | None], None]]:
     """``with steps("check-dynamics") as report: run(..., progress=report)``: ``report(step,
-    done, total)`` moves the bar to ``done`` of ``total`` and names the current step."""
+    done, total)`` moves the bar to ``done`` of ``total`` (None: not known ahead) and names the
+    current step. Nothing is drawn where stderr is not a terminal."""
     bar = Progress(
         TextColumn(f"{title}: [bold]{{task.description}}"),
         BarColumn(),
@@ -25,7 +26,7 @@ def steps(title: str) -> Iterator[Callable[[str, int, int], None]]:
     )
     task = bar.add_task("starting", total=None)
 
-    def report(step: str, done: int, total: int) -> None:
+    def report(step: str, done: int, total: int | None) -> None:
         bar.update(task, description=step, completed=done, total=total)
 
     with bar:
