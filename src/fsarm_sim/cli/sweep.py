@@ -41,7 +41,7 @@ def _floats(text: str | None, what: str) -> tuple[float, ...] | None:
 
 
 def _print_series_table(name: str, fits: Any) -> None:
-    from fsarm_sim.studies.campaign import series_table_rows
+    from fsarm_sim.studies.campaign_output import series_table_rows
 
     table = Table(
         title=f"{escape(name)}: series test fits (Table I-like; K in N·m/rad, RMSE in N·m)"
@@ -514,6 +514,7 @@ def bench_series_cmd(
     """Series test: chirp into the torque controller at each bend; eq. 8/eq. 1 fits per sign."""
     from fsarm_sim.plant.shaft import load_catalogue
     from fsarm_sim.studies import campaign as cp
+    from fsarm_sim.studies import campaign_output
 
     OutputPlan().folder("--out", out).input(
         "the coefficient file of --shaft-file", shaft_file
@@ -548,7 +549,7 @@ def bench_series_cmd(
     if out is not None:
         _write_folder(
             out,
-            lambda d: cp.write_series_test(result, name, d),
+            lambda d: campaign_output.write_series_test(result, name, d),
             "the table and figure (--out)",
         )
 
@@ -578,6 +579,7 @@ def bench_parallel_cmd(
     """Parallel test: bend both ways with and without torsion; eq. 2 K_b fits of the moment loop."""
     from fsarm_sim.plant.shaft import load_catalogue
     from fsarm_sim.studies import campaign as cp
+    from fsarm_sim.studies import campaign_output
 
     OutputPlan().folder("--out", out).input(
         "the coefficient file of --shaft-file", shaft_file
@@ -610,7 +612,7 @@ def bench_parallel_cmd(
     if out is not None:
         _write_folder(
             out,
-            lambda d: cp.write_parallel_test(result, name, d),
+            lambda d: campaign_output.write_parallel_test(result, name, d),
             "the table and figure (--out)",
         )
 
@@ -710,6 +712,7 @@ def campaign_cmd(
     """The nine-shaft bench campaign: both tests per shaft, eq. 3/4 re-fit, error vs catalogue."""
     from fsarm_sim.plant.shaft import load_catalogue
     from fsarm_sim.studies import campaign as cp
+    from fsarm_sim.studies import campaign_output
 
     OutputPlan().folder("--out", out).input(
         "the coefficient file of --shaft-file", shaft_file
@@ -733,7 +736,7 @@ def campaign_cmd(
     writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
     written = writes.write(
         out,
-        lambda d: (d, cp.write_campaign(result, cat, d)),
+        lambda d: (d, campaign_output.write_campaign(result, cat, d)),
         "the campaign's files (--out)",
         folder=True,
     )

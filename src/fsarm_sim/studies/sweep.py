@@ -954,7 +954,7 @@ def _varied(df: Any) -> list[str]:
 
 
 def _plots(df: Any, res: SweepAnalysis, catalogue: Catalogue | None, out: Path) -> list[Path]:
-    from fsarm_sim.studies.campaign import new_figure, plot_eq3_surfaces, plot_eq4_surface
+    from fsarm_sim.studies.campaign_output import new_figure, plot_eq3_surfaces, plot_eq4_surface
 
     files: list[Path] = []
     axes = _varied(df)
