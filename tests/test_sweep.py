@@ -20,7 +20,7 @@ from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.executors import ExecutorError
 from fsarm_sim.plant.shaft import load_catalogue
 from fsarm_sim.records.store import ResultStore, point_key
-from fsarm_sim.studies import arm_metrics
+from fsarm_sim.studies import arm_metrics, sweep_analysis
 from fsarm_sim.studies import sweep as sw
 
 
@@ -313,7 +313,7 @@ def test_analysis_recovers_the_catalogue_surfaces(tmp_path: Path) -> None:
     assert report.computed == 16 and report.failed == 0
     again = sw.run_sweep(spec, store, workers=1)
     assert again.already == 16 and again.computed == 0
-    res = sw.analyze(store, tmp_path / "out")
+    res = sweep_analysis.analyze(store, tmp_path / "out")
     for eq in ("eq3 positive", "eq3 negative", "eq4"):
         assert res.comparisons[eq].surface_max_rel_error < 1e-9
     names = {p.name for p in res.files}

@@ -448,9 +448,9 @@ def _bands(the_spec: Any, store: Path, n: int, controller: str) -> None:
 
 
 def _report(store: Path, out: Path, sweep: str | None) -> None:
-    from fsarm_sim.studies import sweep as sw
+    from fsarm_sim.studies.sweep_analysis import analyze
 
-    res = sw.analyze(store, out, sweep)
+    res = analyze(store, out, sweep)
     if res.comparisons:
         _print_comparisons(res.comparisons, res.fits)
     for eq, f in res.fits.items():
