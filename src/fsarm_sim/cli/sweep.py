@@ -483,6 +483,32 @@ def _settings(**kw: Any) -> Any:
     return BenchSettings(**{k: v for k, v in kw.items() if v is not None})
 
 
+def _run_bench_test(
+    diameter_mm: float,
+    length_mm: float,
+    shaft_file: Path | None,
+    out: Path | None,
+    workers: int | None,
+    settings: dict[str, Any],
+    tasks: Callable[[Any, Any], Callable[[Any, str | None], list[dict[str, Any]]]],
+) -> tuple[Any, str, Any]:
+    """One shaft's bench test: outputs checked, the shaft and ``settings`` validated, the tasks
+    ``tasks(catalogue, settings)`` makes run; the shaft's parameters, its name and the result."""
+    from fsarm_sim.plant.shaft import load_catalogue
+    from fsarm_sim.studies import campaign as cp
+
+    OutputPlan().folder("--out", out).input(
+        "the coefficient file of --shaft-file", shaft_file
+    ).check()
+    cat = load_catalogue(shaft_file)
+    params = cat.shaft(diameter_mm, length_mm)
+    s = _settings(**settings)
+    s.validate()
+    make_tasks = tasks(cat, s)
+    name, result = cp.run_one_shaft(cat, diameter_mm, length_mm, shaft_file, s, make_tasks, workers)
+    return params, name, result
+
+
 # the options of `bench_series_cmd`
 BenchSeriesBends = Annotated[str, typer.Option(help="bend angles, deg")]
 BenchSeriesChirpS = Annotated[float | None, typer.Option(help="chirp length, s")]
@@ -512,30 +538,20 @@ def bench_series_cmd(
     shaft_file: opt.ShaftFile = None,
 ) -> None:
     """Series test: chirp into the torque controller at each bend; eq. 8/eq. 1 fits per sign."""
-    from fsarm_sim.plant.shaft import load_catalogue
     from fsarm_sim.studies import campaign as cp
     from fsarm_sim.studies import campaign_output
 
-    OutputPlan().folder("--out", out).input(
-        "the coefficient file of --shaft-file", shaft_file
-    ).check()
-    cat = load_catalogue(shaft_file)
-    cat.shaft(diameter_mm, length_mm)
-    s = _settings(
-        chirp_s=chirp_s,
-        amplitude_fraction=amplitude_fraction,
-        series_hysteresis=series_hysteresis,
-    )
-    s.validate()
-    bend_list = cp.check_bends(_floats(bends, "--bends") or (), cat)
-    name, result = cp.run_one_shaft(
-        cat,
-        diameter_mm,
-        length_mm,
-        shaft_file,
-        s,
-        lambda sh, text: cp.series_tasks(sh, bend_list, s, text, True),
-        workers,
+    def tasks(cat: Any, s: Any) -> Callable[[Any, str | None], list[dict[str, Any]]]:
+        bend_list = cp.check_bends(_floats(bends, "--bends") or (), cat)
+        return lambda sh, text: cp.series_tasks(sh, bend_list, s, text, True)
+
+    settings = {
+        "chirp_s": chirp_s,
+        "amplitude_fraction": amplitude_fraction,
+        "series_hysteresis": series_hysteresis,
+    }
+    _, name, result = _run_bench_test(
+        diameter_mm, length_mm, shaft_file, out, workers, settings, tasks
     )
     fits = result.series[name]
     _print_series_table(name, fits)
@@ -577,29 +593,22 @@ def bench_parallel_cmd(
     shaft_file: opt.ShaftFile = None,
 ) -> None:
     """Parallel test: bend both ways with and without torsion; eq. 2 K_b fits of the moment loop."""
-    from fsarm_sim.plant.shaft import load_catalogue
     from fsarm_sim.studies import campaign as cp
     from fsarm_sim.studies import campaign_output
 
-    OutputPlan().folder("--out", out).input(
-        "the coefficient file of --shaft-file", shaft_file
-    ).check()
-    cat = load_catalogue(shaft_file)
-    p = cat.shaft(diameter_mm, length_mm)
-    s = _settings(
-        bend_period_s=period_s,
-        bend_amplitude_deg=amplitude_deg,
-        torsion_fraction=torsion_fraction,
-    )
-    s.validate()
-    name, result = cp.run_one_shaft(
-        cat,
+    settings = {
+        "bend_period_s": period_s,
+        "bend_amplitude_deg": amplitude_deg,
+        "torsion_fraction": torsion_fraction,
+    }
+    p, name, result = _run_bench_test(
         diameter_mm,
         length_mm,
         shaft_file,
-        s,
-        lambda sh, text: cp.parallel_tasks(sh, s, text, True),
+        out,
         workers,
+        settings,
+        lambda _cat, s: lambda sh, text: cp.parallel_tasks(sh, s, text, True),
     )
     fits = result.parallel[name]
     _print_parallel_table(name, fits)
