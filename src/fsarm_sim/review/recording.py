@@ -30,7 +30,7 @@ import os
 import shutil
 import subprocess
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -192,19 +192,25 @@ def new_stream(result: RunResult) -> rr.RecordingStream:
     return rr.RecordingStream(APPLICATION_ID, recording_id=f"{result.scenario}")
 
 
-def record_run(result: RunResult, path: Path, rate_hz: float | None = DEFAULT_RATE_HZ) -> Path:
-    """Write ``result`` as a Rerun recording (``.rrd``) with its blueprint; return the path."""
-    rec = new_stream(result)
+def save_recording(
+    rec: rr.RecordingStream, path: Path, log: Callable[[rr.RecordingStream], rrb.Blueprint]
+) -> Path:
+    """Stream ``rec`` into the file ``path`` (its folder made), log into it with ``log`` and send
+    the blueprint ``log`` returns; the stream is closed even when logging fails. Returns the path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     rec.save(path)
     try:
-        bp = log_arm_run(rec, result, rate_hz)
-        rec.send_blueprint(bp, make_active=True, make_default=True)
+        rec.send_blueprint(log(rec), make_active=True, make_default=True)
         rec.flush()
     finally:
         rec.disconnect()
     return path
+
+
+def record_run(result: RunResult, path: Path, rate_hz: float | None = DEFAULT_RATE_HZ) -> Path:
+    """Write ``result`` as a Rerun recording (``.rrd``) with its blueprint; return the path."""
+    return save_recording(new_stream(result), path, lambda rec: log_arm_run(rec, result, rate_hz))
 
 
 def spawn_viewer(path: Path) -> str:
