@@ -2,14 +2,8 @@
 
 from __future__ import annotations
 
-import ctypes
-import functools
 import math
-import mmap
-import os
-import sys
 import time as _time
-from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import mujoco
@@ -40,21 +34,24 @@ from fsarm_sim.kernels import layout as L
 from fsarm_sim.plant import transmissions
 from fsarm_sim.plant.effects import registry
 from fsarm_sim.sim import scenarios
+from fsarm_sim.sim.run_memory import MADV_POPULATE_WRITE as MADV_POPULATE_WRITE
+from fsarm_sim.sim.run_memory import MAX_STEPS as MAX_STEPS
+from fsarm_sim.sim.run_memory import MEMORY_SHARE as MEMORY_SHARE
+from fsarm_sim.sim.run_memory import PAGE_BYTES as PAGE_BYTES
+from fsarm_sim.sim.run_memory import available_memory_bytes as available_memory_bytes
+from fsarm_sim.sim.run_memory import check_run_size
+from fsarm_sim.sim.run_memory import resident_empty as resident_empty
+from fsarm_sim.sim.run_metrics import compute_metrics as compute_metrics
+from fsarm_sim.sim.run_metrics import kernel_metrics
 
 Array = npt.NDArray[np.float64]
 Backend = callbacks.Backend
 DEFAULT_BACKEND = callbacks.DEFAULT_BACKEND
 MAX_DURATION_S = 3600.0
 DEFAULT_TIMESTEP_S = 0.001  # models/fsarm/fsarm.xml <option timestep>, used before a model exists
-# One hour at a 10 us timestep: the most physics steps one run may take (about 15 min native).
-MAX_STEPS = 360_000_000
 # log one row every N control ticks: N above the most steps a run may take records the first row
 # only, like any N longer than the run; beyond it N is refused (it would overflow the kernels' ints)
 MAX_LOG_EVERY = MAX_STEPS
-# A run may use at most this share of the memory available when it starts (reference table,
-# recorded rows and the columns made from them), so that it cannot fail half-way for memory.
-MEMORY_SHARE = 0.5
-SMALL_RUN_BYTES = 64 << 20  # a run this small is not checked against the free memory
 # steps: MuJoCo warnings and the run's health are checked this often (2 s at the default 1 ms
 # step, ~5 ms of a native run's wall time). Every check hands the GIL back and forth, which
 # threads stepping side by side (a sweep's default executor) pay for (`fsarm bench-speed`).
@@ -94,97 +91,6 @@ def check_duration(duration_s: float) -> float:
             f"duration must be at most {MAX_DURATION_S:g} s per run, got {duration_s!r}"
         )
     return float(duration_s)
-
-
-def available_memory_bytes() -> int:
-    """Memory the kernel says is available now (MemAvailable), else the physical memory."""
-    try:
-        with open("/proc/meminfo", encoding="ascii") as f:
-            for line in f:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        pass
-    try:
-        return int(os.sysconf("SC_PHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
-    except (OSError, ValueError, AttributeError):
-        return 8 << 30
-
-
-# madvise(2) advice that faults a range in as writable in one call (Linux >= 5.14; <linux/mman.h>)
-MADV_POPULATE_WRITE = 23
-PAGE_BYTES = mmap.PAGESIZE  # this machine's page size (4 KiB on x86-64)
-
-
-@functools.lru_cache(maxsize=1)
-def _madvise() -> Callable[[int, int, int], int] | None:
-    """libc's ``madvise``, or None where there is none to call (not Linux)."""
-    if not sys.platform.startswith("linux"):
-        return None
-    try:
-        fn = ctypes.CDLL(None, use_errno=True).madvise
-    except (OSError, AttributeError):
-        return None
-    fn.argtypes = (ctypes.c_void_p, ctypes.c_size_t, ctypes.c_int)
-    fn.restype = ctypes.c_int
-    return fn
-
-
-def resident_empty(shape: tuple[int, int]) -> Array:
-    """``np.empty(shape)`` whose pages are already in memory (contents as undefined).
-
-    A run's record array is fresh memory: left lazy, the kernel zeroes and maps each 4 KiB page
-    at its first write, which happens while the loop drains rows into it - about 2.2 us a page
-    on the 2-core development VM (1.5-1.9 ms of a 10 s run's 2.9 MB record: 6-8 % of its
-    stepping time, more of a shorter run). One ``madvise(MADV_POPULATE_WRITE)`` over the array's
-    whole pages maps them in a single call before stepping (about 1 us a page there; pages
-    already resident, e.g. memory malloc reuses, cost next to nothing), so the process spends
-    less time in all and the stepping wall time measures stepping. Where the call is not
-    available (not Linux, a kernel older than 5.14) the array is returned as is: nothing changes
-    but the time. The values written later are the same either way.
-    """
-    out = np.empty(shape)
-    madvise = _madvise()
-    if madvise is not None and out.nbytes >= 2 * PAGE_BYTES:
-        addr = int(out.ctypes.data)
-        start = -(-addr // PAGE_BYTES) * PAGE_BYTES  # whole pages inside the array only
-        end = (addr + out.nbytes) // PAGE_BYTES * PAGE_BYTES
-        if end > start:
-            madvise(start, end - start, MADV_POPULATE_WRITE)  # a failure leaves the pages lazy
-    return out
-
-
-def check_run_size(
-    duration_s: float, timestep_s: float, ctrl_dt_s: float, log_every_ticks: int, n_cols: int
-) -> None:
-    """Refuse, before anything is allocated, a run that takes too many steps or will not fit.
-
-    Names the options to change. ``n_cols`` is the number of floats recorded per row.
-    """
-    n_steps = duration_s / timestep_s
-    if n_steps > MAX_STEPS:
-        raise InvalidParameterError(
-            f"{duration_s:g} s at a timestep of {timestep_s:g} s is {n_steps:.3g} physics steps; "
-            f"at most {MAX_STEPS:.3g} are allowed per run: raise --timestep or shorten --duration"
-        )
-    if duration_s < ctrl_dt_s * (1.0 - 1e-9):
-        raise InvalidParameterError(
-            f"duration {duration_s:g} s is shorter than one control period ({ctrl_dt_s:g} s): "
-            "a run must span at least one control tick (lower --ctrl-dt or raise --duration)"
-        )
-    n_ticks = duration_s / ctrl_dt_s + 1.0
-    rows = n_ticks / max(log_every_ticks, 1) if log_every_ticks > 0 else 0.0
-    # reference table (the model holds it twice while compiling) + recorded rows + columns
-    need = 8.0 * (3.0 * n_ticks * L.REF_COLS + rows * (n_cols + 40))
-    if need <= SMALL_RUN_BYTES:
-        return  # fits anywhere: no need to ask the kernel (a sweep point asks ~0.15 ms)
-    have = MEMORY_SHARE * available_memory_bytes()
-    if need > have:
-        raise InvalidParameterError(
-            f"this run needs about {need / 2**30:.1f} GiB ({n_ticks:.3g} control ticks, "
-            f"{rows:.3g} recorded rows) but only {have / 2**30:.1f} GiB may be used here: "
-            "raise --log-every, raise --ctrl-dt or shorten --duration"
-        )
 
 
 def clock_gap_steps(
@@ -638,98 +544,6 @@ class Simulation:
             a = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_ACTUATOR, f"{effect}.{state}")
             cols[f"{effect}.{state}"] = act[:, int(self.model.actuator_actadr[a])]
         return cols
-
-
-def motor_energy_j(cols: dict[str, Array], st: ArmStructure | None) -> float:
-    """Positive mechanical work of joint 3's motor, J (trapezoid of max(tau * omega_rotor, 0)).
-
-    Regenerated energy is not credited (a typical servo amplifier burns it in a shunt).
-    """
-    if st is None or len(cols["t"]) < 2:
-        return float("nan")
-    power = np.maximum(cols["tau_motor"] * cols["omega_m"] / st.coef_m, 0.0)
-    return float(np.sum(0.5 * (power[1:] + power[:-1]) * np.diff(cols["t"])))
-
-
-def kernel_metrics(acc: Array) -> dict[str, float | dict[str, float]]:
-    """Tracking and effort metrics from the control kernel's per-step accumulators
-    (``layout.A_*``): every physics step counts, whatever the logging options."""
-    n = float(acc[L.A_COUNT])
-    if n < 1.0:
-        raise InvalidParameterError(
-            "no physics step was taken with the controllers on, so there are no metrics"
-        )
-    joints = ("q1", "q2", "q3")
-    rmse = {j: math.sqrt(float(acc[L.A_SQ_ERR + i]) / n) for i, j in enumerate(joints)}
-    max_err = {j: float(acc[L.A_MAX_ERR + i]) for i, j in enumerate(joints)}
-    return {
-        "rmse_rad": rmse,
-        "rmse_deg": {k: math.degrees(v) for k, v in rmse.items()},
-        "max_abs_err_rad": max_err,
-        "max_abs_err_deg": {k: math.degrees(v) for k, v in max_err.items()},
-        "tau_estimate_rmse_nm": math.sqrt(float(acc[L.A_SQ_TAU_EST]) / n),
-        "tau_estimate_max_abs_err_nm": float(acc[L.A_MAX_TAU_EST]),
-        "peak_motor_torque_nm": float(acc[L.A_PEAK_MOTOR_TORQUE]),
-        "peak_motor_speed_rad_s": float(acc[L.A_PEAK_ROTOR_SPEED]),
-        "peak_shaft_torque_nm": float(acc[L.A_PEAK_SHAFT_TORQUE]),
-        "peak_twist_rad": float(acc[L.A_PEAK_TWIST]),
-        "peak_tau2_nm": float(acc[L.A_PEAK_TAU2]),
-        "motor_energy_j": float(acc[L.A_MOTOR_WORK]),
-        "metric_samples": n,
-    }
-
-
-def compute_metrics(
-    cols: dict[str, Array],
-    duration_s: float,
-    wall_s: float,
-    st: ArmStructure | None = None,
-    rating_nm: float | None = None,
-    acc: Array | None = None,
-) -> dict[str, float | dict[str, float]]:
-    """Tracking and torque-estimate metrics of a run.
-
-    With ``acc`` (the kernel's accumulators, :meth:`Simulation.metrics`) they cover every physics
-    step; without it they are computed from the recorded rows ``cols`` (a record from elsewhere).
-    """
-    if acc is not None:
-        out = kernel_metrics(acc)
-    else:
-        if len(cols["t"]) < 1:
-            raise InvalidParameterError("the record has no rows, so there are no metrics")
-        rmse: dict[str, float] = {}
-        max_err: dict[str, float] = {}
-        for j in (1, 2, 3):
-            e = cols[f"q{j}"] - cols[f"q{j}_ref"]
-            rmse[f"q{j}"] = float(np.sqrt(np.mean(e * e)))
-            max_err[f"q{j}"] = float(np.max(np.abs(e)))
-        te = cols["tau_model"] - cols["tau_shaft"]
-        out = {
-            "rmse_rad": rmse,
-            "rmse_deg": {k: math.degrees(v) for k, v in rmse.items()},
-            "max_abs_err_rad": max_err,
-            "max_abs_err_deg": {k: math.degrees(v) for k, v in max_err.items()},
-            "tau_estimate_rmse_nm": float(np.sqrt(np.mean(te * te))),
-            "tau_estimate_max_abs_err_nm": float(np.max(np.abs(te))),
-            "peak_motor_torque_nm": float(np.max(np.abs(cols["tau_motor"]))),
-            "peak_motor_speed_rad_s": float(np.max(np.abs(cols["omega_m"])))
-            / (st.coef_m if st else 1.0),
-            "peak_shaft_torque_nm": float(np.max(np.abs(cols["tau_shaft"]))),
-            "peak_twist_rad": float(np.max(np.abs(cols["twist"]))),
-            "peak_tau2_nm": float(np.max(np.abs(cols["tau2"]))),
-            "motor_energy_j": motor_energy_j(cols, st),
-        }
-    peak = out["peak_shaft_torque_nm"]
-    assert isinstance(peak, float)
-    out.update(
-        {
-            "peak_shaft_torque_over_rating": peak / rating_nm if rating_nm else float("nan"),
-            "sim_time_s": duration_s,
-            "wall_time_s": wall_s,
-            "realtime_factor": duration_s / wall_s if wall_s > 0 else float("inf"),
-        }
-    )
-    return out
 
 
 def disturbance_hook(sim: Simulation, dist: scenarios.Disturbance) -> scenarios.TickHook:
