@@ -1,4 +1,6 @@
-"""fsarm bench series|parallel and fsarm campaign: seed 000 Sec. III's bench tests on one shaft or on the whole catalogue (registered by :mod:)."""
+"""fsarm bench series|parallel and fsarm campaign: seed 000 Sec. III's bench tests on one shaft or
+on the whole catalogue (registered by :mod:).
+"""
 
 from __future__ import annotations
 

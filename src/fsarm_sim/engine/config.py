@@ -1,4 +1,6 @@
-"""A run's configuration as the model builder takes it: controller gains, the effects switched on, the shaft and payload (SimConfig)."""
+"""A run's configuration as the model builder takes it: controller gains, the effects switched on,
+the shaft and payload (SimConfig).
+"""
 
 from __future__ import annotations
 

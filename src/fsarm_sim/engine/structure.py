@@ -1,4 +1,6 @@
-"""The arm's structure read back by name from a compiled model (joint, dof and actuator indices, the shaft tendon's coefficients): the MJCF is the one place it is written."""
+"""The arm's structure read back by name from a compiled model (joint, dof and actuator indices,
+the shaft tendon's coefficients): the MJCF is the one place it is written.
+"""
 
 from __future__ import annotations
 

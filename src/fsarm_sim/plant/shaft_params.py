@@ -1,4 +1,6 @@
-"""A catalogue's shafts evaluated: seed 000 eq. 3/4 for one (D, L) (Catalogue.shaft) into ShaftParams; the file format and its reading are in :mod:."""
+"""A catalogue's shafts evaluated: seed 000 eq. 3/4 for one (D, L) (Catalogue.shaft) into
+ShaftParams; the file format and its reading are in :mod:.
+"""
 
 from __future__ import annotations
 

@@ -1,4 +1,6 @@
-"""The arm in 3-D for a recording: its geoms, body poses from recorded joint angles, and the shaft's route."""
+"""The arm in 3-D for a recording: its geoms, body poses from recorded joint angles, and the
+shaft's route.
+"""
 
 from __future__ import annotations
 

@@ -1,4 +1,6 @@
-"""A recording's blueprint: which panels a run shows, their tabs, layout and legends, and the metadata view."""
+"""A recording's blueprint: which panels a run shows, their tabs, layout and legends, and the
+metadata view.
+"""
 
 from __future__ import annotations
 

@@ -1,4 +1,6 @@
-"""Time-series panels of a recording (which columns, labels and colours) and their generic logging over plain column dicts."""
+"""Time-series panels of a recording (which columns, labels and colours) and their generic logging
+over plain column dicts.
+"""
 
 from __future__ import annotations
 

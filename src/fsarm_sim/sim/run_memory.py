@@ -1,4 +1,6 @@
-"""A run's memory, checked before it starts (it cannot fail half-way for memory) and mapped in before the kernels write it."""
+"""A run's memory, checked before it starts (it cannot fail half-way for memory) and mapped in
+before the kernels write it.
+"""
 
 from __future__ import annotations
 

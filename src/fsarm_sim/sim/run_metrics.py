@@ -1,4 +1,6 @@
-"""A run's metrics from its recorded columns and the kernels' accumulators: tracking errors, motor energy."""
+"""A run's metrics from its recorded columns and the kernels' accumulators: tracking errors, motor
+energy.
+"""
 
 from __future__ import annotations
 

@@ -1,4 +1,6 @@
-"""What a run checks and sets before and while it steps: the control clock against the timestep, MuJoCo's warnings, and the initial state (the shaft's static twist under gravity)."""
+"""What a run checks and sets before and while it steps: the control clock against the timestep,
+MuJoCo's warnings, and the initial state (the shaft's static twist under gravity).
+"""
 
 from __future__ import annotations
 

@@ -1,4 +1,6 @@
-"""What both benches of :mod: share: the model's structure and parameters, input checks, and the stepping loop with prescribed joints."""
+"""What both benches of :mod: share: the model's structure and parameters, input checks, and the
+stepping loop with prescribed joints.
+"""
 
 from __future__ import annotations
 

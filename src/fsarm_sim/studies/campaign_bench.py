@@ -1,4 +1,6 @@
-"""Seed 000 Sec. III bench tests on one shaft: the series test (eq. 8, eq. 1 fits, bend trend) and the parallel test (eq. 2 moment loop)."""
+"""Seed 000 Sec. III bench tests on one shaft: the series test (eq. 8, eq. 1 fits, bend trend) and
+the parallel test (eq. 2 moment loop).
+"""
 
 from __future__ import annotations
 

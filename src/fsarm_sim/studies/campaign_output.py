@@ -1,4 +1,6 @@
-"""A campaign written out: tables, JSON and figures (series and parallel loops, eq. 3 / eq. 4 surfaces, error maps)."""
+"""A campaign written out: tables, JSON and figures (series and parallel loops, eq. 3 / eq. 4
+surfaces, error maps).
+"""
 
 from __future__ import annotations
 

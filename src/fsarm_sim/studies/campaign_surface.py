@@ -1,4 +1,6 @@
-"""Eq. 3 and eq. 4 re-fitted over a campaign's shafts and compared with the coefficients the simulator was given; the campaign's result."""
+"""Eq. 3 and eq. 4 re-fitted over a campaign's shafts and compared with the coefficients the
+simulator was given; the campaign's result.
+"""
 
 from __future__ import annotations
 

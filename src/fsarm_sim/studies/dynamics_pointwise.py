@@ -1,4 +1,6 @@
-"""Pinocchio vs MuJoCo at random states: mass matrix, bias, forward dynamics, controller inputs (checks 1-3, 5)."""
+"""Pinocchio vs MuJoCo at random states: mass matrix, bias, forward dynamics, controller inputs
+(checks 1-3, 5).
+"""
 
 from __future__ import annotations
 

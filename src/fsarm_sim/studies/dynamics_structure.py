@@ -1,4 +1,6 @@
-"""Seed 000 eq. 5-7 structure (S, B, M_R, K_SEA, K_PEA) measured on Pinocchio / MuJoCo vs the MJCF (check 4)."""
+"""Seed 000 eq. 5-7 structure (S, B, M_R, K_SEA, K_PEA) measured on Pinocchio / MuJoCo vs the MJCF
+(check 4).
+"""
 
 from __future__ import annotations
 

@@ -1,4 +1,6 @@
-"""MuJoCo RK4 closed loop vs an independent RK4 on Pinocchio ABA, with convergence orders in the time step (check 6)."""
+"""MuJoCo RK4 closed loop vs an independent RK4 on Pinocchio ABA, with convergence orders in the
+time step (check 6).
+"""
 
 from __future__ import annotations
 

@@ -1,4 +1,6 @@
-"""Seed 001's actuator as an ODE (motor, gearbox, encoders, cascade) and one bench run of it; the experiments on it and the model's sources are in :mod:."""
+"""Seed 001's actuator as an ODE (motor, gearbox, encoders, cascade) and one bench run of it; the
+experiments on it and the model's sources are in :mod:.
+"""
 
 from __future__ import annotations
 

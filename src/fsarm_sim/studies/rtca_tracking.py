@@ -1,4 +1,6 @@
-"""Seed 001's bench, torque tracking (Sec. 4.1.1): the tracking run, the output's load servo, the set-point delay and gain calibration, and the Ziegler-Nichols procedure."""
+"""Seed 001's bench, torque tracking (Sec. 4.1.1): the tracking run, the output's load servo, the
+set-point delay and gain calibration, and the Ziegler-Nichols procedure.
+"""
 
 from __future__ import annotations
 

@@ -1,4 +1,6 @@
-"""A sweep's spec: the fields it may vary, values as written on the command line or in a file, the spec built from them."""
+"""A sweep's spec: the fields it may vary, values as written on the command line or in a file, the
+spec built from them.
+"""
 
 from __future__ import annotations
 

@@ -1,4 +1,6 @@
-"""Seed 000 on its two benches: the series test (Sec. III-A/B1) and the parallel test (Sec. III-B2), measured as :mod: describes."""
+"""Seed 000 on its two benches: the series test (Sec. III-A/B1) and the parallel test (Sec.
+III-B2), measured as :mod: describes.
+"""
 
 from __future__ import annotations
 

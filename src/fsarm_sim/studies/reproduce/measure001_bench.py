@@ -1,4 +1,6 @@
-"""Seed 001 on its own bench (Sec. 4, :mod:): torque tracking, torque bandwidth vs bend, Fig. 12 transparency, Ziegler-Nichols."""
+"""Seed 001 on its own bench (Sec. 4, :mod:): torque tracking, torque bandwidth vs bend, Fig. 12
+transparency, Ziegler-Nichols.
+"""
 
 from __future__ import annotations
 

@@ -1,4 +1,6 @@
-"""Seed 002's QA-Joint as designed (Sec. III, Tables III-IV): its constants, stiffness range, deflection, adjustment time and torque capacity."""
+"""Seed 002's QA-Joint as designed (Sec. III, Tables III-IV): its constants, stiffness range,
+deflection, adjustment time and torque capacity.
+"""
 
 from __future__ import annotations
 
