@@ -7,6 +7,7 @@ import os
 os.environ.setdefault("MUJOCO_GL", "disable")
 
 import sys
+from typing import Any
 
 import numpy as np
 import pytest
@@ -31,6 +32,29 @@ def run_fsarm(monkeypatch: pytest.MonkeyPatch, *args: str) -> int:
     except SystemExit as exc:
         return int(exc.code or 0)
     return 0
+
+
+def free_oscillation_energies(
+    law: Any, tr: np.ndarray, act: np.ndarray, j: float, x0: float, dt: float, steps: int
+) -> list[float]:
+    """An inertia ``j`` on a transmission law's output (input held, no bend), started at twist
+    ``x0`` at rest and integrated by RK4: the total energy (kinetic + ``law.potential_j``) after
+    each step."""
+    x, v = x0, 0.0
+    out = []
+
+    def acc(x_: float, v_: float) -> float:
+        return float(-law.torque_nm(tr, x_, v_, 0.0, act, 0) / j)  # output side: x = -theta_s
+
+    for _ in range(steps):
+        k1x, k1v = v, acc(x, v)
+        k2x, k2v = v + 0.5 * dt * k1v, acc(x + 0.5 * dt * k1x, v + 0.5 * dt * k1v)
+        k3x, k3v = v + 0.5 * dt * k2v, acc(x + 0.5 * dt * k2x, v + 0.5 * dt * k2v)
+        k4x, k4v = v + dt * k3v, acc(x + dt * k3x, v + dt * k3v)
+        x += dt * (k1x + 2 * k2x + 2 * k3x + k4x) / 6
+        v += dt * (k1v + 2 * k2v + 2 * k3v + k4v) / 6
+        out.append(0.5 * j * v * v + law.potential_j(tr, x, 0.0, act, 0))
+    return out
 
 
 def hold_table(q1: float, q2: float, q3: float, n: int = 1) -> np.ndarray:

@@ -1,6 +1,6 @@
 """The two test benches of seed 000 Fig. 5, tested as physics: statics, energy, dissipation, rate.
 
-Every replay goes through ``bench._run_prescribed`` / ``run_torque_control``, which raise on any
+Every replay goes through ``bench_model.run_prescribed`` / ``run_torque_control``, which raise on any
 MuJoCo warning (SimulationWarningError).
 """
 

@@ -137,7 +137,7 @@ def test_transparency_says_when_the_bend_cannot_matter(
 def test_campaign_coefficient_changes_have_no_nan() -> None:
     """A coefficient the catalogue holds at 0 (eq. 3's p4 under the inverse-length law) has no
     relative change: it is said as it is, never as ``+nan %``."""
-    from fsarm_sim.cli.sweep import coefficient_change
+    from fsarm_sim.cli.bench import coefficient_change
 
     assert coefficient_change("p1", 0.021, 1.4, 1.37) == "p1: +2.1 %"
     assert coefficient_change("p4", math.nan, 0.0, 0.0) == "p4: 0 in both (held at 0, not fitted)"
@@ -145,7 +145,7 @@ def test_campaign_coefficient_changes_have_no_nan() -> None:
 
 
 def test_a_negative_fitted_inertia_is_explained() -> None:
-    from fsarm_sim.cli.sweep import inertia_note
+    from fsarm_sim.cli.bench import inertia_note
 
     assert inertia_note([0.001, 0.002]) == ""
     note = inertia_note([0.001, -0.0014])

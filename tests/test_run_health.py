@@ -22,7 +22,7 @@ from fsarm_sim.errors import (
 )
 from fsarm_sim.kernels import layout as L
 from fsarm_sim.kernels import physics
-from fsarm_sim.sim import scenarios, simulation
+from fsarm_sim.sim import run_memory, scenarios, simulation
 from fsarm_sim.sim.simulation import Simulation, check_clock, run_scenario
 
 HOUR_S = 3600.0
@@ -189,7 +189,7 @@ def test_run_sizes_and_clocks_that_cannot_work_are_refused(
 def test_a_run_that_would_not_fit_in_memory_is_refused_before_it_starts(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    monkeypatch.setattr(simulation, "available_memory_bytes", lambda: 64 << 20)
+    monkeypatch.setattr(run_memory, "available_memory_bytes", lambda: 64 << 20)
     with pytest.raises(InvalidParameterError, match="--log-every"):
         run_scenario("fig14-sine", duration_s=600.0)
     run_scenario("fig14-sine", duration_s=0.5)  # a small one still runs

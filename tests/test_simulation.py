@@ -244,7 +244,7 @@ def test_scenario_table_of_an_impure_reference_is_computed_every_time() -> None:
 
 def _populate_works() -> bool:
     """Whether this machine maps pages in with madvise(MADV_POPULATE_WRITE) (Linux >= 5.14)."""
-    from fsarm_sim.sim import simulation as sim_mod
+    from fsarm_sim.sim import run_memory as sim_mod
 
     madvise = sim_mod._madvise()
     if madvise is None:
@@ -258,7 +258,7 @@ def test_the_record_array_is_resident_before_the_run_writes_it() -> None:
     """resident_empty maps the array's whole pages in before anything writes them (mincore)."""
     import ctypes
 
-    from fsarm_sim.sim import simulation as sim_mod
+    from fsarm_sim.sim import run_memory as sim_mod
 
     if not _populate_works():
         pytest.skip("no madvise(MADV_POPULATE_WRITE) here: the record stays lazily mapped")

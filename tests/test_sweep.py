@@ -14,24 +14,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fsarm_sim import cli
 from fsarm_sim.engine.model import Gains, SimConfig
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.executors import ExecutorError
 from fsarm_sim.plant.shaft import load_catalogue
 from fsarm_sim.records.store import ResultStore, point_key
-from fsarm_sim.studies import arm_metrics
+from fsarm_sim.studies import arm_metrics, sweep_analysis
 from fsarm_sim.studies import sweep as sw
 
-
-def _fsarm(monkeypatch: pytest.MonkeyPatch, *args: str) -> int:
-    monkeypatch.setattr(sys, "argv", ["fsarm", *args])
-    try:
-        cli.main()
-    except SystemExit as exc:
-        return int(exc.code or 0)
-    return 0
-
+from conftest import run_fsarm
 
 # ---------------------------------------------------------------------------------------------
 # parsing
@@ -145,7 +136,7 @@ def test_cli_rejects_bad_spec_before_any_work(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     store = tmp_path / "r.sqlite"
-    code = _fsarm(monkeypatch, "sweep", "--store", str(store), "--grid", "diameter_mm=13:4:3")
+    code = run_fsarm(monkeypatch, "sweep", "--store", str(store), "--grid", "diameter_mm=13:4:3")
     assert code == 2
     assert "reversed range" in capsys.readouterr().err
     assert not store.exists()
@@ -313,7 +304,7 @@ def test_analysis_recovers_the_catalogue_surfaces(tmp_path: Path) -> None:
     assert report.computed == 16 and report.failed == 0
     again = sw.run_sweep(spec, store, workers=1)
     assert again.already == 16 and again.computed == 0
-    res = sw.analyze(store, tmp_path / "out")
+    res = sweep_analysis.analyze(store, tmp_path / "out")
     for eq in ("eq3 positive", "eq3 negative", "eq4"):
         assert res.comparisons[eq].surface_max_rel_error < 1e-9
     names = {p.name for p in res.files}

@@ -11,6 +11,8 @@ import pytest
 from fsarm_sim.plant.transmissions import magnetic_spring as ms
 from fsarm_sim.plant.transmissions.base import N_STATES, Transmission, TransmissionError
 
+from conftest import free_oscillation_energies
+
 ACT = np.zeros(N_STATES)
 TR = ms.default_block()
 DEG = math.pi / 180.0
@@ -159,21 +161,7 @@ def test_free_oscillation_conserves_energy_without_damping_and_loses_it_with() -
     j = 1e-4  # kg*m^2, an output inertia; input held
 
     def run(tr: np.ndarray) -> list[float]:
-        x, v, dt = 25.0 * DEG, 0.0, 1e-4
-        out = []
-
-        def acc(x_: float, v_: float) -> float:
-            return -ms.torque_nm(tr, x_, v_, 0.0, ACT, 0) / j
-
-        for _ in range(4000):
-            k1x, k1v = v, acc(x, v)
-            k2x, k2v = v + 0.5 * dt * k1v, acc(x + 0.5 * dt * k1x, v + 0.5 * dt * k1v)
-            k3x, k3v = v + 0.5 * dt * k2v, acc(x + 0.5 * dt * k2x, v + 0.5 * dt * k2v)
-            k4x, k4v = v + dt * k3v, acc(x + dt * k3x, v + dt * k3v)
-            x += dt * (k1x + 2 * k2x + 2 * k3x + k4x) / 6
-            v += dt * (k1v + 2 * k2v + 2 * k3v + k4v) / 6
-            out.append(0.5 * j * v * v + ms.potential_j(tr, x, 0.0, ACT, 0))
-        return out
+        return free_oscillation_energies(ms, tr, ACT, j, 25.0 * DEG, 1e-4, 4000)
 
     e0 = ms.potential_j(TR, 25.0 * DEG, 0.0, ACT, 0)
     free = run(ms.default_block({"z": 0.0}))

@@ -12,6 +12,8 @@ from fsarm_sim.plant.effects import nonlinear_stiffness
 from fsarm_sim.plant.transmissions import rtca
 from fsarm_sim.plant.transmissions.base import N_STATES, N_TR, Transmission, TransmissionError
 
+from conftest import free_oscillation_energies
+
 ACT = np.zeros(N_STATES)
 TR = rtca.default_block()
 BEND_250 = 0.255 / 0.250  # joint-2 angle that bends the shaft to R = 250 mm (L_bend = 255 mm)
@@ -199,21 +201,7 @@ def test_free_oscillation_conserves_energy_without_damping_and_loses_it_with() -
     j = 2e-3  # kg*m^2
 
     def run(tr: np.ndarray) -> list[float]:
-        x, v, dt = 0.6, 0.0, 2e-4
-        energies = []
-
-        def acc(x_: float, v_: float) -> float:
-            return -rtca.torque_nm(tr, x_, v_, 0.0, ACT, 0) / j  # output side: x = -theta_s
-
-        for _ in range(5000):
-            k1x, k1v = v, acc(x, v)
-            k2x, k2v = v + 0.5 * dt * k1v, acc(x + 0.5 * dt * k1x, v + 0.5 * dt * k1v)
-            k3x, k3v = v + 0.5 * dt * k2v, acc(x + 0.5 * dt * k2x, v + 0.5 * dt * k2v)
-            k4x, k4v = v + dt * k3v, acc(x + dt * k3x, v + dt * k3v)
-            x += dt * (k1x + 2 * k2x + 2 * k3x + k4x) / 6
-            v += dt * (k1v + 2 * k2v + 2 * k3v + k4v) / 6
-            energies.append(0.5 * j * v * v + rtca.potential_j(tr, x, 0.0, ACT, 0))
-        return energies
+        return free_oscillation_energies(rtca, tr, ACT, j, 0.6, 2e-4, 5000)
 
     e0 = rtca.potential_j(TR, 0.6, 0.0, ACT, 0)
     free = run(rtca.default_block({"c": 0.0}))

@@ -203,16 +203,7 @@ def record_runs(
         recording.APPLICATION_ID,
         recording_id=f"{tagged[0].result.scenario}:" + " vs ".join(t.tag for t in tagged),
     )
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    rec.save(path)
-    try:
-        bp = log_runs(rec, tagged, rate_hz)
-        rec.send_blueprint(bp, make_active=True, make_default=True)
-        rec.flush()
-    finally:
-        rec.disconnect()
-    return path
+    return recording.save_recording(rec, path, lambda r: log_runs(r, tagged, rate_hz))
 
 
 # --------------------------------------------------------------------------- any series
@@ -285,10 +276,8 @@ def record_series_comparison(
     step = max(1, math.ceil(n / MAX_SERIES_ROWS))
     rows = np.arange(0, n, step)
     rec = rr.RecordingStream(recording.APPLICATION_ID, recording_id=recording_id)
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    rec.save(path)
-    try:
+
+    def log(rec: rr.RecordingStream) -> Any:
         rec.log("run/metadata", rr.TextDocument(markdown, media_type="text/markdown"), static=True)
         shown = []
         curves: dict[str, list[recording.Curve]] = {}
@@ -324,12 +313,6 @@ def record_series_comparison(
             image = loop_image(loop, [(tr, c) for tr, c, _ in runs], y_range=lp.y_range)
             log_loop_panel(rec, loop, runs, image)
             views.append(recording.LoopView(loop.entity, loop.title, image.width, image.height))
-        rec.send_blueprint(
-            recording.blueprint(shown, views, with_3d=False, curves=curves),
-            make_active=True,
-            make_default=True,
-        )
-        rec.flush()
-    finally:
-        rec.disconnect()
-    return path
+        return recording.blueprint(shown, views, with_3d=False, curves=curves)
+
+    return recording.save_recording(rec, path, log)

@@ -2,59 +2,55 @@
 
 from __future__ import annotations
 
-import ctypes
-import functools
 import math
-import mmap
-import os
-import sys
 import time as _time
-from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim.controllers.joint3_hysteresis import initial_elements
 from fsarm_sim.engine import callbacks
 from fsarm_sim.engine.lean import check_springs_off, stiffness_views
 from fsarm_sim.engine.model import (
-    ArmStructure,
     SimConfig,
     build_model,
     law_state_names,
     read_structure,
 )
 from fsarm_sim.errors import (
-    CallbackBypassError,
     InvalidParameterError,
     ModelStructureError,
     RunFailedError,
     RunHealthError,
-    SimulationWarningError,
     real_number,
     whole_number,
 )
 from fsarm_sim.kernels import layout as L
-from fsarm_sim.plant import transmissions
-from fsarm_sim.plant.effects import registry
 from fsarm_sim.sim import scenarios
+from fsarm_sim.sim.run_memory import MADV_POPULATE_WRITE as MADV_POPULATE_WRITE
+from fsarm_sim.sim.run_memory import MAX_STEPS as MAX_STEPS
+from fsarm_sim.sim.run_memory import MEMORY_SHARE as MEMORY_SHARE
+from fsarm_sim.sim.run_memory import PAGE_BYTES as PAGE_BYTES
+from fsarm_sim.sim.run_memory import available_memory_bytes as available_memory_bytes
+from fsarm_sim.sim.run_memory import check_run_size
+from fsarm_sim.sim.run_memory import resident_empty as resident_empty
+from fsarm_sim.sim.run_metrics import compute_metrics as compute_metrics
+from fsarm_sim.sim.run_metrics import kernel_metrics
+from fsarm_sim.sim.run_start import check_clock as check_clock
+from fsarm_sim.sim.run_start import clock_gap_steps as clock_gap_steps
+from fsarm_sim.sim.run_start import initial_state as initial_state
+from fsarm_sim.sim.run_start import raise_on_warning as raise_on_warning
+from fsarm_sim.sim.run_start import static_twist as static_twist
 
 Array = npt.NDArray[np.float64]
 Backend = callbacks.Backend
 DEFAULT_BACKEND = callbacks.DEFAULT_BACKEND
 MAX_DURATION_S = 3600.0
 DEFAULT_TIMESTEP_S = 0.001  # models/fsarm/fsarm.xml <option timestep>, used before a model exists
-# One hour at a 10 us timestep: the most physics steps one run may take (about 15 min native).
-MAX_STEPS = 360_000_000
 # log one row every N control ticks: N above the most steps a run may take records the first row
 # only, like any N longer than the run; beyond it N is refused (it would overflow the kernels' ints)
 MAX_LOG_EVERY = MAX_STEPS
-# A run may use at most this share of the memory available when it starts (reference table,
-# recorded rows and the columns made from them), so that it cannot fail half-way for memory.
-MEMORY_SHARE = 0.5
-SMALL_RUN_BYTES = 64 << 20  # a run this small is not checked against the free memory
 # steps: MuJoCo warnings and the run's health are checked this often (2 s at the default 1 ms
 # step, ~5 ms of a native run's wall time). Every check hands the GIL back and forth, which
 # threads stepping side by side (a sweep's default executor) pay for (`fsarm bench-speed`).
@@ -94,200 +90,6 @@ def check_duration(duration_s: float) -> float:
             f"duration must be at most {MAX_DURATION_S:g} s per run, got {duration_s!r}"
         )
     return float(duration_s)
-
-
-def available_memory_bytes() -> int:
-    """Memory the kernel says is available now (MemAvailable), else the physical memory."""
-    try:
-        with open("/proc/meminfo", encoding="ascii") as f:
-            for line in f:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        pass
-    try:
-        return int(os.sysconf("SC_PHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
-    except (OSError, ValueError, AttributeError):
-        return 8 << 30
-
-
-# madvise(2) advice that faults a range in as writable in one call (Linux >= 5.14; <linux/mman.h>)
-MADV_POPULATE_WRITE = 23
-PAGE_BYTES = mmap.PAGESIZE  # this machine's page size (4 KiB on x86-64)
-
-
-@functools.lru_cache(maxsize=1)
-def _madvise() -> Callable[[int, int, int], int] | None:
-    """libc's ``madvise``, or None where there is none to call (not Linux)."""
-    if not sys.platform.startswith("linux"):
-        return None
-    try:
-        fn = ctypes.CDLL(None, use_errno=True).madvise
-    except (OSError, AttributeError):
-        return None
-    fn.argtypes = (ctypes.c_void_p, ctypes.c_size_t, ctypes.c_int)
-    fn.restype = ctypes.c_int
-    return fn
-
-
-def resident_empty(shape: tuple[int, int]) -> Array:
-    """``np.empty(shape)`` whose pages are already in memory (contents as undefined).
-
-    A run's record array is fresh memory: left lazy, the kernel zeroes and maps each 4 KiB page
-    at its first write, which happens while the loop drains rows into it - about 2.2 us a page
-    on the 2-core development VM (1.5-1.9 ms of a 10 s run's 2.9 MB record: 6-8 % of its
-    stepping time, more of a shorter run). One ``madvise(MADV_POPULATE_WRITE)`` over the array's
-    whole pages maps them in a single call before stepping (about 1 us a page there; pages
-    already resident, e.g. memory malloc reuses, cost next to nothing), so the process spends
-    less time in all and the stepping wall time measures stepping. Where the call is not
-    available (not Linux, a kernel older than 5.14) the array is returned as is: nothing changes
-    but the time. The values written later are the same either way.
-    """
-    out = np.empty(shape)
-    madvise = _madvise()
-    if madvise is not None and out.nbytes >= 2 * PAGE_BYTES:
-        addr = int(out.ctypes.data)
-        start = -(-addr // PAGE_BYTES) * PAGE_BYTES  # whole pages inside the array only
-        end = (addr + out.nbytes) // PAGE_BYTES * PAGE_BYTES
-        if end > start:
-            madvise(start, end - start, MADV_POPULATE_WRITE)  # a failure leaves the pages lazy
-    return out
-
-
-def check_run_size(
-    duration_s: float, timestep_s: float, ctrl_dt_s: float, log_every_ticks: int, n_cols: int
-) -> None:
-    """Refuse, before anything is allocated, a run that takes too many steps or will not fit.
-
-    Names the options to change. ``n_cols`` is the number of floats recorded per row.
-    """
-    n_steps = duration_s / timestep_s
-    if n_steps > MAX_STEPS:
-        raise InvalidParameterError(
-            f"{duration_s:g} s at a timestep of {timestep_s:g} s is {n_steps:.3g} physics steps; "
-            f"at most {MAX_STEPS:.3g} are allowed per run: raise --timestep or shorten --duration"
-        )
-    if duration_s < ctrl_dt_s * (1.0 - 1e-9):
-        raise InvalidParameterError(
-            f"duration {duration_s:g} s is shorter than one control period ({ctrl_dt_s:g} s): "
-            "a run must span at least one control tick (lower --ctrl-dt or raise --duration)"
-        )
-    n_ticks = duration_s / ctrl_dt_s + 1.0
-    rows = n_ticks / max(log_every_ticks, 1) if log_every_ticks > 0 else 0.0
-    # reference table (the model holds it twice while compiling) + recorded rows + columns
-    need = 8.0 * (3.0 * n_ticks * L.REF_COLS + rows * (n_cols + 40))
-    if need <= SMALL_RUN_BYTES:
-        return  # fits anywhere: no need to ask the kernel (a sweep point asks ~0.15 ms)
-    have = MEMORY_SHARE * available_memory_bytes()
-    if need > have:
-        raise InvalidParameterError(
-            f"this run needs about {need / 2**30:.1f} GiB ({n_ticks:.3g} control ticks, "
-            f"{rows:.3g} recorded rows) but only {have / 2**30:.1f} GiB may be used here: "
-            "raise --log-every, raise --ctrl-dt or shorten --duration"
-        )
-
-
-def clock_gap_steps(
-    model: mujoco.MjModel, data: mujoco.MjData, params: Array | None = None
-) -> float | None:
-    """Timesteps between ``data.time`` and the last step the control clock saw (None when the
-    controllers, and so the clock, are switched off). After ``mj_step`` with the callbacks active
-    it is 0 (RK4) or 1; before the first step ``U_STEP_T`` holds the start time
-    (``initial_state``, ``Simulation.start_at``). ``params``: the model's ``fsarm_params`` if
-    the caller holds them (None: looked up by name)."""
-    prm = model.numeric(L.PARAMS_NAME).data if params is None else params
-    if prm[L.P_EN_CONTROL] < 0.5:
-        return None
-    return (float(data.time) - float(data.userdata[L.U_STEP_T])) / float(model.opt.timestep)
-
-
-def check_clock(model: mujoco.MjModel, data: mujoco.MjData) -> None:
-    """Raise :class:`CallbackBypassError` if ``data`` was stepped without fsarm's callbacks.
-
-    The control clock (``physics.control``) notes the time of the last step it saw; after
-    ``mj_step`` with the callbacks active, ``data.time`` is at most one step past it. A larger gap
-    means MuJoCo stepped this model with no shaft and no controllers (e.g. ``mujoco.mj_step``
-    outside :func:`fsarm_sim.engine.callbacks.active`).
-    """
-    steps = clock_gap_steps(model, data)
-    if steps is not None and steps > 1.5:
-        raise CallbackBypassError(
-            f"this fsarm model was stepped about {steps:.0f} steps (to t = {data.time:.6g} s) "
-            "without fsarm's callbacks, so the shaft and the controllers did not act: step it with "
-            "Simulation.step/run, or call mujoco.mj_step inside fsarm_sim.engine.callbacks.active()"
-        )
-
-
-def raise_on_warning(data: mujoco.MjData) -> None:
-    """Turn any MuJoCo warning into a SimulationWarningError naming it."""
-    # the usual case, in ~1 us (the list below takes ~0.1 ms): a list of 8 ints beats numpy's any
-    if not any(data.warning.number.tolist()):
-        return
-    hits = [
-        f"{mujoco.mjtWarning(i).name} (x{int(w.number)}, info {int(w.lastinfo)})"
-        for i, w in enumerate(data.warning)
-        if w.number > 0
-    ]
-    if hits:
-        raise SimulationWarningError(f"MuJoCo warned at t = {data.time:.4f} s: {'; '.join(hits)}")
-
-
-def initial_state(model: mujoco.MjModel, data: mujoco.MjData, st: ArmStructure) -> None:
-    """Start at the reference's first pose in static equilibrium.
-
-    The shaft is pre-twisted to carry joint 3's gravity torque, the conduit branches are relaxed,
-    and the speed-loop integrator already holds the motor torque that twist needs (bumpless start).
-    """
-    prm = model.numeric(L.PARAMS_NAME).data
-    ref = model.numeric(L.REF_NAME).data
-    mujoco.mj_resetData(model, data)
-    for j in range(3):
-        data.qpos[st.qadr[j]] = ref[j]
-    data.qvel[:] = 0.0
-    data.qpos[st.qadr[3]] = data.qpos[st.qadr[2]] * st.coef_s / st.coef_m
-    mujoco.mj_kinematics(model, data)
-    mujoco.mj_comPos(model, data)
-    mujoco.mj_rne(model, data, 0, data.qfrc_bias)  # gravity only (qvel = 0)
-    tau_shaft = float(data.qfrc_bias[st.dof[2]]) / st.coef_s
-    bend = data.qpos[st.qadr[1]]
-    twist = static_twist(prm, tau_shaft, bend)
-    data.qpos[st.qadr[3]] = (st.coef_s * data.qpos[st.qadr[2]] + twist) / st.coef_m
-    tr = transmissions.by_kind(prm[L.P_TRANS])
-    block = prm[L.P_TR : L.P_TR + L.N_TR]
-    # the transmission's states at the twist its law sees (the backlash play taken up is not)
-    elastic = tr.twist_for_torque(block, tau_shaft, bend) if prm[L.P_EN_SERIES] >= 0.5 else 0.0
-    for i, v in enumerate(tr.initial_states(block, elastic, bend)):
-        data.act[st.act_slip + i] = v
-    data.act[st.act_branch[0]] = bend
-    data.act[st.act_branch[1]] = bend
-    if prm[L.P_SPD_KI] > 0.0:
-        data.userdata[L.U_MEM + L.M_SPD_I] = st.coef_m * tau_shaft / prm[L.P_SPD_KI]
-    if prm[L.P_CTRL_KIND] == L.CTRL_HYSTERESIS:
-        # the controller's hysteresis model starts loaded like the shaft: a static start holds
-        # joint 3's gravity torque, which the controller's model of the arm knows
-        hm = prm[L.P_HM : L.P_HM + L.N_HM]
-        z = initial_elements(twist, bend, tau_shaft, *(float(v) for v in hm))
-        data.userdata[L.U_MEM + L.M_SLIP : L.U_MEM + L.M_SLIP + 3] = z
-    for b in L.ARM_LAW_BLOCKS:  # the registry laws' own states start at their declared values
-        if prm[b.on] > 0.5 and prm[b.act] >= 0.0:
-            law = registry.get(b.name).law
-            assert law is not None
-            for i, d in enumerate(law.STATES):
-                data.act[int(prm[b.act]) + i] = d.default
-    data.userdata[L.U_TICK] = 0.0
-    data.time = 0.0
-
-
-def static_twist(prm: Array, tau_shaft: float, bend: float) -> float:
-    """Twist at which joint 3's transmission holds ``tau_shaft`` statically (0: no spring)."""
-    if prm[L.P_EN_SERIES] < 0.5:
-        return 0.0
-    tr = transmissions.by_kind(prm[L.P_TRANS])
-    twist = tr.twist_for_torque(prm[L.P_TR : L.P_TR + L.N_TR], tau_shaft, bend)
-    if prm[L.P_BL_WIDTH] > 0.0:  # the play must be taken up first, on the loaded flank
-        c, w = prm[L.P_BL_CENTER], prm[L.P_BL_WIDTH]
-        twist += c + (0.5 * w if twist > 0.0 else -0.5 * w if twist < 0.0 else 0.0)
-    return twist
 
 
 class Simulation:
@@ -638,98 +440,6 @@ class Simulation:
             a = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_ACTUATOR, f"{effect}.{state}")
             cols[f"{effect}.{state}"] = act[:, int(self.model.actuator_actadr[a])]
         return cols
-
-
-def motor_energy_j(cols: dict[str, Array], st: ArmStructure | None) -> float:
-    """Positive mechanical work of joint 3's motor, J (trapezoid of max(tau * omega_rotor, 0)).
-
-    Regenerated energy is not credited (a typical servo amplifier burns it in a shunt).
-    """
-    if st is None or len(cols["t"]) < 2:
-        return float("nan")
-    power = np.maximum(cols["tau_motor"] * cols["omega_m"] / st.coef_m, 0.0)
-    return float(np.sum(0.5 * (power[1:] + power[:-1]) * np.diff(cols["t"])))
-
-
-def kernel_metrics(acc: Array) -> dict[str, float | dict[str, float]]:
-    """Tracking and effort metrics from the control kernel's per-step accumulators
-    (``layout.A_*``): every physics step counts, whatever the logging options."""
-    n = float(acc[L.A_COUNT])
-    if n < 1.0:
-        raise InvalidParameterError(
-            "no physics step was taken with the controllers on, so there are no metrics"
-        )
-    joints = ("q1", "q2", "q3")
-    rmse = {j: math.sqrt(float(acc[L.A_SQ_ERR + i]) / n) for i, j in enumerate(joints)}
-    max_err = {j: float(acc[L.A_MAX_ERR + i]) for i, j in enumerate(joints)}
-    return {
-        "rmse_rad": rmse,
-        "rmse_deg": {k: math.degrees(v) for k, v in rmse.items()},
-        "max_abs_err_rad": max_err,
-        "max_abs_err_deg": {k: math.degrees(v) for k, v in max_err.items()},
-        "tau_estimate_rmse_nm": math.sqrt(float(acc[L.A_SQ_TAU_EST]) / n),
-        "tau_estimate_max_abs_err_nm": float(acc[L.A_MAX_TAU_EST]),
-        "peak_motor_torque_nm": float(acc[L.A_PEAK_MOTOR_TORQUE]),
-        "peak_motor_speed_rad_s": float(acc[L.A_PEAK_ROTOR_SPEED]),
-        "peak_shaft_torque_nm": float(acc[L.A_PEAK_SHAFT_TORQUE]),
-        "peak_twist_rad": float(acc[L.A_PEAK_TWIST]),
-        "peak_tau2_nm": float(acc[L.A_PEAK_TAU2]),
-        "motor_energy_j": float(acc[L.A_MOTOR_WORK]),
-        "metric_samples": n,
-    }
-
-
-def compute_metrics(
-    cols: dict[str, Array],
-    duration_s: float,
-    wall_s: float,
-    st: ArmStructure | None = None,
-    rating_nm: float | None = None,
-    acc: Array | None = None,
-) -> dict[str, float | dict[str, float]]:
-    """Tracking and torque-estimate metrics of a run.
-
-    With ``acc`` (the kernel's accumulators, :meth:`Simulation.metrics`) they cover every physics
-    step; without it they are computed from the recorded rows ``cols`` (a record from elsewhere).
-    """
-    if acc is not None:
-        out = kernel_metrics(acc)
-    else:
-        if len(cols["t"]) < 1:
-            raise InvalidParameterError("the record has no rows, so there are no metrics")
-        rmse: dict[str, float] = {}
-        max_err: dict[str, float] = {}
-        for j in (1, 2, 3):
-            e = cols[f"q{j}"] - cols[f"q{j}_ref"]
-            rmse[f"q{j}"] = float(np.sqrt(np.mean(e * e)))
-            max_err[f"q{j}"] = float(np.max(np.abs(e)))
-        te = cols["tau_model"] - cols["tau_shaft"]
-        out = {
-            "rmse_rad": rmse,
-            "rmse_deg": {k: math.degrees(v) for k, v in rmse.items()},
-            "max_abs_err_rad": max_err,
-            "max_abs_err_deg": {k: math.degrees(v) for k, v in max_err.items()},
-            "tau_estimate_rmse_nm": float(np.sqrt(np.mean(te * te))),
-            "tau_estimate_max_abs_err_nm": float(np.max(np.abs(te))),
-            "peak_motor_torque_nm": float(np.max(np.abs(cols["tau_motor"]))),
-            "peak_motor_speed_rad_s": float(np.max(np.abs(cols["omega_m"])))
-            / (st.coef_m if st else 1.0),
-            "peak_shaft_torque_nm": float(np.max(np.abs(cols["tau_shaft"]))),
-            "peak_twist_rad": float(np.max(np.abs(cols["twist"]))),
-            "peak_tau2_nm": float(np.max(np.abs(cols["tau2"]))),
-            "motor_energy_j": motor_energy_j(cols, st),
-        }
-    peak = out["peak_shaft_torque_nm"]
-    assert isinstance(peak, float)
-    out.update(
-        {
-            "peak_shaft_torque_over_rating": peak / rating_nm if rating_nm else float("nan"),
-            "sim_time_s": duration_s,
-            "wall_time_s": wall_s,
-            "realtime_factor": duration_s / wall_s if wall_s > 0 else float("inf"),
-        }
-    )
-    return out
 
 
 def disturbance_hook(sim: Simulation, dist: scenarios.Disturbance) -> scenarios.TickHook:

@@ -50,7 +50,6 @@ import hashlib
 import itertools
 import json
 import math
-import os
 import time
 import tomllib
 from collections.abc import Callable, Mapping, Sequence
@@ -58,267 +57,32 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
-from fsarm_sim._version import __version__
 from fsarm_sim.engine.model import Gains, SimConfig
 from fsarm_sim.errors import FsarmError, ShaftRangeError
 from fsarm_sim.executors import EXECUTORS, ExecutorError, Outcome, check_workers, run_tasks
-from fsarm_sim.paths import bounded_toml, checked_path, regular_file
 from fsarm_sim.plant.shaft import Catalogue, load_catalogue, parse_catalogue
 from fsarm_sim.records.store import ResultStore, canonical_json, point_key
 from fsarm_sim.sim import scenarios
 from fsarm_sim.studies import sweep_table
 from fsarm_sim.studies import trajectory_file as _trajectory_file  # noqa: F401  (file: scenarios)
-
-POINT_SCHEMA = 1  # bump when the meaning of a point's inputs or outputs changes
-MAX_POINTS = 100_000
-OUTPUTS: tuple[str, ...] = ("bench", "tracking", "bandwidth", "relief")
-DEFAULT_OUTPUTS = OUTPUTS
-BENCH_DEFAULTS: dict[str, Any] = {"chirp_s": 4.0, "bend_period_s": 4.0}  # shorter than a campaign
-BANDWIDTH_KEYS = ("chirp_s", "settle_s", "f_start_hz", "f_stop_hz", "q3_deg")
-TOP_KEYS = {
-    "name",
-    "outputs",
-    "shaft_file",
-    "extrapolate",
-    "backend",
-    "grid",
-    "fixed",
-    "bench",
-    "bandwidth",
-}
-
-
-class SweepSpecError(FsarmError, ValueError):
-    """A sweep specification is malformed or asks for points that cannot be computed."""
-
-
-# ----------------------------------------------------------------------------------------------
-# fields
-
-
-@dataclass(frozen=True)
-class FieldInfo:
-    name: str
-    kind: str  # "float", "str", "bool"
-    unit: str
-    help: str
-    default: Any
-    minimum: float | None = None
-    maximum: float | None = None
-
-
-_GAIN_TUPLES = {"wn": "wn_rad_s", "zeta": "zeta"}
-_GAIN_SKIP = {"ctrl_dt_s"}  # must stay a whole multiple of the timestep: not a sweep axis
-
-
-def _gain_fields() -> dict[str, FieldInfo]:
-    out: dict[str, FieldInfo] = {}
-    defaults = Gains()
-    for f in dataclasses.fields(Gains):
-        if f.name in _GAIN_SKIP:
-            continue
-        value = getattr(defaults, f.name)
-        if isinstance(value, bool):
-            out[f"gains.{f.name}"] = FieldInfo(f"gains.{f.name}", "bool", "", "switch", value)
-        elif isinstance(value, int | float):
-            out[f"gains.{f.name}"] = FieldInfo(
-                f"gains.{f.name}", "float", "", "controller gain (model.Gains)", float(value), 0.0
-            )
-        elif isinstance(value, tuple):
-            short = next((k for k, v in _GAIN_TUPLES.items() if v == f.name), None)
-            if short is None:
-                continue
-            for i, v in enumerate(value):
-                name = f"gains.{short}{i + 1}"
-                out[name] = FieldInfo(
-                    name, "float", "", f"{f.name}[{i}] (joint {i + 1})", float(v), 0.0
-                )
-    return out
-
-
-def _base_fields() -> dict[str, FieldInfo]:
-    return {
-        "diameter_mm": FieldInfo("diameter_mm", "float", "mm", "shaft diameter D", 9.0),
-        "length_mm": FieldInfo("length_mm", "float", "mm", "shaft length L", 450.0),
-        "bend_deg": FieldInfo(
-            "bend_deg", "float", "deg", "bend angle phi_B (bench; arm joint-2 hold)", 45.0
-        ),
-        "payload_kg": FieldInfo(
-            "payload_kg", "float", "kg", "payload (default: scenario's)", None, 0.0, 15.0
-        ),
-        "scenario": FieldInfo("scenario", "str", "", "arm scenario", "fig14-sine"),
-        "duration_s": FieldInfo(
-            "duration_s", "float", "s", "arm run length (default: scenario's)", None, 0.0, 3600.0
-        ),
-    }
-
-
-def fields() -> dict[str, FieldInfo]:
-    """Every field a sweep may set, by name."""
-    return {**_base_fields(), **_gain_fields()}
-
-
-# ----------------------------------------------------------------------------------------------
-# the spec
-
-
-@dataclass(frozen=True)
-class SweepSpec:
-    name: str
-    grid: dict[str, tuple[Any, ...]]
-    fixed: dict[str, Any] = field(default_factory=dict)
-    outputs: tuple[str, ...] = DEFAULT_OUTPUTS
-    shaft_file: str | None = None
-    extrapolate: bool = False
-    backend: str = "native"
-    bench: dict[str, Any] = field(default_factory=dict)
-    bandwidth: dict[str, Any] = field(default_factory=dict)
-
-    @property
-    def n_points(self) -> int:
-        return math.prod(len(v) for v in self.grid.values()) if self.grid else 1
-
-
-def _number(field_name: str, raw: Any) -> float:
-    if isinstance(raw, bool):
-        raise SweepSpecError(f"{field_name}: expected a number, got {raw!r}")
-    if isinstance(raw, int | float):
-        v = float(raw)
-    elif isinstance(raw, str):
-        try:
-            v = float(raw.strip())
-        except ValueError:
-            raise SweepSpecError(f"{field_name}: {raw!r} is not a number") from None
-    else:
-        raise SweepSpecError(f"{field_name}: expected a number, got {raw!r}")
-    if not math.isfinite(v):
-        raise SweepSpecError(f"{field_name}: {raw!r} is not a finite number (NaN/inf not allowed)")
-    return v
-
-
-def _bool(field_name: str, raw: Any) -> bool:
-    if isinstance(raw, bool):
-        return raw
-    if isinstance(raw, str) and raw.strip().lower() in ("true", "false", "1", "0", "on", "off"):
-        return raw.strip().lower() in ("true", "1", "on")
-    raise SweepSpecError(f"{field_name}: expected true or false, got {raw!r}")
-
-
-def _scalar(info: FieldInfo, raw: Any) -> Any:
-    if info.kind == "float":
-        return _number(info.name, raw)
-    if info.kind == "bool":
-        return _bool(info.name, raw)
-    if not isinstance(raw, str) or not raw.strip():
-        raise SweepSpecError(f"{info.name}: expected a non-empty name, got {raw!r}")
-    return raw.strip()
-
-
-def _linspace(name: str, start: Any, stop: Any, num: Any) -> tuple[float, ...]:
-    a, b = _number(name, start), _number(name, stop)
-    n = _number(name, num)
-    if n != int(n) or n < 1:
-        raise SweepSpecError(
-            f"{name}: the count of a range must be a whole number >= 1, got {num!r}"
-        )
-    if n > MAX_POINTS:  # refused before numpy makes the values
-        raise SweepSpecError(
-            f"{name}: a range of {num!r} values; one spec may have at most {MAX_POINTS} points"
-        )
-    n_i = int(n)
-    if a > b:
-        raise SweepSpecError(
-            f"{name}: reversed range {a:g}:{b:g} (start must be <= stop; write {b:g}:{a:g}:{n_i})"
-        )
-    if n_i == 1 and a != b:
-        raise SweepSpecError(
-            f"{name}: a range {a:g}:{b:g} with count 1 is ambiguous; give a single value or count >= 2"
-        )
-    if n_i > 1 and a == b:
-        raise SweepSpecError(f"{name}: empty range {a:g}:{b:g} with count {n_i} (start == stop)")
-    return tuple(float(v) for v in np.linspace(a, b, n_i))
-
-
-def parse_values(info: FieldInfo, raw: Any) -> tuple[Any, ...]:
-    """Grid values of one field from a CLI string, a TOML list, or a TOML range table."""
-    name = info.name
-    if isinstance(raw, Mapping):
-        unknown = set(raw) - {"start", "stop", "num"}
-        if unknown or not {"start", "stop", "num"} <= set(raw):
-            raise SweepSpecError(
-                f"{name}: a range table needs exactly start, stop, num; got {sorted(raw)}"
-            )
-        if info.kind != "float":
-            raise SweepSpecError(f"{name}: ranges need a numeric field")
-        values: tuple[Any, ...] = _linspace(name, raw["start"], raw["stop"], raw["num"])
-    elif isinstance(raw, list | tuple):
-        if not raw:
-            raise SweepSpecError(f"{name}: empty list of values")
-        values = tuple(_scalar(info, v) for v in raw)
-    elif isinstance(raw, str):
-        text = raw.strip()
-        if not text:
-            raise SweepSpecError(f"{name}: no values given (expected e.g. 4:13:4 or 4,6,8)")
-        if ":" in text and info.kind == "float":
-            parts = text.split(":")
-            if len(parts) != 3 or not all(p.strip() for p in parts):
-                raise SweepSpecError(
-                    f"{name}: a range is start:stop:count (e.g. 4:13:4), got {text!r}"
-                )
-            values = _linspace(name, *parts)
-        else:
-            items = [p.strip() for p in text.split(",")]
-            if any(not p for p in items):
-                raise SweepSpecError(f"{name}: empty item in the list {text!r}")
-            values = tuple(_scalar(info, p) for p in items)
-    else:
-        values = (_scalar(info, raw),)
-    if len(set(values)) != len(values):
-        dup = next(v for v in values if values.count(v) > 1)
-        raise SweepSpecError(f"{name}: value {dup!r} is repeated")
-    return values
-
-
-def _field(name: str) -> FieldInfo:
-    known = fields()
-    if name not in known:
-        raise SweepSpecError(
-            f"unknown sweep field {name!r}; allowed fields: {', '.join(sorted(known))}"
-        )
-    return known[name]
-
-
-def parse_assignment(text: str) -> tuple[str, str]:
-    """``FIELD=VALUES`` -> (field, values text)."""
-    if "=" not in text:
-        raise SweepSpecError(f"expected FIELD=VALUES, got {text!r}")
-    name, _, values = text.partition("=")
-    return name.strip(), values
-
-
-def load_spec_file(path: str | Path) -> dict[str, Any]:
-    p = Path(path)
-    checked_path(p, "sweep spec file", SweepSpecError)  # loops, long names ...
-    if os.path.lexists(p):  # a folder, a device or a pipe: named
-        regular_file(p, "sweep spec file", SweepSpecError)
-    if not p.is_file():
-        raise SweepSpecError(f"sweep spec file not found: {p}")
-    try:
-        data = bounded_toml(p.read_text("utf-8"), str(p), SweepSpecError)
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError, OSError) as exc:
-        raise SweepSpecError(f"{p}: not a readable TOML sweep spec ({exc})") from exc
-    unknown = set(data) - TOP_KEYS
-    if unknown:
-        raise SweepSpecError(
-            f"{p}: unknown keys {sorted(unknown)}; allowed: {', '.join(sorted(TOP_KEYS))}"
-        )
-    if isinstance(data.get("shaft_file"), str) and not Path(data["shaft_file"]).is_absolute():
-        data["shaft_file"] = str(
-            checked_path(p.parent / data["shaft_file"], f"{p}: shaft_file", SweepSpecError)
-        )
-    return data
+from fsarm_sim.studies.sweep_spec import (
+    BANDWIDTH_KEYS,
+    BENCH_DEFAULTS,
+    DEFAULT_OUTPUTS,
+    GAIN_TUPLES,
+    MAX_POINTS,
+    OUTPUTS,
+    SweepSpec,
+    field_info,
+    parse_assignment,
+    parse_number,
+    scalar_value,
+)
+from fsarm_sim.studies.sweep_spec import POINT_SCHEMA as POINT_SCHEMA
+from fsarm_sim.studies.sweep_spec import SweepSpecError as SweepSpecError
+from fsarm_sim.studies.sweep_spec import fields as fields
+from fsarm_sim.studies.sweep_spec import load_spec_file as load_spec_file
+from fsarm_sim.studies.sweep_spec import parse_values as parse_values
 
 
 def build_spec(
@@ -341,23 +105,23 @@ def build_spec(
     g: dict[str, tuple[Any, ...]] = {}
     f: dict[str, Any] = {}
     for key, raw in dict(data.get("grid", {})).items():
-        g[key] = parse_values(_field(key), raw)
+        g[key] = parse_values(field_info(key), raw)
     for key, raw in dict(data.get("fixed", {})).items():
-        f[key] = _scalar(_field(key), raw)
+        f[key] = scalar_value(field_info(key), raw)
     seen: set[str] = set()
     for item in grid:
         key, raw = parse_assignment(item)
         if key in seen:
             raise SweepSpecError(f"field {key!r} is given twice on the command line")
         seen.add(key)
-        g[key] = parse_values(_field(key), raw)
+        g[key] = parse_values(field_info(key), raw)
         f.pop(key, None)
     for item in fixed:
         key, raw = parse_assignment(item)
         if key in seen:
             raise SweepSpecError(f"field {key!r} is given twice on the command line")
         seen.add(key)
-        f[key] = _scalar(_field(key), raw)
+        f[key] = scalar_value(field_info(key), raw)
         g.pop(key, None)
     both = set(g) & set(f)
     if both:
@@ -435,7 +199,7 @@ def validate(spec: SweepSpec) -> None:
             f"[bandwidth]: unknown keys {sorted(bad_bw)}; allowed {list(BANDWIDTH_KEYS)}"
         )
     for k, v in spec.bandwidth.items():
-        if _number(f"bandwidth.{k}", v) <= 0.0 and k != "q3_deg":
+        if parse_number(f"bandwidth.{k}", v) <= 0.0 and k != "q3_deg":
             raise SweepSpecError(f"bandwidth.{k} must be > 0, got {v!r}")
     try:
         cat, _, _ = _catalogue(spec)
@@ -505,7 +269,7 @@ def _gains(point: Mapping[str, Any]) -> Gains:
         if not key.startswith("gains."):
             continue
         name = key[len("gains.") :]
-        for short, attr in _GAIN_TUPLES.items():
+        for short, attr in GAIN_TUPLES.items():
             if name.startswith(short) and name[len(short) :].isdigit():
                 tuples.setdefault(attr, list(getattr(g, attr)))[int(name[len(short) :]) - 1] = v
                 break
@@ -832,179 +596,3 @@ def _progress(enabled: bool) -> tuple[Any, Any] | None:
         console=Console(stderr=True),
     )
     return prog, prog.add_task("sweep", total=None)
-
-
-# ----------------------------------------------------------------------------------------------
-# analysis of a finished sweep
-
-PLOT_METRICS = (
-    "q3_rmse_deg",
-    "torque_bandwidth_hz",
-    "static_relief_nm",
-    "peak_motor_torque_nm",
-    "peak_motor_speed_rad_s",
-    "k_sp",
-    "k_sn",
-    "kb",
-)
-AXES = ("diameter_mm", "length_mm", "bend_deg", "payload_kg")
-
-
-@dataclass
-class SweepAnalysis:
-    n_points: int
-    fits: dict[str, Any] = field(default_factory=dict)  # SurfaceFit per equation
-    comparisons: dict[str, Any] = field(default_factory=dict)
-    skipped: list[str] = field(default_factory=list)
-    files: list[Path] = field(default_factory=list)
-
-
-def analyze(store_path: str | Path, out_dir: str | Path, sweep: str | None = None) -> SweepAnalysis:
-    """Re-fit eq. 3 (per sign) and eq. 4 to the stored stiffnesses; write tables and plots."""
-    from fsarm_sim.studies.campaign import (
-        CampaignError,
-        compare_surface,
-        fit_eq3,
-        fit_eq4,
-    )
-
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    with ResultStore(store_path) as store:
-        df = store.frame(sweep)
-        cat_texts = {
-            k.split(":", 1)[1]: store.meta(k)
-            for k in [
-                f"catalogue:{s}" for s in (df["catalogue_sha256"].unique() if len(df) else [])
-            ]
-        }
-    res = SweepAnalysis(n_points=len(df))
-    if len(df) == 0:
-        res.skipped.append("no finished points in the store")
-        return res
-    csv_path = out / "points.csv"
-    df.to_csv(csv_path, index=False)
-    res.files.append(csv_path)
-    try:
-        pq = out / "points.parquet"
-        df.to_parquet(pq, index=False)
-        res.files.append(pq)
-    except (ImportError, ValueError) as exc:  # pragma: no cover - pyarrow is a dependency
-        res.skipped.append(f"parquet export: {exc}")
-    cats = df["catalogue_sha256"].unique()
-    catalogue = None
-    if len(cats) == 1:
-        text = cat_texts.get(str(cats[0]))
-        if text == "default":
-            catalogue = load_catalogue()
-        elif text:
-            catalogue = parse_catalogue(tomllib.loads(text), "stored shaft file")
-    else:
-        res.skipped.append("points come from several catalogues: no comparison with one")
-    src = df["stiffness_source"].iloc[0] if "stiffness_source" in df else ""
-    series = df.drop_duplicates(subset=["diameter_mm", "length_mm", "bend_deg"])
-    for side, col in (("positive", "k_sp"), ("negative", "k_sn")):
-        try:
-            fit = fit_eq3(
-                series["diameter_mm"].to_numpy(float),
-                series["length_mm"].to_numpy(float),
-                np.radians(series["bend_deg"].to_numpy(float)),
-                series[col].to_numpy(float),
-                side,
-                # the stored catalogue's length law; several catalogues: eq. 3 as printed
-                catalogue.series_reference_length_mm if catalogue is not None else 0.0,
-            )
-        except CampaignError as exc:
-            res.skipped.append(f"eq. 3 {side}: {exc}")
-            continue
-        res.fits[fit.equation] = fit
-        if catalogue is not None:
-            res.comparisons[fit.equation] = compare_surface(
-                fit, catalogue, math.radians(float(np.max(np.abs(series["bend_deg"]))))
-            )
-    shafts = df.drop_duplicates(subset=["diameter_mm", "length_mm"])
-    try:
-        fit4 = fit_eq4(
-            shafts["diameter_mm"].to_numpy(float),
-            shafts["length_mm"].to_numpy(float),
-            shafts["kb"].to_numpy(float),
-        )
-        res.fits["eq4"] = fit4
-        if catalogue is not None:
-            res.comparisons["eq4"] = compare_surface(fit4, catalogue)
-    except CampaignError as exc:
-        res.skipped.append(f"eq. 4: {exc}")
-    summary = {
-        "points": len(df),
-        "stiffness_source": src,
-        "fits": {k: dataclasses.asdict(v) for k, v in res.fits.items()},
-        "comparisons": {k: dataclasses.asdict(v) for k, v in res.comparisons.items()},
-        "skipped": res.skipped,
-        "version": __version__,
-    }
-    jpath = out / "analysis.json"
-    jpath.write_text(json.dumps(summary, indent=2), "utf-8")
-    res.files.append(jpath)
-    res.files += _plots(df, res, catalogue, out)
-    return res
-
-
-def _varied(df: Any) -> list[str]:
-    return [a for a in AXES if a in df and df[a].nunique() > 1]
-
-
-def _plots(df: Any, res: SweepAnalysis, catalogue: Catalogue | None, out: Path) -> list[Path]:
-    from fsarm_sim.studies.campaign import new_figure, plot_eq3_surfaces, plot_eq4_surface
-
-    files: list[Path] = []
-    axes = _varied(df)
-    for metric in PLOT_METRICS:
-        if metric not in df or df[metric].isna().all():
-            continue
-        fig = new_figure((6.4, 4.6))
-        ax = fig.add_subplot(1, 1, 1)
-        if len(axes) >= 2:
-            x, y = axes[0], axes[1]
-            table = df.pivot_table(index=y, columns=x, values=metric, aggfunc="mean")
-            z = table.to_numpy(float)
-            im = ax.imshow(z, origin="lower", aspect="auto", cmap="viridis")
-            ax.set_xticks(range(z.shape[1]), [f"{v:g}" for v in table.columns])
-            ax.set_yticks(range(z.shape[0]), [f"{v:g}" for v in table.index])
-            if z.size <= 100:
-                for (r, c), v in np.ndenumerate(z):
-                    ax.text(c, r, f"{v:.3g}", ha="center", va="center", fontsize=7, color="w")
-            fig.colorbar(im, ax=ax, label=sweep_table.label(metric))
-            ax.set_xlabel(sweep_table.label(x))
-            ax.set_ylabel(sweep_table.label(y))
-            others = [sweep_table.label(a) for a in axes[2:]]
-            ax.set_title(
-                sweep_table.label(metric) + (f" (mean over {', '.join(others)})" if others else ""),
-                fontsize=9,
-            )
-        elif len(axes) == 1:
-            x = axes[0]
-            g = df.groupby(x)[metric].mean()
-            ax.plot(g.index.to_numpy(float), g.to_numpy(float), "o-")
-            ax.set_xlabel(sweep_table.label(x))
-            ax.set_ylabel(sweep_table.label(metric))
-            ax.grid(True, alpha=0.3)
-        else:
-            continue
-        fig.tight_layout()
-        path = out / f"map_{metric}.png"
-        fig.savefig(path)
-        files.append(path)
-    if catalogue is not None and res.fits:
-        if "eq3 positive" in res.fits or "eq3 negative" in res.fits:
-            pts = (
-                df[["diameter_mm", "length_mm", "bend_deg", "k_sp", "k_sn"]].to_numpy(float).copy()
-            )
-            pts[:, 2] = np.radians(pts[:, 2])
-            files.append(plot_eq3_surfaces(res.fits, pts, catalogue, out / "fig8_eq3_surfaces.png"))
-        if "eq4" in res.fits:
-            shafts = df.drop_duplicates(subset=["diameter_mm", "length_mm"])
-            pts4 = shafts[["diameter_mm", "length_mm", "kb"]].to_numpy(float)
-            files.append(
-                plot_eq4_surface(res.fits["eq4"], pts4, catalogue, out / "fig10_eq4_surface.png")
-            )
-    return files

@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import operator
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Literal, TypeVar
@@ -92,6 +93,26 @@ def _fmt(x: float) -> str:
     return f"{x:.4g}"
 
 
+def _graded(
+    x: float, limit: float, partly: float | None, within: Callable[[float, float], bool]
+) -> Verdict:
+    """reproduced where ``within(x, limit)``, partly where ``within(x, partly)``, else contradicted."""
+    if within(x, limit):
+        return "reproduced"
+    if partly is not None and within(x, partly):
+        return "partly"
+    return "contradicted"
+
+
+def _unit(unit: str) -> str:
+    return f" {unit}" if unit and unit != "-" else ""
+
+
+def _partly_text(partly: float | None, prefix: str, suffix: str = "") -> str:
+    """`` (partly <prefix><partly><suffix>)``, or nothing where there is no partly band."""
+    return f" (partly {prefix}{partly:g}{suffix})" if partly is not None else ""
+
+
 # ----------------------------------------------------------------------------------------------
 # tolerance kinds
 
@@ -108,15 +129,11 @@ class Rel:
         p = _number(paper, "paper value")
         o = _number(ours, "ours")
         err = abs(o - p) / abs(p) if p != 0.0 else abs(o)
-        if err <= self.tol:
-            return "reproduced"
-        if self.partly is not None and err <= self.partly:
-            return "partly"
-        return "contradicted"
+        return _graded(err, self.tol, self.partly, operator.le)
 
     def text(self, unit: str) -> str:
-        s = f"±{100 * self.tol:g} %"
-        return s + (f" (partly ±{100 * self.partly:g} %)" if self.partly is not None else "")
+        partly = None if self.partly is None else 100 * self.partly
+        return f"±{100 * self.tol:g} %" + _partly_text(partly, "±", " %")
 
 
 @dataclass(frozen=True)
@@ -129,16 +146,11 @@ class Abs:
 
     def judge(self, paper: float | None, ours: Any) -> Verdict:
         err = abs(_number(ours, "ours") - _number(paper, "paper value"))
-        if err <= self.tol:
-            return "reproduced"
-        if self.partly is not None and err <= self.partly:
-            return "partly"
-        return "contradicted"
+        return _graded(err, self.tol, self.partly, operator.le)
 
     def text(self, unit: str) -> str:
-        u = f" {unit}" if unit and unit != "-" else ""
-        s = f"±{self.tol:g}{u}"
-        return s + (f" (partly ±{self.partly:g}{u})" if self.partly is not None else "")
+        u = _unit(unit)
+        return f"±{self.tol:g}{u}" + _partly_text(self.partly, "±", u)
 
 
 @dataclass(frozen=True)
@@ -156,16 +168,10 @@ class Factor:
             raise ClaimError("a Factor tolerance needs a positive paper value")
         if o <= 0.0:
             return "contradicted"
-        r = max(o / p, p / o)
-        if r <= self.factor:
-            return "reproduced"
-        if self.partly is not None and r <= self.partly:
-            return "partly"
-        return "contradicted"
+        return _graded(max(o / p, p / o), self.factor, self.partly, operator.le)
 
     def text(self, unit: str) -> str:
-        s = f"within ×{self.factor:g}"
-        return s + (f" (partly ×{self.partly:g})" if self.partly is not None else "")
+        return f"within ×{self.factor:g}" + _partly_text(self.partly, "×")
 
 
 @dataclass(frozen=True)
@@ -189,8 +195,7 @@ class Between:
         return "contradicted"
 
     def text(self, unit: str) -> str:
-        u = f" {unit}" if unit and unit != "-" else ""
-        s = f"all in [{self.lo:g}, {self.hi:g}]{u}"
+        s = f"all in [{self.lo:g}, {self.hi:g}]{_unit(unit)}"
         if self.partly_factor is not None:
             s += f" (partly within ×{self.partly_factor:g})"
         return s
@@ -205,17 +210,10 @@ class AtLeast:
     needs_paper_value = False
 
     def judge(self, paper: float | None, ours: Any) -> Verdict:
-        o = _number(ours, "ours")
-        if o >= self.threshold:
-            return "reproduced"
-        if self.partly is not None and o >= self.partly:
-            return "partly"
-        return "contradicted"
+        return _graded(_number(ours, "ours"), self.threshold, self.partly, operator.ge)
 
     def text(self, unit: str) -> str:
-        u = f" {unit}" if unit and unit != "-" else ""
-        s = f"≥ {self.threshold:g}{u}"
-        return s + (f" (partly ≥ {self.partly:g})" if self.partly is not None else "")
+        return f"≥ {self.threshold:g}{_unit(unit)}" + _partly_text(self.partly, "≥ ")
 
 
 @dataclass(frozen=True)
@@ -227,17 +225,10 @@ class AtMost:
     needs_paper_value = False
 
     def judge(self, paper: float | None, ours: Any) -> Verdict:
-        o = _number(ours, "ours")
-        if o <= self.threshold:
-            return "reproduced"
-        if self.partly is not None and o <= self.partly:
-            return "partly"
-        return "contradicted"
+        return _graded(_number(ours, "ours"), self.threshold, self.partly, operator.le)
 
     def text(self, unit: str) -> str:
-        u = f" {unit}" if unit and unit != "-" else ""
-        s = f"≤ {self.threshold:g}{u}"
-        return s + (f" (partly ≤ {self.partly:g})" if self.partly is not None else "")
+        return f"≤ {self.threshold:g}{_unit(unit)}" + _partly_text(self.partly, "≤ ")
 
 
 @dataclass(frozen=True)
