@@ -278,6 +278,44 @@ def _optimum_band(
     return unc.to_json(prop, controller=controller)
 
 
+def _select_task(
+    scenario: str | None,
+    trajectory_file: Path | None,
+    shaft_file: Path | None,
+    out: Path | None,
+    limits: tuple[float | None, float | None, tuple[float, ...], float, float],
+    parallel: tuple[str, int],
+) -> Any:
+    """Check the input files and the --out folder, then the task: the scenario (or the
+    trajectory file's), ``limits`` = (payload kg, duration s, bends deg, rating margin,
+    bandwidth floor Hz), ``parallel`` = (executor, workers)."""
+    from fsarm_sim.studies import task_selection
+
+    plan = OutputPlan().input("the coefficient file of --shaft-file", shaft_file)
+    if out is not None:
+        plan = plan.folder("--out", out)
+    if trajectory_file is not None:
+        plan = plan.input("the trajectory file of --trajectory-file", trajectory_file)
+    plan.check()
+    if trajectory_file is not None:
+        from fsarm_sim.studies import trajectory_file as trajectory
+
+        scenario = trajectory.scenario_name(trajectory_file)
+    assert scenario is not None
+    payload_kg, duration, bends, rating_margin, bandwidth_floor = limits
+    return task_selection.Task(
+        scenario=scenario,
+        payload_kg=payload_kg,
+        duration_s=duration,
+        bends_deg=bends,
+        rating_margin=rating_margin,
+        bandwidth_floor_hz=bandwidth_floor,
+        shaft_file=None if shaft_file is None else str(shaft_file),
+        executor=parallel[0],
+        workers=parallel[1],
+    )
+
+
 def select_cmd(
     scenario_choice: SelectScenario = None,
     objective: SelectObjective = "q3_rmse_deg",
@@ -304,33 +342,18 @@ def select_cmd(
     import json
 
     from fsarm_sim.outputs import write_text
-    from fsarm_sim.studies import task_selection
 
     scenario = None if scenario_choice is None else str(scenario_choice)
     _check_select(
         objective, pareto, uncertainty, str(uncertainty_controller), scenario, trajectory_file
     )
-    plan = OutputPlan().input("the coefficient file of --shaft-file", shaft_file)
-    if out is not None:
-        plan = plan.folder("--out", out)
-    if trajectory_file is not None:
-        plan = plan.input("the trajectory file of --trajectory-file", trajectory_file)
-    plan.check()
-    if trajectory_file is not None:
-        from fsarm_sim.studies import trajectory_file as trajectory
-
-        scenario = trajectory.scenario_name(trajectory_file)
-    assert scenario is not None
-    task = task_selection.Task(
-        scenario=scenario,
-        payload_kg=payload_kg,
-        duration_s=duration,
-        bends_deg=tuple(bend) if bend else (45.0,),
-        rating_margin=rating_margin,
-        bandwidth_floor_hz=bandwidth_floor,
-        shaft_file=None if shaft_file is None else str(shaft_file),
-        executor=executor,
-        workers=workers,
+    task = _select_task(
+        scenario,
+        trajectory_file,
+        shaft_file,
+        out,
+        (payload_kg, duration, tuple(bend) if bend else (45.0,), rating_margin, bandwidth_floor),
+        (executor, workers),
     )
     report: dict[str, object] = {"task": task.__dict__, "objective": objective}
     if pareto is not None:
@@ -338,15 +361,8 @@ def select_cmd(
     else:
         report.update(_select_optimum(task, store, objective, budget, seed))
         if uncertainty:
-            band = _optimum_band(
-                task,
-                report["best"],
-                objective,
-                shaft_file,
-                uncertainty,
-                str(uncertainty_controller),
-            )
-            report["uncertainty"] = band
+            args = (report["best"], objective, shaft_file, uncertainty, str(uncertainty_controller))
+            report["uncertainty"] = _optimum_band(task, *args)
     if out is not None:
         text = json.dumps(report, indent=2, default=str)
         console.print(f"result: {write_text(out / 'select.json', text)}", markup=False)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -177,6 +177,22 @@ DesignExperimentJsonFile = Annotated[
 ]
 
 
+def _print_design(res: dict[str, Any]) -> None:
+    """The near-tie the design separates and the designed input's expected margins."""
+    best = res["best"]
+    own = res["own_input_expected_margin"]
+    own_txt = f"{own:.1f}" if math.isfinite(own) else "an effect below the noise variance there"
+    typer.echo(
+        f"near-tie at step {res['step']}: {res['A']} vs {res['B']}, held-out BIC margin "
+        f"{res['record_margin']:.1f} on this record (expected on its own input: {own_txt})"
+    )
+    typer.echo(
+        f"designed input: {best['design']}; expected margin {best['expected_margin']:.1f} "
+        f"(if {res['A']}: {best['expected_margin_if_A']:.1f}, if {res['B']}: "
+        f"{best['expected_margin_if_B']:.1f})"
+    )
+
+
 def design_cmd(
     data: DesignExperimentData,
     out: DesignExperimentOut = Path("designed_input.csv"),
@@ -214,18 +230,7 @@ def design_cmd(
         body = {k: v for k, v in res.items() if k not in ("t", "u")}
         text = json.dumps(json_clean(body), indent=2) + "\n"
         where = writes.write(json_file, lambda p: write_text(p, text), "the result (--json)")
-    best = res["best"]
-    own = res["own_input_expected_margin"]
-    own_txt = f"{own:.1f}" if math.isfinite(own) else "an effect below the noise variance there"
-    typer.echo(
-        f"near-tie at step {res['step']}: {res['A']} vs {res['B']}, held-out BIC margin "
-        f"{res['record_margin']:.1f} on this record (expected on its own input: {own_txt})"
-    )
-    typer.echo(
-        f"designed input: {best['design']}; expected margin {best['expected_margin']:.1f} "
-        f"(if {res['A']}: {best['expected_margin_if_A']:.1f}, if {res['B']}: "
-        f"{best['expected_margin_if_B']:.1f})"
-    )
+    _print_design(res)
     if written is not None:
         typer.echo(f"wrote {written} (columns t, {res['input_column']})")
     if where is not None:

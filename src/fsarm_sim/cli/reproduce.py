@@ -10,6 +10,7 @@ holds every finished claim).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -180,139 +181,156 @@ def _print_bands(
             console.print(f"bands: {path}", markup=False)
 
 
-def register(app: typer.Typer) -> None:
-    @app.command("reproduce")
-    def reproduce_cmd(
-        paper: Annotated[
-            list[str] | None,
-            typer.Option(
-                "--paper",
-                help="only this seed paper: 000, 001, 002, 003 or 004 (repeatable; default all)",
-            ),
-        ] = None,
-        json_file: Annotated[
-            Path | None,
-            typer.Option("--json", help="write the report here (rewritten as each claim finishes)"),
-        ] = None,
-        quick: Annotated[
-            bool, typer.Option(help="a subset with shorter experiments (well under a minute)")
-        ] = False,
-        uncertainty: Annotated[
-            int,
-            typer.Option(
-                help="also sample the coefficient file's [uncertainty] ranges N times and show "
-                "the 5-95 % band beside the paper value of each claim simulated on the arm "
-                "(never used by a verdict; --json: also <name>.uncertainty.json); 0: off"
-            ),
-        ] = 0,
-    ) -> None:
-        """Check the seed papers' claims on the simulator with the papers' own procedures.
+# the options of `reproduce_cmd`
+ReproducePaper = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--paper",
+        help="only this seed paper: 000, 001, 002, 003 or 004 (repeatable; default all)",
+    ),
+]
+ReproduceJson = Annotated[
+    Path | None,
+    typer.Option("--json", help="write the report here (rewritten as each claim finishes)"),
+]
+ReproduceQuick = Annotated[
+    bool, typer.Option(help="a subset with shorter experiments (well under a minute)")
+]
+ReproduceUncertainty = Annotated[
+    int,
+    typer.Option(
+        help="also sample the coefficient file's [uncertainty] ranges N times and show "
+        "the 5-95 % band beside the paper value of each claim simulated on the arm "
+        "(never used by a verdict; --json: also <name>.uncertainty.json); 0: off"
+    ),
+]
 
-        Leads with the predictions (claims nothing in the model was chosen from): per paper the
-        counts of predictions, calibrations and consistency checks, and the predictions'
-        verdicts. Per claim: its role, where it is in the paper, the paper's value, ours, the
-        tolerance and a verdict (reproduced, partly, contradicted, not_implemented,
-        uncheckable). Calibration and consistency claims never count as reproduced. Exit code 0 whatever the verdicts (it is a report), 1 if an experiment
-        failed to run, 2 on bad input, 130 on Ctrl-C (--json keeps every finished claim).
-        """
-        from fsarm_sim.studies.reproduce import runner
-        from fsarm_sim.studies.reproduce.claims import Context, Result
 
-        papers = parse_papers(paper)
-        bands_file = None
-        if uncertainty:
-            from fsarm_sim.studies.uncertainty import check_samples
+def _on_result(json_file: Path | None) -> Callable[[Any, Any], None]:
+    """Per finished claim: a progress line, and the --json report rewritten (a failed write
+    warns once; the final write rescues the report)."""
+    from fsarm_sim.studies.reproduce import runner
 
-            check_samples(uncertainty)
-            if json_file is not None:
-                bands_file = json_file.with_name(json_file.stem + ".uncertainty.json")
-        OutputPlan().file("--json", json_file).file("the bands", bands_file).check()
-        runner.check_registry()
-        claims = runner.select(papers or None, quick)
-        report = runner.Report(
-            papers=papers or list(runner.REGISTRY), quick=quick, backend="native"
+    write_failed = [False]
+
+    def on_result(rep: runner.Report, res: Any) -> None:
+        err_console.print(
+            f"[{len(rep.results)}/{rep.planned}] {escape(res.claim.id)}: "
+            f"[{STYLE[res.verdict]}]{res.verdict}[/] ({res.seconds:.1f} s)",
+            highlight=False,
         )
-        writes = SafeWriter(lambda msg: err_console.print(f"warning: {msg}", markup=False))
-        write_failed = [False]
+        if json_file is not None and not write_failed[0]:
+            try:
+                runner.write_json(json_file, rep)
+            except OSError as exc:  # keep running; the final write rescues the report
+                write_failed[0] = True
+                err_console.print(
+                    f"warning: cannot write {json_file} ({exc}); the report is written at the end",
+                    markup=False,
+                )
 
-        def on_result(rep: runner.Report, res: Result) -> None:
-            err_console.print(
-                f"[{len(rep.results)}/{rep.planned}] {escape(res.claim.id)}: "
-                f"[{STYLE[res.verdict]}]{res.verdict}[/] ({res.seconds:.1f} s)",
-                highlight=False,
-            )
-            if json_file is not None and not write_failed[0]:
-                try:
-                    runner.write_json(json_file, rep)
-                except OSError as exc:  # keep running; the final write rescues the report
-                    write_failed[0] = True
-                    err_console.print(
-                        f"warning: cannot write {json_file} ({exc}); the report is written at "
-                        "the end",
-                        markup=False,
-                    )
+    return on_result
 
-        ctx = Context(quick=quick, backend="native")
-        runner.run(claims, ctx, report, on_result)
-        order = {"prediction": 0, "calibration": 1, "consistency": 2}
-        by_paper: dict[str, list[object]] = {}
-        for r in sorted(report.results, key=lambda r: order.get(r.claim.role, 3)):
-            by_paper.setdefault(r.claim.paper, []).append(r)
-        summary = report.summary()
-        console.print(_prediction_table(summary))
-        for p in report.papers:
-            if p in by_paper:
-                console.print(_paper_table(p, by_paper[p]))
-        causes = _causes(list(report.results))
-        if causes:
-            console.print("contradicted predictions and their causes:", markup=False)
-            for line in causes:
-                console.print(f"- {line}", markup=False)
-        console.print(_support_table(summary))
-        pred = summary["all"]["prediction"]
-        late = summary["all"].get("post_hoc", {"total": 0})
 
-        def checkable(*rows: str) -> int:
-            return sum(
-                summary["all"][r]["total"]
-                - summary["all"][r]["not_implemented"]
-                - summary["all"][r]["uncheckable"]
-                for r in rows
-                if r in summary["all"]
-            )
+def _headline(report: Any, summary: dict[str, dict[str, Any]]) -> str:
+    """The last line of the report: the predictions' verdicts and the calibrations' share."""
+    from fsarm_sim.studies.reproduce.runner import checkable
 
-        cal = checkable("calibration")
-        fitted_or_predicted = checkable("calibration", "prediction", "post_hoc")
-        every = checkable("calibration", "prediction", "post_hoc", "consistency")
-        total = f"{len(report.results)} of {report.planned} claims in {report.elapsed_s:.1f} s"
-        console.print(
-            f"{total}{' (quick)' if quick else ''}: blind predictions reproduced "
-            f"{pred['reproduced']} of {pred['total']} ({pred['partly']} partly, "
-            f"{pred['contradicted']} contradicted, {pred['not_implemented']} not implemented, "
-            f"{pred['uncheckable']} uncheckable); {late['total']} post-hoc prediction(s) not "
-            f"counted; calibration {cal} of {every} checkable claims "
-            f"({100 * cal / max(every, 1):.0f} %), {cal} of {fitted_or_predicted} without the "
-            f"consistency checks ({100 * cal / max(fitted_or_predicted, 1):.0f} %)",
-            markup=False,
+    pred = summary["all"]["prediction"]
+    late = summary["all"].get("post_hoc", {"total": 0})
+    cal = checkable(summary["all"], "calibration")
+    fitted_or_predicted = checkable(summary["all"], "calibration", "prediction", "post_hoc")
+    every = checkable(summary["all"], "calibration", "prediction", "post_hoc", "consistency")
+    total = f"{len(report.results)} of {report.planned} claims in {report.elapsed_s:.1f} s"
+    return (
+        f"{total}{' (quick)' if report.quick else ''}: blind predictions reproduced "
+        f"{pred['reproduced']} of {pred['total']} ({pred['partly']} partly, "
+        f"{pred['contradicted']} contradicted, {pred['not_implemented']} not implemented, "
+        f"{pred['uncheckable']} uncheckable); {late['total']} post-hoc prediction(s) not "
+        f"counted; calibration {cal} of {every} checkable claims "
+        f"({100 * cal / max(every, 1):.0f} %), {cal} of {fitted_or_predicted} without the "
+        f"consistency checks ({100 * cal / max(fitted_or_predicted, 1):.0f} %)"
+    )
+
+
+def _print_report(report: Any) -> None:
+    """The tables: predictions by paper, per paper its claims, the contradicted predictions'
+    causes, calibrations and consistency checks, and the headline."""
+    from fsarm_sim.studies.reproduce.runner import by_paper
+
+    grouped = by_paper(report.results)
+    summary = report.summary()
+    console.print(_prediction_table(summary))
+    for p in report.papers:
+        if p in grouped:
+            console.print(_paper_table(p, list(grouped[p])))
+    causes = _causes(list(report.results))
+    if causes:
+        console.print("contradicted predictions and their causes:", markup=False)
+        for line in causes:
+            console.print(f"- {line}", markup=False)
+    console.print(_support_table(summary))
+    console.print(_headline(report, summary), markup=False)
+
+
+def _exit_code(report: Any) -> None:
+    """Ctrl-C: 130; an experiment that failed to run: 1 (after naming them); else 0."""
+    if report.interrupted:
+        raise typer.Exit(130)
+    if report.failed:
+        err_console.print(
+            f"[bold red]{len(report.failed)} experiment(s) failed to run[/]: "
+            + escape(", ".join(report.failed))
         )
+        raise typer.Exit(1)
+
+
+def reproduce_cmd(
+    paper: ReproducePaper = None,
+    json_file: ReproduceJson = None,
+    quick: ReproduceQuick = False,
+    uncertainty: ReproduceUncertainty = 0,
+) -> None:
+    """Check the seed papers' claims on the simulator with the papers' own procedures.
+
+    Leads with the predictions (claims nothing in the model was chosen from): per paper the
+    counts of predictions, calibrations and consistency checks, and the predictions'
+    verdicts. Per claim: its role, where it is in the paper, the paper's value, ours, the
+    tolerance and a verdict (reproduced, partly, contradicted, not_implemented,
+    uncheckable). Calibration and consistency claims never count as reproduced. Exit code 0 whatever the verdicts (it is a report), 1 if an experiment
+    failed to run, 2 on bad input, 130 on Ctrl-C (--json keeps every finished claim).
+    """
+    from fsarm_sim.studies.reproduce import runner
+    from fsarm_sim.studies.reproduce.claims import Context
+
+    papers = parse_papers(paper)
+    bands_file = None
+    if uncertainty:
+        from fsarm_sim.studies.uncertainty import check_samples
+
+        check_samples(uncertainty)
         if json_file is not None:
-            where = writes.write(
-                json_file, lambda p_: runner.write_json(p_, report), "the report (--json)"
-            )
-            if where is not None:
-                console.print(f"report: {where}", markup=False)
-        if uncertainty and not report.interrupted:
-            _print_bands(uncertainty, report.results, quick, bands_file, writes)
-        if report.interrupted:
-            err_console.print(
-                "[bold yellow]interrupted[/]: the report holds the claims finished so far"
-            )
-        writes.finish()
-        if report.interrupted:
-            raise typer.Exit(130)
-        if report.failed:
-            err_console.print(
-                f"[bold red]{len(report.failed)} experiment(s) failed to run[/]: "
-                + escape(", ".join(report.failed))
-            )
-            raise typer.Exit(1)
+            bands_file = json_file.with_name(json_file.stem + ".uncertainty.json")
+    OutputPlan().file("--json", json_file).file("the bands", bands_file).check()
+    claims, report = runner.start(papers, quick)
+    writes = SafeWriter(lambda msg: err_console.print(f"warning: {msg}", markup=False))
+    runner.run(claims, Context(quick=quick, backend="native"), report, _on_result(json_file))
+    _print_report(report)
+    if json_file is not None:
+        where = writes.write(
+            json_file, lambda p_: runner.write_json(p_, report), "the report (--json)"
+        )
+        if where is not None:
+            console.print(f"report: {where}", markup=False)
+    if uncertainty and not report.interrupted:
+        _print_bands(uncertainty, report.results, quick, bands_file, writes)
+    if report.interrupted:
+        err_console.print(
+            "[bold yellow]interrupted[/]: the report holds the claims finished so far"
+        )
+    writes.finish()
+    _exit_code(report)
+
+
+def register(app: typer.Typer) -> None:
+    app.command("reproduce")(reproduce_cmd)

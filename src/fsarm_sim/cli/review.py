@@ -62,21 +62,28 @@ def review_outputs(
             if spawn:
                 console.print(spawn_viewer(path), markup=False)
     if figures_dir is not None:
-        from fsarm_sim.review.figures import run_figures
-
-        skipped: dict[str, str] = {}
-        paths = w.write(
-            figures_dir,
-            lambda d: run_figures(result, d, skipped=skipped),
-            "the figures (--figures)",
-            folder=True,
-        )
-        if paths is not None:
-            console.print(f"figures: {', '.join(str(p) for p in paths)}", markup=False)
-        for kind, why in skipped.items():
-            console.print(f"no {kind} figure: {why}", markup=False)
+        _write_run_figures(result, figures_dir, console, w)
     if writes is None:
         w.finish()
+
+
+def _write_run_figures(
+    result: RunResult, figures_dir: Path, console: Console, writes: SafeWriter
+) -> None:
+    """The run's figures (--figures) and the kinds it could not draw, with why."""
+    from fsarm_sim.review.figures import run_figures
+
+    skipped: dict[str, str] = {}
+    paths = writes.write(
+        figures_dir,
+        lambda d: run_figures(result, d, skipped=skipped),
+        "the figures (--figures)",
+        folder=True,
+    )
+    if paths is not None:
+        console.print(f"figures: {', '.join(str(p) for p in paths)}", markup=False)
+    for kind, why in skipped.items():
+        console.print(f"no {kind} figure: {why}", markup=False)
 
 
 # the options of `figures_cmd`
@@ -102,26 +109,19 @@ FiguresDuration = Annotated[
 ]
 
 
-def figures_cmd(
-    out: FiguresOut = Path("figures"),
-    scenario: FiguresScenario = None,
-    fmt: FiguresFmt = None,
-    dpi: FiguresDpi = 110,
-    width: FiguresWidth = 6.4,
-    height: FiguresHeight = 4.0,
-    duration: FiguresDuration = None,
-    diameter_mm: opt.DiameterMm = 9.0,
-    length_mm: opt.LengthMm = 450.0,
-) -> None:
-    """Run every scenario and write its figures: tracking (Fig. 14 style), torque vs twist
-    (Fig. 6/7) and bending moment vs bend (Fig. 9), as <out>/<scenario>_<kind>.<format>."""
-    from fsarm_sim.cli.progress import steps
-    from fsarm_sim.engine.model import SimConfig
-    from fsarm_sim.plant.shaft import load_catalogue
-    from fsarm_sim.review.figures import FIGURE_KINDS, all_scenario_figures, check_output
+def _check_figures(
+    out: Path,
+    scenario: list[Scenario] | None,
+    fmt: list[FigureFormat] | None,
+    dpi: int,
+    size_in: tuple[float, float],
+) -> tuple[list[str], list[str]]:
+    """The size, scenarios, formats and --out folder checked before any run: the scenarios'
+    names (default every registered one) and the formats (default png)."""
+    from fsarm_sim.review.figures import FIGURE_KINDS, check_output
     from fsarm_sim.sim import scenarios
 
-    for v, name in ((width, "--width"), (height, "--height")):
+    for v, name in zip(size_in, ("--width", "--height"), strict=True):
         if not math.isfinite(v) or not 0.5 <= v <= 40.0:
             raise InvalidParameterError(f"{name} must be between 0.5 and 40 inches, got {v!r}")
     names = [str(s) for s in scenario] if scenario else list(scenarios.REGISTRY)
@@ -139,6 +139,28 @@ def figures_cmd(
             for f in formats
         },
     ).check()
+    return names, formats
+
+
+def figures_cmd(
+    out: FiguresOut = Path("figures"),
+    scenario: FiguresScenario = None,
+    fmt: FiguresFmt = None,
+    dpi: FiguresDpi = 110,
+    width: FiguresWidth = 6.4,
+    height: FiguresHeight = 4.0,
+    duration: FiguresDuration = None,
+    diameter_mm: opt.DiameterMm = 9.0,
+    length_mm: opt.LengthMm = 450.0,
+) -> None:
+    """Run every scenario and write its figures: tracking (Fig. 14 style), torque vs twist
+    (Fig. 6/7) and bending moment vs bend (Fig. 9), as <out>/<scenario>_<kind>.<format>."""
+    from fsarm_sim.cli.progress import steps
+    from fsarm_sim.engine.model import SimConfig
+    from fsarm_sim.plant.shaft import load_catalogue
+    from fsarm_sim.review.figures import all_scenario_figures
+
+    names, formats = _check_figures(out, scenario, fmt, dpi, (width, height))
     cfg = SimConfig(shaft=load_catalogue().shaft(diameter_mm, length_mm))
     console = make_console()
     err = make_console(stderr=True)

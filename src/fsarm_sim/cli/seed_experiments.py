@@ -136,17 +136,25 @@ def qa_throws_cmd(
                 f"{s:>6g} {v:>9g} {t.epsilon:>6.3f} {t.link_velocity_deg_s:>10.1f} "
                 f"{t.t_switch_s:>8.3f} {t.phi_max_deg:>9.2f} {t.tau_j_max_nm:>11.1f}"
             )
+    impacts = _print_impacts(sig, arms)
+    _write_json(json_file, {"adjust": mode, "throws": rows, "impacts": impacts})
+
+
+def _print_impacts(presets: list[float], arms: list[float]) -> list[dict[str, Any]]:
+    """Sec. VII's impact at each lever arm on each preset, printed one line per arm."""
+    from fsarm_sim.studies import qa_joint_experiments as qx
+
     impacts = []
     if arms:
         typer.echo("impact 4.2 kg at 1.07 m/s (Sec. VII): peak |τ_J| [N·m]")
         for r in arms:
             line = []
-            for s in sig:
+            for s in presets:
                 imp = qx.impact(s, r)
                 impacts.append(asdict(imp))
                 line.append(f"σ {s:g}°: {imp.peak_joint_torque_nm:.1f}")
             typer.echo(f"  r = {r:g} m: " + ", ".join(line))
-    _write_json(json_file, {"adjust": mode, "throws": rows, "impacts": impacts})
+    return impacts
 
 
 # the options of `rtca_fig12_cmd`

@@ -198,21 +198,8 @@ def sweep_cmd(
     if list_fields:
         _print_fields()
         return
-    if store is None:
-        raise FsarmError("--store FILE is required: every finished point is written there")
-    OutputPlan().file("--store", store).folder("--out", out).input(
-        "the sweep spec of --spec", spec
-    ).input("the coefficient file of --shaft-file", shaft_file).check()
-    data = sweep.load_spec_file(spec) if spec is not None else None
-    the_spec = sweep.build_spec(
-        data,
-        grid=grid or (),
-        fixed=set_ or (),
-        name=name,
-        outputs=outputs.split(",") if outputs else None,
-        shaft_file=str(shaft_file) if shaft_file is not None else None,
-        extrapolate=extrapolate or None,
-    )
+    store = _check_sweep_files(store, out, spec, shaft_file)
+    the_spec = _sweep_spec(spec, grid, set_, name, outputs, shaft_file, extrapolate)
     pts = sweep.points(the_spec)
     if uncertainty:
         _check_sweep_uncertainty(the_spec, uncertainty, str(uncertainty_controller))
@@ -233,6 +220,48 @@ def sweep_cmd(
         _report(store, out, the_spec.name)
     if uncertainty:
         _bands(the_spec, store, uncertainty, str(uncertainty_controller))
+    _raise_failed(report)
+
+
+def _sweep_spec(
+    spec: Path | None,
+    grid: list[str] | None,
+    set_: list[str] | None,
+    name: str | None,
+    outputs: str | None,
+    shaft_file: Path | None,
+    extrapolate: bool,
+) -> Any:
+    """The sweep: the --spec file (if any) with --grid, --set, --name, --outputs,
+    --shaft-file and --extrapolate applied."""
+    from fsarm_sim.studies import sweep
+
+    data = sweep.load_spec_file(spec) if spec is not None else None
+    return sweep.build_spec(
+        data,
+        grid=grid or (),
+        fixed=set_ or (),
+        name=name,
+        outputs=outputs.split(",") if outputs else None,
+        shaft_file=str(shaft_file) if shaft_file is not None else None,
+        extrapolate=extrapolate or None,
+    )
+
+
+def _check_sweep_files(
+    store: Path | None, out: Path | None, spec: Path | None, shaft_file: Path | None
+) -> Path:
+    """--store is given and writable, --out a folder, --spec and --shaft-file readable."""
+    if store is None:
+        raise FsarmError("--store FILE is required: every finished point is written there")
+    OutputPlan().file("--store", store).folder("--out", out).input(
+        "the sweep spec of --spec", spec
+    ).input("the coefficient file of --shaft-file", shaft_file).check()
+    return store
+
+
+def _raise_failed(report: Any) -> None:
+    """Points that failed (in this run or stored by an earlier one) are an error, exit 1."""
     if report.failed or report.failed_before:
         raise FsarmError(
             f"{report.failed + report.failed_before} point(s) of {report.name} failed "

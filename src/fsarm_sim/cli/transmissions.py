@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 from rich.markup import escape
@@ -92,19 +93,12 @@ CompareTransmissionsJsonFile = Annotated[
 ]
 
 
-def compare_cmd(
-    scenario: opt.ScenarioOption = Scenario.FIG14_SINE,
-    only: CompareTransmissionsOnly = None,
-    payload_kg: CompareTransmissionsPayloadKg = None,
-    duration: CompareTransmissionsDuration = None,
-    quick: CompareTransmissionsQuick = False,
-    gain: CompareTransmissionsGain = None,
-    json_file: CompareTransmissionsJsonFile = None,
+def _check_compare(
+    payload_kg: float | None, duration: float | None, json_file: Path | None
 ) -> None:
-    """Tracking RMSE, peak torque, motor work, bandwidth and impedance across transmissions."""
-    from fsarm_sim.engine.model import PAYLOAD_MAX_KG, Gains, SimConfig
+    """--duration, --payload-kg (0..PAYLOAD_MAX_KG) and --json, before any simulation."""
+    from fsarm_sim.engine.model import PAYLOAD_MAX_KG
     from fsarm_sim.sim.simulation import check_duration
-    from fsarm_sim.studies.comparison import COLUMNS, compare, fmt
 
     if duration is not None:
         check_duration(duration)
@@ -115,6 +109,22 @@ def compare_cmd(
             f"--payload-kg must be between 0 and {PAYLOAD_MAX_KG:g} kg, got {payload_kg!r}"
         )
     OutputPlan().file("--json", json_file).check()
+
+
+def compare_cmd(
+    scenario: opt.ScenarioOption = Scenario.FIG14_SINE,
+    only: CompareTransmissionsOnly = None,
+    payload_kg: CompareTransmissionsPayloadKg = None,
+    duration: CompareTransmissionsDuration = None,
+    quick: CompareTransmissionsQuick = False,
+    gain: CompareTransmissionsGain = None,
+    json_file: CompareTransmissionsJsonFile = None,
+) -> None:
+    """Tracking RMSE, peak torque, motor work, bandwidth and impedance across transmissions."""
+    from fsarm_sim.engine.model import Gains, SimConfig
+    from fsarm_sim.studies.comparison import COLUMNS, compare, fmt
+
+    _check_compare(payload_kg, duration, json_file)
     base = SimConfig(gains=Gains(**parse_gains(gain or [])))  # type: ignore[arg-type]
     rows = compare(
         [str(t) for t in only] if only else None,
@@ -190,20 +200,25 @@ def transparency_cmd(
     if note:
         console.print(note, markup=False)
     if json_file is not None:
-        text = json.dumps(
-            [
-                {
-                    "bend_deg": p.bend_deg,
-                    "bandwidth_hz": p.bandwidth.bandwidth_hz,
-                    "impedance_low_nm_per_rad": p.impedance.low_freq_nm_per_rad,
-                    "passive_stiffness_nm_per_rad": p.impedance.passive_nm_per_rad,
-                }
-                for p in points
-            ],
-            indent=2,
-        )
-        where = safe_write(json_file, lambda q: write_text(q, text), "the results (--json)")
-        console.print(f"results: {where}", markup=False)
+        _write_transparency_json(json_file, points)
+
+
+def _write_transparency_json(json_file: Path, points: Sequence[Any]) -> None:
+    """The bend points as a JSON list (--json), and where it went."""
+    text = json.dumps(
+        [
+            {
+                "bend_deg": p.bend_deg,
+                "bandwidth_hz": p.bandwidth.bandwidth_hz,
+                "impedance_low_nm_per_rad": p.impedance.low_freq_nm_per_rad,
+                "passive_stiffness_nm_per_rad": p.impedance.passive_nm_per_rad,
+            }
+            for p in points
+        ],
+        indent=2,
+    )
+    where = safe_write(json_file, lambda q: write_text(q, text), "the results (--json)")
+    console.print(f"results: {where}", markup=False)
 
 
 def register(app: typer.Typer) -> None:

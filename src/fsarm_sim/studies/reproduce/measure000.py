@@ -144,9 +144,9 @@ def fig14_hysteresis_share(ctx: Context) -> Measured:
 
 def _arm_model(payload_kg: float) -> tuple[Any, Any]:
     from fsarm_sim.engine.model import SimConfig, build_model, read_structure
-    from fsarm_sim.kernels import layout as L
+    from fsarm_sim.kernels import layout
 
-    m = build_model(SimConfig(payload_kg=payload_kg), np.zeros((1, L.REF_COLS)))
+    m = build_model(SimConfig(payload_kg=payload_kg), np.zeros((1, layout.REF_COLS)))
     return m, read_structure(m)
 
 
@@ -427,12 +427,12 @@ def static_relief_on_arm(ctx: Context) -> Measured:
     from dataclasses import replace
 
     from fsarm_sim.engine.model import SimConfig
-    from fsarm_sim.kernels import layout as L
+    from fsarm_sim.kernels import layout
     from fsarm_sim.sim.simulation import Simulation
 
     base = SimConfig()
     hold_s = 3.0
-    table = np.zeros((round(hold_s / base.gains.ctrl_dt_s) + 1, L.REF_COLS))
+    table = np.zeros((round(hold_s / base.gains.ctrl_dt_s) + 1, layout.REF_COLS))
     table[:, 1] = math.pi / 2.0
     tau2 = {}
     for label, fx in (

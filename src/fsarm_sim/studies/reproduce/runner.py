@@ -237,6 +237,36 @@ def run(
     return report
 
 
+def start(papers: Sequence[str], quick: bool) -> tuple[list[Claim], Report]:
+    """Check the registry, pick the claims of ``papers`` (all when empty) and open their report:
+    what ``fsarm reproduce`` runs, ready for :func:`run`."""
+    check_registry()
+    claims = select(papers or None, quick)
+    report = Report(papers=list(papers) or list(REGISTRY), quick=quick, backend="native")
+    return claims, report
+
+
+ROLE_ORDER = {"prediction": 0, "calibration": 1, "consistency": 2}
+
+
+def by_paper(results: Sequence[Result]) -> dict[str, list[Result]]:
+    """The results per paper, predictions first, then calibrations, then consistency checks."""
+    out: dict[str, list[Result]] = {}
+    for r in sorted(results, key=lambda r: ROLE_ORDER.get(r.claim.role, 3)):
+        out.setdefault(r.claim.paper, []).append(r)
+    return out
+
+
+def checkable(entry: dict[str, Any], *rows: str) -> int:
+    """How many claims of the ``rows`` of a :func:`summarize` entry could be judged (neither
+    not_implemented nor uncheckable)."""
+    return sum(
+        entry[r]["total"] - entry[r]["not_implemented"] - entry[r]["uncheckable"]
+        for r in rows
+        if r in entry
+    )
+
+
 def write_json(path: Path, report: Report) -> Path:
     """Write the report atomically (temporary file in the same folder, then rename)."""
     path.parent.mkdir(parents=True, exist_ok=True)
