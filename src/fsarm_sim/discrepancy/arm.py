@@ -43,32 +43,38 @@ from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.discrepancy.arm_fit import (
     BASIS,
-    BOUNDS,
     MAIN,
-    MEASUREMENT_CANDIDATES,
     MODEL_FORMAT,
     MODEL_VERSION,
-    PLANT_CANDIDATES,
-    RAW,
     ArmContext,
     ArmFit,
+    make_context,
+    nominal_keys,
+    refine,
+)
+from fsarm_sim.discrepancy.arm_model import (
+    BOUNDS,
+    RAW,
     ArmModel,
+    apply_measurement,
+    simulate_config,
+    to_basis,
+    to_config,
+)
+from fsarm_sim.discrepancy.arm_run import (
     ArmReplayError,
     ArmRun,
     ArmSidecarError,
-    apply_measurement,
     arm_run,
-    make_context,
-    nominal_fit,
-    nominal_keys,
     parse_gains,
     reference_table,
-    refine,
-    simulate_config,
     stated_transmission,
+)
+from fsarm_sim.discrepancy.arm_screen import (
+    MEASUREMENT_CANDIDATES,
+    PLANT_CANDIDATES,
+    nominal_fit,
     step_candidates,
-    to_basis,
-    to_config,
 )
 from fsarm_sim.discrepancy.fit_label import labelled_as
 from fsarm_sim.discrepancy.report import plot_channel_nrmse
