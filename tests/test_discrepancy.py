@@ -11,8 +11,14 @@ import numpy as np
 import pytest
 
 from batteries import battery as B
-from fsarm_sim.discrepancy import UnsupportedSetupError, diagnose, report, synth
-from fsarm_sim.discrepancy import candidates as C
+from fsarm_sim.discrepancy import (
+    UnsupportedSetupError,
+    candidate_structure,
+    candidates,
+    diagnose,
+    report,
+    synth,
+)
 from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.discrepancy import selection as S
 from fsarm_sim.discrepancy.benchmodel import (
@@ -74,8 +80,8 @@ def test_static_replay_equals_its_data_matrix() -> None:
     u = 0.35 * np.sin(2 * np.pi * 0.7 * t) + 0.1 * np.sin(2 * np.pi * 2.3 * t)
     inp = _inputs("series_bench", u, h, phi=0.4)
     stated = nominal_from_shaft("series_bench", load_catalogue().shaft())
-    ctx = C.make_context(inp, stated)
-    st = C.Structure(
+    ctx = candidate_structure.make_context(inp, stated)
+    st = candidate_structure.Structure(
         backlash=(0.01, 0.002),
         coulomb=3e-4,
         viscous=True,
@@ -84,11 +90,11 @@ def test_static_replay_equals_its_data_matrix() -> None:
         ve=np.array([0.1, 1.0]),
         out_offset=True,
     )
-    x, xd, ua = C._deflection(ctx, st)
-    cols = C.build_columns(ctx, st, x, xd, ua)
+    x, xd, ua = candidate_structure.deflections(ctx, st)
+    cols = candidate_structure.build_columns(ctx, st, x, xd, ua)
     coef = {n: v for n, v in zip(cols.names, np.linspace(0.2, 3.0, len(cols.names)), strict=True)}
     coef["k_pos"], coef["k_neg"] = 15.0, 12.0
-    model = C.to_model(ctx, st, coef)
+    model = candidate_structure.to_model(ctx, st, coef)
     y_kernel = R.replay(model, inp)["y"]
     y_matrix = cols.a @ np.array([coef[n] for n in cols.names])
     assert np.max(np.abs(y_kernel - y_matrix)) < 1e-9 * np.max(np.abs(y_kernel)) + 1e-12
@@ -314,7 +320,7 @@ def test_input_error_floor_follows_the_encoder_step() -> None:
             assert S.quantisation_step(ds.columns["theta_m"]) == pytest.approx(2 * np.pi / counts)
         else:
             assert S.quantisation_step(ds.columns["theta_m"]) == 0.0
-        ctx = C.make_context(R.prepare_inputs(ds), S.stated_model(ds))
+        ctx = candidate_structure.make_context(R.prepare_inputs(ds), S.stated_model(ds))
         floors[counts] = S.input_error_floor(ds, ctx, truth)
     k = max(truth.nominal["k_pos"], truth.nominal["k_neg"])
     assert 0.0 < floors[2**17] < k * (2 * np.pi / 2**17) / np.sqrt(12.0)
@@ -359,11 +365,11 @@ def test_hysteresis_elements_leave_the_grid() -> None:
     )
     rec = synth.Recording(duration_s=10.0, noise=0.003, trajectory="multisine", seed=7)
     ds = _dataset(truth, rec)
-    ctx = C.make_context(R.prepare_inputs(ds), S.stated_model(ds))
-    grid = C.candidate(ctx, C.nominal(ctx), "hysteresis", "maxwell_slip")
+    ctx = candidate_structure.make_context(R.prepare_inputs(ds), S.stated_model(ds))
+    grid = candidates.candidate(ctx, candidates.nominal(ctx), "hysteresis", "maxwell_slip")
     assert grid is not None and grid.structure.slip is not None
     assert not np.any(np.isclose(grid.structure.slip[:, None], deltas, rtol=0.05))
-    fit = C.refine_elements(ctx, grid)
+    fit = candidates.refine_elements(ctx, grid)
     assert np.sqrt(grid.mse_held) > 1.3 * ctx.sigma_y
     assert np.sqrt(fit.mse_held) < 1.05 * ctx.sigma_y
     eff = fit.model.effect("hysteresis", "maxwell_slip")

@@ -22,8 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from fsarm_sim.discrepancy import candidates as C
-from fsarm_sim.discrepancy import core
+from fsarm_sim.discrepancy import candidate_inertia, candidate_structure, candidates, core
 from fsarm_sim.discrepancy import realness as Real
 from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.discrepancy import residual_search as RS
@@ -51,7 +50,7 @@ SETUPS = (registry.SERIES, registry.PARALLEL)
 WITHIN_NOISE = 1.15  # a held-out residual RMS up to this x the noise floor is "within noise"
 
 
-class BenchDiagnosis(core.Diagnosis[C.Fit]):
+class BenchDiagnosis(core.Diagnosis[candidate_structure.Fit]):
     """A bench diagnosis, with its noise floors in held-out NRMSE units."""
 
     @property
@@ -90,7 +89,7 @@ def _nrmse_cell(sc: Score) -> str:
 
 
 class BenchSetup:
-    """A bench record as a :class:`.core.Setup` (fits: :class:`.candidates.Fit`)."""
+    """A bench record as a :class:`.core.Setup` (fits: :class:`.candidate_structure.Fit`)."""
 
     mse_name = "MSE"
     look_alikes = S.LOOK_ALIKES
@@ -107,77 +106,85 @@ class BenchSetup:
                 "the right one)"
             )
         self.dataset = ds
-        self.ctx = C.make_context(R.prepare_inputs(ds), stated_model(ds))
+        self.ctx = candidate_structure.make_context(R.prepare_inputs(ds), stated_model(ds))
         self.main_channel = ds.output_column
         self.noise_var = self.ctx.sigma_y**2
         self.pairs = registry.applicable(ds.setup, self.ctx.inp.inertia_load)
 
     # ------------------------------------------------------------------ selection
 
-    def nominal(self) -> tuple[C.Fit, C.Fit]:
-        return C.stated(self.ctx), C.nominal(self.ctx)
+    def nominal(self) -> tuple[candidate_structure.Fit, candidate_structure.Fit]:
+        return candidates.stated(self.ctx), candidates.nominal(self.ctx)
 
-    def candidates(self, cur: C.Fit, named: Sequence[str]) -> list[C.Fit]:
+    def candidates(
+        self, cur: candidate_structure.Fit, named: Sequence[str]
+    ) -> list[candidate_structure.Fit]:
         ctx = self.ctx
         inertia = ctx.inp.inertia_load
         if inertia:  # screen with a short output-error refinement, redo the leader
-            ctx.options["oe_nfev"] = C.OE_NFEV_SCREEN
-        fits = [C.candidate(ctx, cur, e, v) for e, v in self.pairs if e not in named]
+            ctx.options["oe_nfev"] = candidate_inertia.OE_NFEV_SCREEN
+        fits = [candidates.candidate(ctx, cur, e, v) for e, v in self.pairs if e not in named]
         ctx.options.pop("oe_nfev", None)
         good = [f for f in fits if f is not None and math.isfinite(f.mse_held)]
         if inertia and good:
             i_lead = min(range(len(good)), key=lambda i: good[i].mse_held)
             lead = good[i_lead]
-            redo = C.solve(ctx, lead.structure)
+            redo = candidate_inertia.solve(ctx, lead.structure)
             redo.label, redo.effect, redo.variant = lead.label, lead.effect, lead.variant
             if redo.mse_teach <= lead.mse_teach:
                 good[i_lead] = redo
         return good
 
-    def cost(self, fit: C.Fit) -> tuple[float, float, int]:
+    def cost(self, fit: candidate_structure.Fit) -> tuple[float, float, int]:
         return fit.mse_teach, fit.mse_held, fit.k
 
-    def residual(self, fit: C.Fit) -> tuple[C.FloatArray, C.BoolArray, C.BoolArray]:
+    def residual(
+        self, fit: candidate_structure.Fit
+    ) -> tuple[
+        candidate_structure.FloatArray, candidate_structure.BoolArray, candidate_structure.BoolArray
+    ]:
         return self.ctx.inp.y - fit.yhat, self.ctx.teach, self.ctx.held
 
-    def gap(self, fit: C.Fit) -> float:
+    def gap(self, fit: candidate_structure.Fit) -> float:
         return nrmse(self.ctx.inp.y, fit.yhat, self.ctx.held)
 
-    def effect_params(self, fit: C.Fit) -> dict[str, Any]:
+    def effect_params(self, fit: candidate_structure.Fit) -> dict[str, Any]:
         eff = fit.model.effect(fit.effect or "", fit.variant)
         return dict(eff.params) if eff is not None else {}
 
-    def accept(self, fit: C.Fit) -> C.Fit:
+    def accept(self, fit: candidate_structure.Fit) -> candidate_structure.Fit:
         # hysteresis elements were fitted on a fixed grid: move them off it before the next
         # step, so that the grid's approximation error is not left for another effect
-        out = C.refine_elements(self.ctx, fit) if fit.effect == V.HYSTERESIS else fit
+        out = candidates.refine_elements(self.ctx, fit) if fit.effect == V.HYSTERESIS else fit
         # the nonlinear settings of the effects named before, searched again with this one in
-        return C.backfit(self.ctx, out, fit.effect)
+        return candidates.backfit(self.ctx, out, fit.effect)
 
-    def swap_variants(self, fit: C.Fit) -> tuple[C.Fit, dict[str, str]]:
+    def swap_variants(
+        self, fit: candidate_structure.Fit
+    ) -> tuple[candidate_structure.Fit, dict[str, str]]:
         """:func:`.candidates.swap_variants` (the core's pruning, optional in the protocol; an
         inertia load's fits are output-error fits: kept as they are)."""
         if self.ctx.inp.inertia_load:
             return fit, {}
-        return C.swap_variants(self.ctx, fit, list(self.pairs), self.look_alikes)
+        return candidates.swap_variants(self.ctx, fit, list(self.pairs), self.look_alikes)
 
-    def holds(self, fit: C.Fit, effect: str) -> bool:
+    def holds(self, fit: candidate_structure.Fit, effect: str) -> bool:
         """Does ``fit``'s structure still hold ``effect`` (hysteresis elements can all be
         pruned when later effects are fitted)? (The core's pruning, optional in the protocol.)"""
-        return any(e == effect for e, _ in C.present(fit.structure))
+        return any(e == effect for e, _ in candidates.present(fit.structure))
 
-    def without(self, fit: C.Fit, effect: str) -> C.Fit | None:
+    def without(self, fit: candidate_structure.Fit, effect: str) -> candidate_structure.Fit | None:
         """:func:`.candidates.without` (the core's pruning, optional in the protocol; None on
         an inertia load)."""
         if self.ctx.inp.inertia_load:
             return None
-        return C.without(self.ctx, fit, effect)
+        return candidates.without(self.ctx, fit, effect)
 
-    def finish(self, fit: C.Fit, named: Sequence[str]) -> C.Fit:
-        return C.refine(self.ctx, fit) if named else fit
+    def finish(self, fit: candidate_structure.Fit, named: Sequence[str]) -> candidate_structure.Fit:
+        return candidates.refine(self.ctx, fit) if named else fit
 
     def conclude(
-        self, nominal: C.Fit, final: C.Fit, named: Sequence[str]
+        self, nominal: candidate_structure.Fit, final: candidate_structure.Fit, named: Sequence[str]
     ) -> tuple[str, dict[str, Any]]:
         sigma_in = input_error_floor(self.dataset, self.ctx, final.model)
         half = R.prepare_inputs(self.dataset, window_scale=0.5)
@@ -200,7 +207,7 @@ class BenchSetup:
             text += f"; what remains: {sig['summary']}"
         return text, extras
 
-    def signal_set(self, fit: C.Fit) -> Signals:
+    def signal_set(self, fit: candidate_structure.Fit) -> Signals:
         """The main channel's residual (warm-up excluded) and the signals it may depend on."""
         inp = self.ctx.inp
         use = self.ctx.teach | self.ctx.held
@@ -217,13 +224,13 @@ class BenchSetup:
             "input acceleration": inp.uacc,
             "model output": fit.yhat,
         }
-        signals: dict[str, C.FloatArray] = {}
+        signals: dict[str, candidate_structure.FloatArray] = {}
         for name, v in cand.items():
             v = np.asarray(v, dtype=np.float64)[use]
             if any(v.shape == w.shape and np.allclose(v, w) for w in signals.values()):
                 continue  # the same signal by another name (e.g. the blocked bench's twist)
             signals[name] = v
-        angles: dict[str, tuple[C.FloatArray, list[str]]] = {}
+        angles: dict[str, tuple[candidate_structure.FloatArray, list[str]]] = {}
         cand_angles = {self.dataset.input_column: inp.u, "twist": x}
         if inp.inertia_load and inp.theta_s is not None:
             cand_angles["theta_s"] = inp.theta_s
@@ -261,7 +268,7 @@ class BenchSetup:
     def save_model(self, model: BenchModel, path: Path) -> Path:
         return save_model(model, path)
 
-    def report(self, diag: core.Diagnosis[C.Fit]) -> core.ReportParts:
+    def report(self, diag: core.Diagnosis[candidate_structure.Fit]) -> core.ReportParts:
         ctx = self.ctx
         inp = ctx.inp
         ds = self.dataset
@@ -325,10 +332,10 @@ class BenchSetup:
             },
         )
 
-    def plots(self, diag: core.Diagnosis[C.Fit], folder: Path) -> list[Path]:
+    def plots(self, diag: core.Diagnosis[candidate_structure.Fit], folder: Path) -> list[Path]:
         return write_plots(diag, folder)
 
-    def summary_lines(self, diag: core.Diagnosis[C.Fit]) -> list[str]:
+    def summary_lines(self, diag: core.Diagnosis[candidate_structure.Fit]) -> list[str]:
         ds = self.dataset
         return [
             f"named effects: {diag.named or 'none'}",
@@ -341,7 +348,7 @@ class BenchSetup:
         ]
 
 
-def _floors(diag: core.Diagnosis[C.Fit]) -> BenchDiagnosis:
+def _floors(diag: core.Diagnosis[candidate_structure.Fit]) -> BenchDiagnosis:
     """The diagnosis as a :class:`BenchDiagnosis` (for its noise floors)."""
     return BenchDiagnosis(**{f.name: getattr(diag, f.name) for f in dataclasses.fields(diag)})
 
@@ -382,11 +389,11 @@ def check_real(setup: BenchSetup, diag: BenchDiagnosis) -> None:
     # nothing left unexplained: an effect at a bound of its range stands in for nothing
     explained = not diag.extras.get("unexplained", True)
     checks: list[Real.EffectCheck] = []
-    without: dict[str, C.Fit] = {}
-    for e, v in C.present(final.structure):
+    without: dict[str, candidate_structure.Fit] = {}
+    for e, v in candidates.present(final.structure):
         if e not in diag.named:
             continue
-        wo = C.solve(ctx, C.strip(final.structure, e))
+        wo = candidate_inertia.solve(ctx, candidates.strip(final.structure, e))
         without[e] = wo
         eff = final.model.effect(e, v)
         params = dict(eff.params) if eff is not None else {}
@@ -397,9 +404,9 @@ def check_real(setup: BenchSetup, diag: BenchDiagnosis) -> None:
     if bad:
         st = final.structure
         for c in bad:
-            st = C.strip(st, c.effect)
+            st = candidates.strip(st, c.effect)
         named = [e for e in diag.named if e not in {c.effect for c in bad}]
-        new = C.solve(ctx, st)
+        new = candidate_inertia.solve(ctx, st)
         new = setup.finish(new, named) if named else new
         new.label = "nominal + " + " + ".join(named) if named else diag.nominal.label
         new.effect = new.variant = None
@@ -434,7 +441,9 @@ def check_real(setup: BenchSetup, diag: BenchDiagnosis) -> None:
 UNEXPLAINED = math.sqrt(2.0)  # residual RMS / noise floor from which the rest is "unexplained"
 
 
-def replay_error_floor(ctx: C.Context, final: C.Fit, half: R.ReplayInputs) -> float:
+def replay_error_floor(
+    ctx: candidate_structure.Context, final: candidate_structure.Fit, half: R.ReplayInputs
+) -> float:
     """The replay's own error on the held-out samples: the recorded angles are smoothed and
     differentiated before they drive the model (:func:`.replay.prepare_inputs`), which rounds off
     fast motion (steps at 500 Hz: ~0.6 x the output noise on a plain record). Estimated as in
@@ -447,7 +456,10 @@ def replay_error_floor(ctx: C.Context, final: C.Fit, half: R.ReplayInputs) -> fl
 
 
 def unexplained(
-    ctx: C.Context, final: C.Fit, sigma_in: float = 0.0, sig: dict[str, Any] | None = None
+    ctx: candidate_structure.Context,
+    final: candidate_structure.Fit,
+    sigma_in: float = 0.0,
+    sig: dict[str, Any] | None = None,
 ) -> bool:
     """True when the final model leaves a held-out residual clearly above the noise floor: what
     lies above the noise (output noise and the recorded inputs' own errors together, in
@@ -473,9 +485,9 @@ def unexplained(
 
 
 def verdict(
-    ctx: C.Context,
-    nom: C.Fit,
-    final: C.Fit,
+    ctx: candidate_structure.Context,
+    nom: candidate_structure.Fit,
+    final: candidate_structure.Fit,
     named: Sequence[str],
     sigma_in: float = 0.0,
     unexp: bool | None = None,
@@ -534,7 +546,9 @@ def verdict(
     )
 
 
-def residual_signature(diag: core.Diagnosis[C.Fit], fit: C.Fit) -> dict[str, Any]:
+def residual_signature(
+    diag: core.Diagnosis[candidate_structure.Fit], fit: candidate_structure.Fit
+) -> dict[str, Any]:
     ctx = diag.ctx
     inp = ctx.inp
     s = inp.theta_s if inp.inertia_load and inp.theta_s is not None else inp.s
@@ -543,7 +557,7 @@ def residual_signature(diag: core.Diagnosis[C.Fit], fit: C.Fit) -> dict[str, Any
     return signature(inp.y, fit.yhat, x, xd, inp.phi, inp.t, ctx.sigma_y).as_dict()
 
 
-def channel_nrmse(diag: core.Diagnosis[C.Fit]) -> dict[str, dict[str, float]]:
+def channel_nrmse(diag: core.Diagnosis[candidate_structure.Fit]) -> dict[str, dict[str, float]]:
     """Held-out NRMSE per measured channel for the catalogue, refit nominal and final models."""
     ctx = diag.ctx
     inp = ctx.inp
@@ -560,7 +574,7 @@ def channel_nrmse(diag: core.Diagnosis[C.Fit]) -> dict[str, dict[str, float]]:
     return out
 
 
-def write_plots(diag: core.Diagnosis[C.Fit], folder: str | Path) -> list[Path]:
+def write_plots(diag: core.Diagnosis[candidate_structure.Fit], folder: str | Path) -> list[Path]:
     """Time series and loops before/after, NRMSE per channel."""
     import matplotlib
 

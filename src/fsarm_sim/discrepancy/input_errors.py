@@ -10,7 +10,7 @@ from dataclasses import replace
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim.discrepancy import candidates as C
+from fsarm_sim.discrepancy import candidate_structure
 from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.discrepancy.benchmodel import BenchModel
 from fsarm_sim.discrepancy.residuals import noise_floor
@@ -46,7 +46,7 @@ def remeasure(x: FloatArray, h: float, rng: np.random.Generator) -> tuple[FloatA
     return proxy, proxy + sig * rng.standard_normal(x.size)
 
 
-def input_error_floor(ds: Dataset, ctx: C.Context, model: BenchModel) -> float:
+def input_error_floor(ds: Dataset, ctx: candidate_structure.Context, model: BenchModel) -> float:
     """RMS (held-out) of the output change a re-measurement of the recorded angles causes in the
     replay of ``model``: the part of the residual that the inputs' own errors explain."""
     names = ["theta_m", "theta_s"] if ds.setup == "series_bench" else ["phi_b"]

@@ -57,7 +57,7 @@ METHOD = (
 
 
 def nominal_keys(model: BenchModel, multi_bend: bool) -> list[str]:
-    """The nominal parameters the diagnosis refits (:func:`.candidates.n_params`)."""
+    """The nominal parameters the diagnosis refits (:func:`.candidate_structure.n_params`)."""
     if model.setup == "series_bench":
         keys = ["k_pos", "k_neg"] + (["s_pos", "s_neg"] if multi_bend else [])
         return keys + (["j_load"] if model.inertia_load else [])
