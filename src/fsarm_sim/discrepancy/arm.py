@@ -1,10 +1,10 @@
 """The discrepancy workflow on the arm: replay a recorded run closed loop, name what is missing.
 
-The arm is a :class:`~.core.Setup` (:class:`ArmSetup`): the replay, the nominal refit and the
-candidates' fits are :mod:`.arm_fit`'s (the run simulated by the project's simulator with the
-recorded references and the run's controller; candidates linearised, solved jointly with the
-present parameters and re-simulated, the most promising refined on the simulation itself); the
-choice is the diagnosis core's (:func:`.core.diagnose`). Output: :mod:`.report` (the arm's parts:
+The arm is a :class:`~.setup_protocol.Setup` (:class:`ArmSetup`): the replay, the nominal refit and
+the candidates' fits are :mod:`.arm_fit`'s (the run simulated by the project's simulator with the
+recorded references and the run's controller; candidates linearised, solved jointly with the present
+parameters and re-simulated, the most promising refined on the simulation itself); the choice is the
+diagnosis core's (:func:`.core.diagnose`). Output: :mod:`.report` (the arm's parts:
 :meth:`ArmSetup.report`, plots, print-out), model file :mod:`.arm_modelfile`.
 
 **Ranking** - the rules of :mod:`.selection`: an effect earns its place when the BIC falls by
@@ -144,7 +144,7 @@ def _weighted_cell(sc: Score) -> str:
 
 
 class ArmSetup:
-    """An ``arm`` record as a :class:`.core.Setup` (fits: :class:`.arm_fit.ArmFit`)."""
+    """An ``arm`` record as a :class:`.setup_protocol.Setup` (fits: :class:`.arm_fit.ArmFit`)."""
 
     main_channel = MAIN
     mse_name = "weighted MSE"

@@ -1,5 +1,5 @@
 """The arm's closed-loop replay and fits: rebuild a recorded run, simulate a model of it, fit the
-nominal refit and the candidate effects (the arm's :class:`~.core.Setup` is :mod:`.arm`).
+nominal refit and the candidate effects (the arm's :class:`~.setup_protocol.Setup` is :mod:`.arm`).
 
 **Replay.** An ``arm`` record (:mod:`fsarm_sim.records.measured`; sidecar schema :mod:`fsarm_sim.records.sidecar`)
 is rebuilt from its sidecar - shaft (a run's exact ``shaft_params`` when recorded), stated
@@ -68,7 +68,7 @@ The run read from the record is :mod:`.arm_run`'s, the model and its simulation
 and the screening steps :mod:`.arm_screen`'s; the fit context and the refinement are here.
 
 The choice among the fitted candidates is the diagnosis core's (:mod:`.core`, the arm as a
-:class:`~.core.Setup` in :mod:`.arm`).
+:class:`~.setup_protocol.Setup` in :mod:`.arm`).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The arm's pairs for the core's joint search (:func:`.core.joint_step`, issue 16).
+"""The arm's pairs for the core's joint search (:func:`.core_joint.joint_step`, issue 16).
 
 Two arm effects can hide each other so well that neither earns its place alone: a heavier
 payload next to Coulomb friction at joint 3 (the payload alone settles at a fraction of its

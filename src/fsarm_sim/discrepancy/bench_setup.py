@@ -1,5 +1,5 @@
-"""The series and parallel benches as a :class:`.core.Setup`: the record replayed by the Numba
-engine (:mod:`.replay`), grey-box candidates fitted inside it (:mod:`.candidates`).
+"""The series and parallel benches as a :class:`.setup_protocol.Setup`: the record replayed by the
+Numba engine (:mod:`.replay`), grey-box candidates fitted inside it (:mod:`.candidates`).
 
 Setups ``series_bench`` (blocked output: a replay of the input's history; inertia load: the load
 simulated in segments from its measured state) and ``parallel_bench``. The cost is the MSE of the
@@ -89,7 +89,8 @@ def _nrmse_cell(sc: Score) -> str:
 
 
 class BenchSetup:
-    """A bench record as a :class:`.core.Setup` (fits: :class:`.candidate_structure.Fit`)."""
+    """A bench record as a :class:`.setup_protocol.Setup` (fits:
+    :class:`.candidate_structure.Fit`)."""
 
     mse_name = "MSE"
     look_alikes = S.LOOK_ALIKES
