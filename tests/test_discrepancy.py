@@ -280,7 +280,9 @@ def test_null_record_names_nothing_and_a_hidden_effect_is_found(tmp_path: Path) 
     )
     assert res["gap_excess_before"] > 10 * res["gap_excess_after"]
     assert res["confidence"][0]["runner_up"]
-    assert all(files[k].is_file() for k in ("timeseries", "loops", "nrmse", "bic"))
+    assert all(
+        files[k].is_file() for k in ("timeseries", "loops", "nrmse", "bic", "residual_signature")
+    )
     # the model file replays to the final fit
     m = load_model(files["model"])
     y = R.replay(m, diag.ctx.inp)["y"]
