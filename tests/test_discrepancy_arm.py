@@ -13,7 +13,7 @@ import pytest
 from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_modelfile as MF
 from fsarm_sim.discrepancy import arm_synth as S
-from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import replay
 from fsarm_sim.engine.model import SimConfig
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.plant.effects import delay
@@ -104,7 +104,7 @@ def test_measurement_model_uses_the_effect_kernels() -> None:
     out = A.apply_measurement({"q3": y, "theta_m": y, "q2": y}, m, h)
     assert np.allclose(out["q3"], delay.delayed_signal(y, 3.7))
     assert np.allclose(out["theta_m"], y + 0.01) and np.array_equal(out["q2"], y)
-    assert np.allclose(R.shifted(y, 3.7), delay.delayed_signal(y, 3.7))
+    assert np.allclose(replay.shifted(y, 3.7), delay.delayed_signal(y, 3.7))
 
 
 # ------------------------------------------------------------------ diagnosis

@@ -12,9 +12,8 @@ import numpy as np
 import pytest
 
 from fsarm_sim.discrepancy import arm as A
-from fsarm_sim.discrepancy import arm_fit, arm_model, arm_run, core
+from fsarm_sim.discrepancy import arm_fit, arm_model, arm_run, core, replay
 from fsarm_sim.discrepancy import arm_synth as S
-from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.records.measured import Dataset, load_dataset
 
@@ -43,7 +42,9 @@ def test_delayed_is_the_compiled_shift_bit_for_bit() -> None:
     for n in (1, 2, 5, 1001):
         y = np.cumsum(rng.normal(size=n)) * 1e-3
         for d in (0.0, 0.37, -0.37, 3.0, -2.5, 17.25, n + 1.5, -n - 1.0, 1e-13):
-            np.testing.assert_array_equal(_bits(arm_model.delayed(y, d)), _bits(R.shifted(y, d)))
+            np.testing.assert_array_equal(
+                _bits(arm_model.delayed(y, d)), _bits(replay.shifted(y, d))
+            )
 
 
 def test_models_with_the_same_simulator_input_are_one_run(record: Dataset) -> None:

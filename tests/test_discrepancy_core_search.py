@@ -10,8 +10,7 @@ import math
 
 from batteries import battery as B
 from batteries.battery_expert import truth_values
-from fsarm_sim.discrepancy import candidate_structure, candidates, synth
-from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import candidate_structure, candidates, replay_inputs, synth
 from fsarm_sim.discrepancy import selection as S
 from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.discrepancy.bench_setup import BenchDiagnosis, diagnose
@@ -96,7 +95,7 @@ def test_a_look_alike_stand_in_is_swapped_for_the_true_effect() -> None:
     )
     case = B.Case("swap", "series_bench", False, [], None, 0.003, "random", 1601, duration_s=10.0)
     ds = B.dataset(truth, case, case.noise)
-    ctx = candidate_structure.make_context(R.prepare_inputs(ds), stated_model(ds))
+    ctx = candidate_structure.make_context(replay_inputs.prepare_inputs(ds), stated_model(ds))
     ve = candidates.candidate(ctx, candidates.nominal(ctx), V.HYSTERESIS, "viscoelastic")
     assert ve is not None
     both = candidates.candidate(ctx, ve, V.COULOMB, "shaft")

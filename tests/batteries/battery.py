@@ -28,8 +28,7 @@ from typing import Any, TypeVar
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim.discrepancy import candidate_structure, candidates, synth
-from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import candidate_structure, candidates, replay_inputs, synth
 from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.discrepancy.bench_setup import BenchDiagnosis, diagnose
 from fsarm_sim.discrepancy.benchmodel import BenchModel, EffectInstance, stated_model
@@ -259,7 +258,7 @@ def effect_size(truth: BenchModel, case: Case) -> float:
     """RMS of what the refit nominal model cannot reproduce of the clean output / its range
     (without the case's out-of-library disturbance)."""
     ds = _dataset(truth, replace(case, extra=None), 0.0)
-    inp = R.prepare_inputs(ds)
+    inp = replay_inputs.prepare_inputs(ds)
     ctx = candidate_structure.make_context(inp, stated_model(ds))
     fit = candidates.nominal(ctx)
     r = inp.y - fit.yhat

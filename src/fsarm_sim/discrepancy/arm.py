@@ -38,8 +38,7 @@ from fsarm_sim.discrepancy import arm_expert as X
 from fsarm_sim.discrepancy import arm_joint as J
 from fsarm_sim.discrepancy import arm_modelfile as MF
 from fsarm_sim.discrepancy import arm_slip as slip
-from fsarm_sim.discrepancy import core
-from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import core, replay_inputs
 from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.discrepancy.arm_fit import (
     BASIS,
@@ -382,13 +381,13 @@ def residual_signature(
     """Residual signatures of one channel against joint-3 speed, the twist and the bend."""
     ctx = diag.ctx
     h = ctx.run.h
-    q3 = R.smooth(ctx.y["q3"], h)
-    twist = R.smooth(ctx.y["twist"], h)
+    q3 = replay_inputs.smooth(ctx.y["q3"], h)
+    twist = replay_inputs.smooth(ctx.y["twist"], h)
     return signature(
         ctx.y[channel],
         fit.pred[channel],
         twist,
-        R.derivative(q3, h),
+        replay_inputs.derivative(q3, h),
         ctx.y["q2"],
         ctx.run.t,
         ctx.sigma[channel],

@@ -85,7 +85,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim.discrepancy import lsq, replay
+from fsarm_sim.discrepancy import lsq, replay_inputs
 from fsarm_sim.discrepancy.arm_model import (
     BOUNDS,
     RAW,
@@ -427,7 +427,11 @@ def jacobian_column(
     if key.startswith(("sensor_offset.", "delay.")):
         ch = key.split(".", 1)[1]
         # change of the recorded channel: a constant (offset) or y(t - d) ~ y(t) - d y'(t)
-        dy = unit if key.startswith("sensor_offset.") else -replay.derivative(raw[ch], h) * unit
+        dy = (
+            unit
+            if key.startswith("sensor_offset.")
+            else -replay_inputs.derivative(raw[ch], h) * unit
+        )
         d = {c: np.zeros_like(base[c]) for c in BASIS}
         if ch == "q3":  # q3 enters the twist basis as -i_G2 q3
             d["q3"] += dy

@@ -29,6 +29,7 @@ from fsarm_sim.discrepancy import (
     core,
     realness,
     replay,
+    replay_inputs,
     selection,
     variants,
 )
@@ -109,7 +110,9 @@ class BenchSetup:
                 "the right one)"
             )
         self.dataset = ds
-        self.ctx = candidate_structure.make_context(replay.prepare_inputs(ds), stated_model(ds))
+        self.ctx = candidate_structure.make_context(
+            replay_inputs.prepare_inputs(ds), stated_model(ds)
+        )
         self.main_channel = ds.output_column
         self.noise_var = self.ctx.sigma_y**2
         self.pairs = registry.applicable(ds.setup, self.ctx.inp.inertia_load)
@@ -192,7 +195,7 @@ class BenchSetup:
         self, nominal: candidate_structure.Fit, final: candidate_structure.Fit, named: Sequence[str]
     ) -> tuple[str, dict[str, Any]]:
         sigma_in = input_error_floor(self.dataset, self.ctx, final.model)
-        half = replay.prepare_inputs(self.dataset, window_scale=0.5)
+        half = replay_inputs.prepare_inputs(self.dataset, window_scale=0.5)
         sigma_rep = replay_error_floor(self.ctx, final, half)
         sigma_all = math.hypot(sigma_in, sigma_rep)
         extras: dict[str, Any] = {"sigma_inputs": sigma_in, "sigma_replay": sigma_rep}

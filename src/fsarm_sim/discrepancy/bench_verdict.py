@@ -15,6 +15,7 @@ import numpy as np
 from fsarm_sim.discrepancy import (
     candidate_structure,
     replay,
+    replay_inputs,
     residual_search,
 )
 from fsarm_sim.discrepancy.residuals import (
@@ -29,10 +30,12 @@ UNEXPLAINED = math.sqrt(2.0)  # residual RMS / noise floor from which the rest i
 
 
 def replay_error_floor(
-    ctx: candidate_structure.Context, final: candidate_structure.Fit, half: replay.ReplayInputs
+    ctx: candidate_structure.Context,
+    final: candidate_structure.Fit,
+    half: replay_inputs.ReplayInputs,
 ) -> float:
     """The replay's own error on the held-out samples: the recorded angles are smoothed and
-    differentiated before they drive the model (:func:`.replay.prepare_inputs`), which rounds off
+    differentiated before they drive the model (:func:`.replay_inputs.prepare_inputs`), which rounds off
     fast motion (steps at 500 Hz: ~0.6 x the output noise on a plain record). Estimated as in
     :mod:`.uncertainty`: the RMS change of the final model's replay with every filter window
     halved, times :data:`.uncertainty.RICHARDSON`. Like the inputs' own errors, part of the floor

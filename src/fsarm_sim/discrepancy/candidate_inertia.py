@@ -13,7 +13,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy.optimize import least_squares
 
-from fsarm_sim.discrepancy import replay, variants
+from fsarm_sim.discrepancy import replay, replay_inputs, variants
 from fsarm_sim.discrepancy.benchmodel import BenchModel
 from fsarm_sim.discrepancy.candidate_structure import (
     INERTIA_RANGE,
@@ -44,8 +44,10 @@ def _load_equation(ctx: Context, st: Structure, offset_nm: float = 0.0) -> dict[
     """Load law on the measured load motion: tau_s = J th'' + b th' + F sgn(th') (sliding)."""
     inp = ctx.inp
     assert inp.theta_s is not None
-    om = inp.omega_s if inp.omega_s is not None else replay.derivative(inp.theta_s, inp.h)
-    acc = inp.alpha_s if inp.alpha_s is not None else replay.derivative(inp.theta_s, inp.h, 2)
+    om = inp.omega_s if inp.omega_s is not None else replay_inputs.derivative(inp.theta_s, inp.h)
+    acc = (
+        inp.alpha_s if inp.alpha_s is not None else replay_inputs.derivative(inp.theta_s, inp.h, 2)
+    )
     thr = 0.05 * float(np.std(om))
     rows = ctx.teach & (np.abs(om) > thr)
     cols = [acc]

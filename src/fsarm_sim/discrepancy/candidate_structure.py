@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim.discrepancy import lsq, replay, variants
+from fsarm_sim.discrepancy import lsq, replay, replay_inputs, variants
 from fsarm_sim.discrepancy.benchmodel import BenchModel, EffectInstance
 from fsarm_sim.discrepancy.residuals import bic, effective_n, noise_floor, split_masks
 from fsarm_sim.plant.effects import registry
@@ -51,7 +51,7 @@ POLY_C = registry.get(variants.NONLINEAR).variant("poly").params[0]
 class Context:
     """Everything the fits share for one dataset."""
 
-    inp: replay.ReplayInputs
+    inp: replay_inputs.ReplayInputs
     teach: BoolArray
     held: BoolArray
     sigma_y: float  # noise floor of the main output
@@ -69,7 +69,7 @@ class Context:
         return self.inp.setup
 
 
-def make_context(inp: replay.ReplayInputs, stated: BenchModel) -> Context:
+def make_context(inp: replay_inputs.ReplayInputs, stated: BenchModel) -> Context:
     teach, held = split_masks(inp.n)
     s_meas = inp.theta_s_smooth if inp.inertia_load and inp.theta_s_smooth is not None else inp.s
     xr = inp.u - s_meas  # the deflection the shaft law sees (input - output angle)
@@ -182,7 +182,7 @@ def deflections(ctx: Context, st: Structure) -> tuple[FloatArray, FloatArray, Fl
     if inp.inertia_load:
         s = inp.theta_s_smooth if inp.theta_s_smooth is not None else inp.theta_s
         assert s is not None
-        sdot = replay.derivative(s, inp.h)
+        sdot = replay_inputs.derivative(s, inp.h)
     else:
         s, sdot = inp.s, inp.sdot
     xr = x_in.u - s

@@ -33,8 +33,13 @@ from typing import Any
 
 import numpy as np
 
-from fsarm_sim.discrepancy import candidate_inertia, candidate_structure, candidates, synth
-from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import (
+    candidate_inertia,
+    candidate_structure,
+    candidates,
+    replay_inputs,
+    synth,
+)
 from fsarm_sim.discrepancy.bench_setup import BenchDiagnosis, BenchSetup
 from fsarm_sim.discrepancy.bench_setup import diagnose as bench_diagnose
 from fsarm_sim.discrepancy.benchmodel import BenchModel, stated_model
@@ -127,7 +132,7 @@ def wrong_fit_mse(
     """(held-out MSE, k) of the wrong effect's structure and (held-out MSE, k) of the step's base
     model (no effect) fitted to ``truth``'s noise-free record on the input ``u``."""
     rec = _record(truth, ds, t, u)
-    ctx = candidate_structure.make_context(R.prepare_inputs(rec), stated_model(rec))
+    ctx = candidate_structure.make_context(replay_inputs.prepare_inputs(rec), stated_model(rec))
     ctx.sigma_y = max(ctx.sigma_y, 1e-12)
     cur = candidate_inertia.solve(ctx, base.copy())
     fit = candidates.candidate(ctx, cur, wrong.effect or "", wrong.variant or "")

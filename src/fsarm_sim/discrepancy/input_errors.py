@@ -10,8 +10,7 @@ from dataclasses import replace
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim.discrepancy import candidate_structure
-from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import candidate_structure, replay, replay_inputs
 from fsarm_sim.discrepancy.benchmodel import BenchModel
 from fsarm_sim.discrepancy.residuals import noise_floor
 from fsarm_sim.records.measured import Dataset
@@ -37,7 +36,7 @@ def remeasure(x: FloatArray, h: float, rng: np.random.Generator) -> tuple[FloatA
     re-measured on the record's encoder grid (random grid phase) when the record is quantised and
     its noise is what quantisation alone leaves (d4 estimate <= the step), else with white noise
     of the record's noise floor."""
-    proxy = R.smooth(x, h)
+    proxy = replay_inputs.smooth(x, h)
     q = quantisation_step(x)
     sig = noise_floor(x)
     if q > 0.0 and sig <= q:
@@ -56,8 +55,12 @@ def input_error_floor(ds: Dataset, ctx: candidate_structure.Context, model: Benc
     for nm in names:
         cols_ref[nm], cols_new[nm] = remeasure(np.asarray(ds.columns[nm], float), ds.dt, rng)
     try:
-        y_ref = R.replay(model, R.prepare_inputs(replace(ds, columns=cols_ref)))["y"]
-        y_new = R.replay(model, R.prepare_inputs(replace(ds, columns=cols_new)))["y"]
+        y_ref = replay.replay(model, replay_inputs.prepare_inputs(replace(ds, columns=cols_ref)))[
+            "y"
+        ]
+        y_new = replay.replay(model, replay_inputs.prepare_inputs(replace(ds, columns=cols_new)))[
+            "y"
+        ]
     except (ValueError, FloatingPointError):  # an estimate for the report: never fatal
         return 0.0
     d = (y_new - y_ref)[ctx.held]
