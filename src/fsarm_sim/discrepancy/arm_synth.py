@@ -18,8 +18,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim.discrepancy import arm_model, arm_run
-from fsarm_sim.discrepancy import arm_modelfile as MF
+from fsarm_sim.discrepancy import arm_model, arm_modelfile, arm_run
 from fsarm_sim.discrepancy.effect_text import parse_effect
 from fsarm_sim.engine.model import Gains
 from fsarm_sim.errors import InvalidParameterError, real_number
@@ -104,8 +103,8 @@ def parse_arm_effect(text: str) -> tuple[str, str, dict[str, Any]]:
     e = parse_effect(text, ARM)
     m = arm_model.ArmModel()
     try:
-        MF.add_effect(m, e.name, e.variant, e.params, f"effect {text!r}")
-    except MF.ArmModelFileError as exc:
+        arm_modelfile.add_effect(m, e.name, e.variant, e.params, f"effect {text!r}")
+    except arm_modelfile.ArmModelFileError as exc:
         raise InvalidParameterError(str(exc)) from None
     return e.name, e.variant, e.params
 
@@ -120,7 +119,7 @@ def truth_model(
     m.values.update(c_scale=1.0 / stiffness_scale, kb_scale=kb_scale)
     for text in effects or []:
         name, variant, p = parse_arm_effect(text)
-        MF.add_effect(m, name, variant, p, f"effect {text!r}")
+        arm_modelfile.add_effect(m, name, variant, p, f"effect {text!r}")
     return m
 
 
@@ -221,7 +220,7 @@ def synthesize_arm(
         columns={c: records.UNITS[c] for c in cols},
         synthetic=records.jsonable(
             {
-                "truth": MF.model_dict(run, truth),
+                "truth": arm_modelfile.model_dict(run, truth),
                 "noise_rad": rec.noise_rad,
                 "encoder_counts": rec.encoder_counts,
                 "seed": rec.seed,
