@@ -11,9 +11,16 @@ import numpy as np
 import pytest
 
 from batteries import battery as B
-from fsarm_sim.discrepancy import UnsupportedSetupError, diagnose, report, synth
-from fsarm_sim.discrepancy import candidates as C
-from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import (
+    UnsupportedSetupError,
+    candidate_structure,
+    candidates,
+    diagnose,
+    replay,
+    replay_inputs,
+    report,
+    synth,
+)
 from fsarm_sim.discrepancy import selection as S
 from fsarm_sim.discrepancy.benchmodel import (
     EffectInstance,
@@ -33,16 +40,16 @@ from fsarm_sim.plant.shaft import load_catalogue
 from fsarm_sim.records.measured import Dataset, load_dataset
 
 
-def _inputs(setup: str, u: np.ndarray, h: float, phi: float = 0.0) -> R.ReplayInputs:
+def _inputs(setup: str, u: np.ndarray, h: float, phi: float = 0.0) -> replay_inputs.ReplayInputs:
     z = np.zeros_like(u)
     t = np.arange(u.size) * h
-    return R.ReplayInputs(
+    return replay_inputs.ReplayInputs(
         setup,
         t,
         h,
         u,
-        R.derivative(u, h),
-        R.derivative(u, h, 2),
+        replay_inputs.derivative(u, h),
+        replay_inputs.derivative(u, h, 2),
         z,
         z,
         u if setup == "parallel_bench" else np.full(u.size, phi),
@@ -74,8 +81,8 @@ def test_static_replay_equals_its_data_matrix() -> None:
     u = 0.35 * np.sin(2 * np.pi * 0.7 * t) + 0.1 * np.sin(2 * np.pi * 2.3 * t)
     inp = _inputs("series_bench", u, h, phi=0.4)
     stated = nominal_from_shaft("series_bench", load_catalogue().shaft())
-    ctx = C.make_context(inp, stated)
-    st = C.Structure(
+    ctx = candidate_structure.make_context(inp, stated)
+    st = candidate_structure.Structure(
         backlash=(0.01, 0.002),
         coulomb=3e-4,
         viscous=True,
@@ -84,12 +91,12 @@ def test_static_replay_equals_its_data_matrix() -> None:
         ve=np.array([0.1, 1.0]),
         out_offset=True,
     )
-    x, xd, ua = C._deflection(ctx, st)
-    cols = C.build_columns(ctx, st, x, xd, ua)
+    x, xd, ua = candidate_structure.deflections(ctx, st)
+    cols = candidate_structure.build_columns(ctx, st, x, xd, ua)
     coef = {n: v for n, v in zip(cols.names, np.linspace(0.2, 3.0, len(cols.names)), strict=True)}
     coef["k_pos"], coef["k_neg"] = 15.0, 12.0
-    model = C.to_model(ctx, st, coef)
-    y_kernel = R.replay(model, inp)["y"]
+    model = candidate_structure.to_model(ctx, st, coef)
+    y_kernel = replay.replay(model, inp)["y"]
     y_matrix = cols.a @ np.array([coef[n] for n in cols.names])
     assert np.max(np.abs(y_kernel - y_matrix)) < 1e-9 * np.max(np.abs(y_kernel)) + 1e-12
 
@@ -103,11 +110,11 @@ def test_inertia_replay_limits() -> None:
     sh = load_catalogue().shaft()
     base = nominal_from_shaft("series_bench", sh, 0.01)
     zero = np.zeros_like(u)
-    flags = R.restarts(u.size, h, None)
+    flags = replay.restarts(u.size, h, None)
 
     def run(model):  # type: ignore[no-untyped-def]
-        r = R.param_vector(model)
-        return R.replay_inertia(r, u, zero, h, R.substeps(r, h), zero, zero, flags)
+        r = replay.param_vector(model)
+        return replay.replay_inertia(r, u, zero, h, replay.substeps(r, h), zero, zero, flags)
 
     tau0, _ = run(base)
     damped = base.with_effect(EffectInstance("viscous_damping", "load", {"b_nms": 0.05}))
@@ -184,8 +191,8 @@ def test_replay_agrees_with_mujoco_series_bench(load: object) -> None:
         sh,
         0.01 if inertia else None,
     )
-    inp = R.prepare_inputs(ds)
-    y = R.replay(model, inp, segment_s=None)["y"]
+    inp = replay_inputs.prepare_inputs(ds)
+    y = replay.replay(model, inp, segment_s=None)["y"]
     err = np.sqrt(np.mean((y - cols["tau_s"]) ** 2)) / np.ptp(cols["tau_s"])
     assert err < 0.003, f"replay vs MuJoCo: NRMSE {err:.4f}"
 
@@ -215,7 +222,7 @@ def test_replay_agrees_with_mujoco_parallel_bench() -> None:
         ),
     ]
     ds = Dataset(Path("mujoco"), "parallel_bench", cols, {}, sh, None)
-    y = R.replay(model, R.prepare_inputs(ds))["y"]
+    y = replay.replay(model, replay_inputs.prepare_inputs(ds))["y"]
     err = np.sqrt(np.mean((y - cols["m_b"])[50:-50] ** 2)) / np.ptp(cols["m_b"])
     assert err < 0.003, f"replay vs MuJoCo: NRMSE {err:.4f}"
 
@@ -274,10 +281,12 @@ def test_null_record_names_nothing_and_a_hidden_effect_is_found(tmp_path: Path) 
     )
     assert res["gap_excess_before"] > 10 * res["gap_excess_after"]
     assert res["confidence"][0]["runner_up"]
-    assert all(files[k].is_file() for k in ("timeseries", "loops", "nrmse", "bic"))
+    assert all(
+        files[k].is_file() for k in ("timeseries", "loops", "nrmse", "bic", "residual_signature")
+    )
     # the model file replays to the final fit
     m = load_model(files["model"])
-    y = R.replay(m, diag.ctx.inp)["y"]
+    y = replay.replay(m, diag.ctx.inp)["y"]
     assert np.max(np.abs(y - diag.final.yhat)) < 1e-9
 
 
@@ -314,7 +323,7 @@ def test_input_error_floor_follows_the_encoder_step() -> None:
             assert S.quantisation_step(ds.columns["theta_m"]) == pytest.approx(2 * np.pi / counts)
         else:
             assert S.quantisation_step(ds.columns["theta_m"]) == 0.0
-        ctx = C.make_context(R.prepare_inputs(ds), S.stated_model(ds))
+        ctx = candidate_structure.make_context(replay_inputs.prepare_inputs(ds), S.stated_model(ds))
         floors[counts] = S.input_error_floor(ds, ctx, truth)
     k = max(truth.nominal["k_pos"], truth.nominal["k_neg"])
     assert 0.0 < floors[2**17] < k * (2 * np.pi / 2**17) / np.sqrt(12.0)
@@ -359,11 +368,11 @@ def test_hysteresis_elements_leave_the_grid() -> None:
     )
     rec = synth.Recording(duration_s=10.0, noise=0.003, trajectory="multisine", seed=7)
     ds = _dataset(truth, rec)
-    ctx = C.make_context(R.prepare_inputs(ds), S.stated_model(ds))
-    grid = C.candidate(ctx, C.nominal(ctx), "hysteresis", "maxwell_slip")
+    ctx = candidate_structure.make_context(replay_inputs.prepare_inputs(ds), S.stated_model(ds))
+    grid = candidates.candidate(ctx, candidates.nominal(ctx), "hysteresis", "maxwell_slip")
     assert grid is not None and grid.structure.slip is not None
     assert not np.any(np.isclose(grid.structure.slip[:, None], deltas, rtol=0.05))
-    fit = C.refine_elements(ctx, grid)
+    fit = candidates.refine_elements(ctx, grid)
     assert np.sqrt(grid.mse_held) > 1.3 * ctx.sigma_y
     assert np.sqrt(fit.mse_held) < 1.05 * ctx.sigma_y
     eff = fit.model.effect("hysteresis", "maxwell_slip")

@@ -13,7 +13,7 @@ import pytest
 from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_modelfile as MF
 from fsarm_sim.discrepancy import arm_synth as S
-from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import replay
 from fsarm_sim.engine.model import SimConfig
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.plant.effects import delay
@@ -104,7 +104,7 @@ def test_measurement_model_uses_the_effect_kernels() -> None:
     out = A.apply_measurement({"q3": y, "theta_m": y, "q2": y}, m, h)
     assert np.allclose(out["q3"], delay.delayed_signal(y, 3.7))
     assert np.allclose(out["theta_m"], y + 0.01) and np.array_equal(out["q2"], y)
-    assert np.allclose(R.shifted(y, 3.7), delay.delayed_signal(y, 3.7))
+    assert np.allclose(replay.shifted(y, 3.7), delay.delayed_signal(y, 3.7))
 
 
 # ------------------------------------------------------------------ diagnosis
@@ -310,13 +310,15 @@ def test_runs_side_by_side_give_the_runs_one_after_the_other(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     # ArmContext.prefetch steps a step's simulations in threads: the same runs, bit for bit
-    from fsarm_sim.discrepancy import arm_fit as F
+    from fsarm_sim.discrepancy import arm_fit, arm_model, arm_run
 
-    monkeypatch.setattr(F, "SIM_THREADS", 2)
+    monkeypatch.setattr(arm_fit, "SIM_THREADS", 2)
     ds = load_dataset(_record(tmp_path, "par", ["coulomb_friction:q3=0.1"], duration=2.0))
-    ctx = F.make_context(ds, F.arm_run(ds))
-    base = F.ArmModel()
-    models = [F.with_values(base, ["payload_kg_refit"], np.array([v])) for v in (0.0, 0.5, 1.0)]
+    ctx = arm_fit.make_context(ds, arm_run.arm_run(ds))
+    base = arm_model.ArmModel()
+    models = [
+        arm_fit.with_values(base, ["payload_kg_refit"], np.array([v])) for v in (0.0, 0.5, 1.0)
+    ]
     sequential = [ctx._run(m) for m in models]
     ctx.prefetch(models)
     assert ctx.n_sims == 3
@@ -371,15 +373,14 @@ def test_a_linear_step_to_a_bound_lands_on_it(monkeypatch: pytest.MonkeyPatch) -
     """A bounded step that goes to a lower bound ends exactly on it: ``v + ((a - v)/u) u`` can
     round past it (f_c = 0.9391... N*m with a 0.1 unit gave -1.1e-16), and a slip stiffness of
     -1e-16 made the transmission refuse the model, ending the whole diagnosis."""
-    from fsarm_sim.discrepancy import arm_fit as F
-    from fsarm_sim.discrepancy import lsq
+    from fsarm_sim.discrepancy import arm_fit, arm_model, lsq
 
     key = "coulomb_friction.f_c_nm"
     # (the context is read only for payload bounds)
-    lo, _, unit = F.bounds_of(None, key)
+    lo, _, unit = arm_fit.bounds_of(None, key)
     v = 0.9391491627785106
     assert v + ((lo - v) / unit) * unit < lo  # the rounding this guards against
-    m = F.with_values(F.ArmModel(), [key], np.array([v]))
+    m = arm_fit.with_values(arm_model.ArmModel(), [key], np.array([v]))
     monkeypatch.setattr(lsq, "bounded", lambda a, b, lo_, hi_: np.asarray(lo_, dtype=float))
-    out = F.linear_solve(None, m, [key], np.ones((3, 1)), np.zeros(3))
+    out = arm_fit.linear_solve(None, m, [key], np.ones((3, 1)), np.zeros(3))
     assert out.v(key) == lo

@@ -66,14 +66,14 @@ def test_an_encoder_offset_moves_to_the_other_encoder_with_the_same_twist(
     (and back), everything else as it was; other effects give no start."""
     import numpy as np
 
-    from fsarm_sim.discrepancy import arm_fit as F
+    from fsarm_sim.discrepancy import arm_fit, arm_model, arm_screen
     from fsarm_sim.discrepancy import arm_joint as J
 
     setup = A.ArmSetup(record)
     ctx = setup.ctx
-    m = F.add_candidate(ctx, F.ArmModel(), "sensor_offset", "q3")
-    m = F.with_values(m, ["sensor_offset.q3", "c_scale"], np.array([-2e-4, 0.97]))
-    fit = F.evaluate(ctx, m, ["c_scale", "sensor_offset.q3"], "sensor_offset[q3]")
+    m = arm_screen.add_candidate(ctx, arm_model.ArmModel(), "sensor_offset", "q3")
+    m = arm_fit.with_values(m, ["sensor_offset.q3", "c_scale"], np.array([-2e-4, 0.97]))
+    fit = arm_fit.evaluate(ctx, m, ["c_scale", "sensor_offset.q3"], "sensor_offset[q3]")
     assert fit is not None
     (alt,) = J.twist_equivalent(ctx, fit)
     assert alt.model.labels == ["sensor_offset[theta_m]"] and alt.variant == "theta_m"
@@ -84,5 +84,7 @@ def test_an_encoder_offset_moves_to_the_other_encoder_with_the_same_twist(
     assert back.model.v("sensor_offset.q3") == pytest.approx(-2e-4)
     # the two runs see the same twist: the twist channel's prediction is the same
     np.testing.assert_allclose(alt.pred["twist"], fit.pred["twist"], atol=1e-9)
-    f2 = F.evaluate(ctx, F.add_candidate(ctx, F.ArmModel(), "sensor_offset", "q2"), [], "q2")
+    f2 = arm_fit.evaluate(
+        ctx, arm_screen.add_candidate(ctx, arm_model.ArmModel(), "sensor_offset", "q2"), [], "q2"
+    )
     assert f2 is not None and J.twist_equivalent(ctx, f2) == []

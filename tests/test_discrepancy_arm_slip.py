@@ -9,8 +9,7 @@ import pytest
 
 from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_expert as X
-from fsarm_sim.discrepancy import arm_fit as F
-from fsarm_sim.discrepancy import arm_slip, selection
+from fsarm_sim.discrepancy import arm_fit, arm_model, arm_screen, arm_slip, selection
 from fsarm_sim.discrepancy import arm_synth as S
 from fsarm_sim.records.measured import load_dataset
 
@@ -19,7 +18,7 @@ TRUTH = "hysteresis=4,0.002,2,0.005"
 
 
 @pytest.fixture(scope="module")
-def one_element(tmp_path_factory: pytest.TempPathFactory) -> tuple[A.ArmSetup, F.ArmFit]:
+def one_element(tmp_path_factory: pytest.TempPathFactory) -> tuple[A.ArmSetup, arm_fit.ArmFit]:
     """A record of the two-element loop and the one-element fit the screen ends up with."""
     path: Path = tmp_path_factory.mktemp("slip") / "arm.csv"
     rec = S.ArmRecording(duration_s=4.0, noise_rad=2e-5, seed=11)
@@ -27,17 +26,17 @@ def one_element(tmp_path_factory: pytest.TempPathFactory) -> tuple[A.ArmSetup, F
     setup = A.ArmSetup(load_dataset(path))
     setup.nominal()
     ctx = setup.ctx
-    m = F.add_candidate(ctx, F.ArmModel(), "hysteresis", "maxwell_slip")
+    m = arm_screen.add_candidate(ctx, arm_model.ArmModel(), "hysteresis", "maxwell_slip")
     m.set_slip([5.5], [0.003])  # a compromise between the two elements
     free = ["c_scale", "hysteresis.k0", "hysteresis.d0"]
-    fit = F.evaluate(ctx, m, free, "hysteresis[maxwell_slip]")
+    fit = arm_fit.evaluate(ctx, m, free, "hysteresis[maxwell_slip]")
     assert fit is not None
     fit.effect, fit.variant = "hysteresis", "maxwell_slip"
-    return setup, F.refine(ctx, fit)
+    return setup, arm_fit.refine(ctx, fit)
 
 
 def test_a_second_element_is_added_where_the_loop_needs_it(
-    one_element: tuple[A.ArmSetup, F.ArmFit],
+    one_element: tuple[A.ArmSetup, arm_fit.ArmFit],
 ) -> None:
     setup, fit = one_element
     before = X.over_noise(setup.ctx, fit)["q3"]
@@ -60,11 +59,11 @@ def test_a_second_element_is_added_where_the_loop_needs_it(
 
 
 def test_an_element_that_does_not_earn_its_place_is_not_added(
-    one_element: tuple[A.ArmSetup, F.ArmFit],
+    one_element: tuple[A.ArmSetup, arm_fit.ArmFit],
 ) -> None:
     setup, fit = one_element
 
-    def refuse(cur: F.ArmFit, cand: F.ArmFit) -> selection.Judgement:
+    def refuse(cur: arm_fit.ArmFit, cand: arm_fit.ArmFit) -> selection.Judgement:
         return selection.Judgement(0.0, 0.0, 0.0, 0.0, 0.0, True, False)
 
     out, added = arm_slip.grow(setup.ctx, fit, refuse)
@@ -74,7 +73,7 @@ def test_an_element_that_does_not_earn_its_place_is_not_added(
 
 
 def test_new_elements_start_a_step_of_the_screens_own_grid_away(
-    one_element: tuple[A.ArmSetup, F.ArmFit],
+    one_element: tuple[A.ArmSetup, arm_fit.ArmFit],
 ) -> None:
     """GRID_RATIO is the ratio of the screen's slip-deflection grid (arm_fit.make_context)."""
     grid = one_element[0].ctx.slip_grid

@@ -12,10 +12,8 @@ import numpy as np
 import pytest
 
 from fsarm_sim.discrepancy import arm as A
-from fsarm_sim.discrepancy import arm_fit as F
+from fsarm_sim.discrepancy import arm_fit, arm_model, arm_run, core, replay
 from fsarm_sim.discrepancy import arm_synth as S
-from fsarm_sim.discrepancy import core
-from fsarm_sim.discrepancy import replay as R
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.records.measured import Dataset, load_dataset
 
@@ -31,8 +29,8 @@ def record(tmp_path_factory: pytest.TempPathFactory) -> Dataset:
     return load_dataset(path)
 
 
-def _context(ds: Dataset) -> F.ArmContext:
-    return F.make_context(ds, F.arm_run(ds))
+def _context(ds: Dataset) -> arm_fit.ArmContext:
+    return arm_fit.make_context(ds, arm_run.arm_run(ds))
 
 
 def _bits(a: np.ndarray) -> np.ndarray:
@@ -44,17 +42,19 @@ def test_delayed_is_the_compiled_shift_bit_for_bit() -> None:
     for n in (1, 2, 5, 1001):
         y = np.cumsum(rng.normal(size=n)) * 1e-3
         for d in (0.0, 0.37, -0.37, 3.0, -2.5, 17.25, n + 1.5, -n - 1.0, 1e-13):
-            np.testing.assert_array_equal(_bits(F.delayed(y, d)), _bits(R.shifted(y, d)))
+            np.testing.assert_array_equal(
+                _bits(arm_model.delayed(y, d)), _bits(replay.shifted(y, d))
+            )
 
 
 def test_models_with_the_same_simulator_input_are_one_run(record: Dataset) -> None:
     ctx = _context(record)
-    base = F.ArmModel()
+    base = arm_model.ArmModel()
     same = [
-        F.with_values(base, ["viscous_damping.b_nms"], np.array([0.0])),  # an effect at zero
-        F.with_values(base, ["payload_kg_refit"], np.array([0.0])),
+        arm_fit.with_values(base, ["viscous_damping.b_nms"], np.array([0.0])),  # an effect at zero
+        arm_fit.with_values(base, ["payload_kg_refit"], np.array([0.0])),
     ]
-    other = F.with_values(base, ["viscous_damping.b_nms"], np.array([0.01]))
+    other = arm_fit.with_values(base, ["viscous_damping.b_nms"], np.array([0.01]))
     assert len({m.physical_key() for m in [base, *same]}) == 3  # not one key by their values
     first = ctx.simulate(base)
     assert first is not None and ctx.n_sims == 1
@@ -78,22 +78,22 @@ def test_models_with_the_same_simulator_input_are_one_run(record: Dataset) -> No
 def test_refinements_in_lockstep_are_the_refinements_one_after_the_other(
     record: Dataset, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    def starts(ctx: F.ArmContext) -> list[F.ArmFit]:
+    def starts(ctx: arm_fit.ArmContext) -> list[arm_fit.ArmFit]:
         out = []
         for key, value in (("coulomb_friction.f_c_nm", 0.05), ("payload_error.dm_kg", 0.2)):
-            m = F.with_values(F.ArmModel(), [key], np.array([value]))
+            m = arm_fit.with_values(arm_model.ArmModel(), [key], np.array([value]))
             m.labels.append(f"{key.split('.')[0]}[{'q3' if 'friction' in key else 'mass'}]")
-            f = F.evaluate(ctx, m, ["c_scale", key], m.labels[0])
+            f = arm_fit.evaluate(ctx, m, ["c_scale", key], m.labels[0])
             assert f is not None
             out.append(f)
         return out
 
-    monkeypatch.setattr(F, "SIM_THREADS", 1)
+    monkeypatch.setattr(arm_fit, "SIM_THREADS", 1)
     one = _context(record)
-    alone = [F.refine(one, f, 2) for f in starts(one)]
-    monkeypatch.setattr(F, "SIM_THREADS", 2)
+    alone = [arm_fit.refine(one, f, 2) for f in starts(one)]
+    monkeypatch.setattr(arm_fit, "SIM_THREADS", 2)
     two = _context(record)
-    lockstep = F.refine_many(two, starts(two), 2)
+    lockstep = arm_fit.refine_many(two, starts(two), 2)
     assert two.n_sims == one.n_sims  # the same runs, none on speculation
     for a, b in zip(alone, lockstep, strict=True):
         assert a.model.values == b.model.values and a.model.labels == b.model.labels
@@ -105,7 +105,7 @@ def test_a_diagnosis_with_its_runs_side_by_side_is_the_same(
 ) -> None:
     diags = []
     for threads in (1, 2):
-        monkeypatch.setattr(F, "SIM_THREADS", threads)
+        monkeypatch.setattr(arm_fit, "SIM_THREADS", threads)
         diags.append(A.diagnose_arm(record))
     seq, par = diags
     assert seq.named == par.named
@@ -123,33 +123,33 @@ def test_simulation_threads_limits_prefetch_in_its_block_only(
     pool, nests, and gives the module's limit back on exit, also after an error."""
     pools: list[int] = []
 
-    class Spy(F.ThreadPoolExecutor):
+    class Spy(arm_fit.ThreadPoolExecutor):
         def __init__(self, n: int) -> None:
             pools.append(n)
             super().__init__(n)
 
-    monkeypatch.setattr(F, "ThreadPoolExecutor", Spy)
-    monkeypatch.setattr(F, "SIM_THREADS", 2)
+    monkeypatch.setattr(arm_fit, "ThreadPoolExecutor", Spy)
+    monkeypatch.setattr(arm_fit, "SIM_THREADS", 2)
     models = [
-        F.with_values(F.ArmModel(), ["coulomb_friction.f_c_nm"], np.array([v]))
+        arm_fit.with_values(arm_model.ArmModel(), ["coulomb_friction.f_c_nm"], np.array([v]))
         for v in (0.03, 0.07)
     ]
-    with F.simulation_threads(1):
-        assert F.threads_now() == 1
-        with F.simulation_threads(3):
-            assert F.threads_now() == 3
-        assert F.threads_now() == 1
+    with arm_fit.simulation_threads(1):
+        assert arm_fit.threads_now() == 1
+        with arm_fit.simulation_threads(3):
+            assert arm_fit.threads_now() == 3
+        assert arm_fit.threads_now() == 1
         _context(record).prefetch(models)
     assert pools == []
-    assert F.threads_now() == 2
-    with pytest.raises(RuntimeError), F.simulation_threads(1):
+    assert arm_fit.threads_now() == 2
+    with pytest.raises(RuntimeError), arm_fit.simulation_threads(1):
         raise RuntimeError
-    assert F.threads_now() == 2
+    assert arm_fit.threads_now() == 2
     _context(record).prefetch(models)
     assert pools == [2]
     for bad in (0, -1, 1.5, True):
         with (
             pytest.raises(InvalidParameterError, match="simulation threads"),
-            F.simulation_threads(bad),
+            arm_fit.simulation_threads(bad),
         ):
             pass

@@ -10,10 +10,8 @@ import math
 
 from batteries import battery as B
 from batteries.battery_expert import truth_values
-from fsarm_sim.discrepancy import candidates as C
-from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import candidate_structure, candidates, replay_inputs, synth
 from fsarm_sim.discrepancy import selection as S
-from fsarm_sim.discrepancy import synth
 from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.discrepancy.bench_setup import BenchDiagnosis, diagnose
 from fsarm_sim.discrepancy.benchmodel import BenchModel, EffectInstance, stated_model
@@ -97,18 +95,18 @@ def test_a_look_alike_stand_in_is_swapped_for_the_true_effect() -> None:
     )
     case = B.Case("swap", "series_bench", False, [], None, 0.003, "random", 1601, duration_s=10.0)
     ds = B.dataset(truth, case, case.noise)
-    ctx = C.make_context(R.prepare_inputs(ds), stated_model(ds))
-    ve = C.candidate(ctx, C.nominal(ctx), V.HYSTERESIS, "viscoelastic")
+    ctx = candidate_structure.make_context(replay_inputs.prepare_inputs(ds), stated_model(ds))
+    ve = candidates.candidate(ctx, candidates.nominal(ctx), V.HYSTERESIS, "viscoelastic")
     assert ve is not None
-    both = C.candidate(ctx, ve, V.COULOMB, "shaft")
+    both = candidates.candidate(ctx, ve, V.COULOMB, "shaft")
     assert both is not None
     pairs = registry.applicable("series_bench", False)
-    swapped, replaced = C.swap_variants(ctx, both, pairs, S.LOOK_ALIKES)
+    swapped, replaced = candidates.swap_variants(ctx, both, pairs, S.LOOK_ALIKES)
     assert replaced == {V.HYSTERESIS: V.VISCOUS}
     assert swapped.mse_held < both.mse_held
-    assert {e for e, _ in C.present(swapped.structure)} == {V.COULOMB, V.VISCOUS}
+    assert {e for e, _ in candidates.present(swapped.structure)} == {V.COULOMB, V.VISCOUS}
     # without the look-alikes nothing but a variant may change
-    _, none = C.swap_variants(ctx, both, pairs, ())
+    _, none = candidates.swap_variants(ctx, both, pairs, ())
     assert none == {}
 
 

@@ -304,7 +304,7 @@ def test_registry_covers_the_spec_vocabulary_and_is_consistent() -> None:
 )
 def test_every_applicable_effect_changes_the_replay(setup: str, inertia: bool) -> None:
     """Generic over the registry: each (effect, variant) at mid-size parameters enters the replay."""
-    from fsarm_sim.discrepancy import replay as R
+    from fsarm_sim.discrepancy import replay, replay_inputs
     from fsarm_sim.discrepancy.benchmodel import EffectInstance, nominal_from_shaft
     from fsarm_sim.plant.shaft import load_catalogue
 
@@ -314,13 +314,13 @@ def test_every_applicable_effect_changes_the_replay(setup: str, inertia: bool) -
     t = np.arange(3000) * h
     u = 0.3 * np.sin(2 * np.pi * 1.3 * t) * np.minimum(t / 0.3, 1.0)
     z = np.zeros_like(u)
-    inp = R.ReplayInputs(
+    inp = replay_inputs.ReplayInputs(
         setup,
         t,
         h,
         u,
-        R.derivative(u, h),
-        R.derivative(u, h, 2),
+        replay_inputs.derivative(u, h),
+        replay_inputs.derivative(u, h, 2),
         z,
         z,
         u if setup == "parallel_bench" else z,
@@ -329,7 +329,7 @@ def test_every_applicable_effect_changes_the_replay(setup: str, inertia: bool) -
         inertia,
         np.zeros_like(u) if inertia else None,
     )
-    y0 = R.replay(base, inp)["y"]
+    y0 = replay.replay(base, inp)["y"]
     for name, variant in registry.applicable(setup, inertia):
         var = registry.get(name).variant(variant)
         params = {}
@@ -342,6 +342,6 @@ def test_every_applicable_effect_changes_the_replay(setup: str, inertia: bool) -
             params["delta_rad"] = [0.02]
         if name == "hysteresis" and variant == "viscoelastic":
             params["tau_s"] = [0.2]
-        y = R.replay(base.with_effect(EffectInstance(name, variant, params)), inp)["y"]
+        y = replay.replay(base.with_effect(EffectInstance(name, variant, params)), inp)["y"]
         assert np.all(np.isfinite(y))
         assert np.max(np.abs(y - y0)) > 1e-4, f"{name}[{variant}] did not change the replay"

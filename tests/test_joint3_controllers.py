@@ -151,7 +151,7 @@ def test_diagnosis_reads_the_controller_back_from_a_sidecar() -> None:
     """``fsarm diagnose`` rebuilds the run's gains from its sidecar: the controller, its model."""
     from pathlib import Path
 
-    from fsarm_sim.discrepancy.arm_fit import ArmSidecarError, parse_gains
+    from fsarm_sim.discrepancy.arm_run import ArmSidecarError, parse_gains
 
     vals = list(hm.scaled(hm.default_fractions(), load_catalogue().shaft()))
     side = {

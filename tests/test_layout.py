@@ -84,11 +84,11 @@ def test_every_transmission_id_reaches_its_own_module(name: str) -> None:
 
 def test_the_bench_replay_vector_is_declared_too() -> None:
     """The discrepancy replay's parameter vector comes from the same declarations mechanism."""
-    from fsarm_sim.discrepancy import replay as R
+    from fsarm_sim.discrepancy import replay
 
-    slots = R.REPLAY_LAYOUT.slots
-    assert [s.index for s in slots] == list(range(R.N_R))
-    names = {k: v for k, v in vars(R).items() if k.startswith("R_") and isinstance(v, int)}
+    slots = replay.REPLAY_LAYOUT.slots
+    assert [s.index for s in slots] == list(range(replay.N_R))
+    names = {k: v for k, v in vars(replay).items() if k.startswith("R_") and isinstance(v, int)}
     assert len(set(names.values())) == len(names)
-    assert all(0 <= v < R.N_R for v in names.values())
-    assert slots[R.R_BL_W].decl.name == "width"  # the backlash law's own declaration
+    assert all(0 <= v < replay.N_R for v in names.values())
+    assert slots[replay.R_BL_W].decl.name == "width"  # the backlash law's own declaration

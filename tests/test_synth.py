@@ -10,8 +10,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from fsarm_sim.discrepancy import replay as R
-from fsarm_sim.discrepancy import synth
+from fsarm_sim.discrepancy import replay, replay_inputs, synth
 from fsarm_sim.discrepancy.benchmodel import EffectInstance, load_model, model_from_dict
 from fsarm_sim.discrepancy.residuals import lag_of_best_match, noise_floor
 from fsarm_sim.errors import InvalidParameterError
@@ -41,8 +40,8 @@ def test_synthetic_dataset_is_valid_labelled_and_noisy_as_asked(tmp_path: Path) 
     assert sigma == pytest.approx(0.01 * np.ptp(ds.columns["tau_s"]), rel=0.05)
     assert noise_floor(ds.columns["tau_s"]) == pytest.approx(sigma, rel=0.1)
     # the truth embedded in the sidecar replays the data down to the noise
-    inp = R.prepare_inputs(ds)
-    y = R.replay(model_from_dict(ds.sidecar["synthetic"]["truth"]), inp)["y"]
+    inp = replay_inputs.prepare_inputs(ds)
+    y = replay.replay(model_from_dict(ds.sidecar["synthetic"]["truth"]), inp)["y"]
     assert np.std(inp.y - y) == pytest.approx(sigma, rel=0.1)
 
 

@@ -28,9 +28,7 @@ from typing import Any, TypeVar
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim.discrepancy import candidates as C
-from fsarm_sim.discrepancy import replay as R
-from fsarm_sim.discrepancy import synth
+from fsarm_sim.discrepancy import candidate_structure, candidates, replay_inputs, synth
 from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.discrepancy.bench_setup import BenchDiagnosis, diagnose
 from fsarm_sim.discrepancy.benchmodel import BenchModel, EffectInstance, stated_model
@@ -142,7 +140,7 @@ def _base_params(effect: str, variant: str, setup: str, amp: float, sign: float)
     if effect == V.HYSTERESIS and variant == "maxwell_slip":  # catalogue's elements, deflections
         # scaled to the amplitude (shaft.toml: 0.1/12, 0.15/6, 0.25/3 rad at ~0.4 rad), and at
         # least twice the Coulomb boundary (an element that slips within it *is* Coulomb friction)
-        b = C.coulomb_delta_max(amp)
+        b = candidate_structure.coulomb_delta_max(amp)
         return {
             "k_nm_per_rad": [12.0, 6.0, 3.0],
             "delta_rad": [max(0.02 * amp, 2 * b), max(0.06 * amp, 5 * b), max(0.2 * amp, 12 * b)],
@@ -260,9 +258,9 @@ def effect_size(truth: BenchModel, case: Case) -> float:
     """RMS of what the refit nominal model cannot reproduce of the clean output / its range
     (without the case's out-of-library disturbance)."""
     ds = _dataset(truth, replace(case, extra=None), 0.0)
-    inp = R.prepare_inputs(ds)
-    ctx = C.make_context(inp, stated_model(ds))
-    fit = C.nominal(ctx)
+    inp = replay_inputs.prepare_inputs(ds)
+    ctx = candidate_structure.make_context(inp, stated_model(ds))
+    fit = candidates.nominal(ctx)
     r = inp.y - fit.yhat
     return float(np.sqrt(np.mean(r[ctx.teach | ctx.held] ** 2)) / np.ptp(inp.y))
 

@@ -41,7 +41,7 @@ from batteries import battery_expert as BE
 from fsarm_sim.discrepancy import arm as A
 from fsarm_sim.discrepancy import arm_synth as S
 from fsarm_sim.discrepancy import core
-from fsarm_sim.discrepancy.arm_fit import ArmModel
+from fsarm_sim.discrepancy.arm_model import ArmModel
 from fsarm_sim.plant import transmissions
 from fsarm_sim.records.measured import load_dataset
 

@@ -2,7 +2,7 @@
 beyond the noise, name the missing effect(s), add them with fitted parameters, and show the
 held-out gap shrink.
 
-One core for every setup (:mod:`.core`: forward selection behind the :class:`~.core.Setup`
+One core for every setup (:mod:`.core`: forward selection behind the :class:`~.setup_protocol.Setup`
 protocol, judged by the rules of :mod:`.selection`; output :mod:`.report`), two kinds of setups:
 
 * the benches (:mod:`.bench_setup`): ``series_bench`` (blocked output: a replay of the input's

@@ -1,10 +1,10 @@
 """The discrepancy workflow on the arm: replay a recorded run closed loop, name what is missing.
 
-The arm is a :class:`~.core.Setup` (:class:`ArmSetup`): the replay, the nominal refit and the
-candidates' fits are :mod:`.arm_fit`'s (the run simulated by the project's simulator with the
-recorded references and the run's controller; candidates linearised, solved jointly with the
-present parameters and re-simulated, the most promising refined on the simulation itself); the
-choice is the diagnosis core's (:func:`.core.diagnose`). Output: :mod:`.report` (the arm's parts:
+The arm is a :class:`~.setup_protocol.Setup` (:class:`ArmSetup`): the replay, the nominal refit and
+the candidates' fits are :mod:`.arm_fit`'s (the run simulated by the project's simulator with the
+recorded references and the run's controller; candidates linearised, solved jointly with the present
+parameters and re-simulated, the most promising refined on the simulation itself); the choice is the
+diagnosis core's (:func:`.core.diagnose`). Output: :mod:`.report` (the arm's parts:
 :meth:`ArmSetup.report`, plots, print-out), model file :mod:`.arm_modelfile`.
 
 **Ranking** - the rules of :mod:`.selection`: an effect earns its place when the BIC falls by
@@ -34,41 +34,49 @@ from typing import Any
 
 import numpy as np
 
-from fsarm_sim.discrepancy import arm_expert as X
-from fsarm_sim.discrepancy import arm_joint as J
-from fsarm_sim.discrepancy import arm_modelfile as MF
+from fsarm_sim.discrepancy import (
+    arm_expert,
+    arm_joint,
+    arm_modelfile,
+    core,
+    replay_inputs,
+    variants,
+)
 from fsarm_sim.discrepancy import arm_slip as slip
-from fsarm_sim.discrepancy import core
-from fsarm_sim.discrepancy import replay as R
-from fsarm_sim.discrepancy import variants as V
 from fsarm_sim.discrepancy.arm_fit import (
     BASIS,
-    BOUNDS,
     MAIN,
-    MEASUREMENT_CANDIDATES,
     MODEL_FORMAT,
     MODEL_VERSION,
-    PLANT_CANDIDATES,
-    RAW,
     ArmContext,
     ArmFit,
+    make_context,
+    nominal_keys,
+    refine,
+)
+from fsarm_sim.discrepancy.arm_model import (
+    BOUNDS,
+    RAW,
     ArmModel,
+    apply_measurement,
+    simulate_config,
+    to_basis,
+    to_config,
+)
+from fsarm_sim.discrepancy.arm_run import (
     ArmReplayError,
     ArmRun,
     ArmSidecarError,
-    apply_measurement,
     arm_run,
-    make_context,
-    nominal_fit,
-    nominal_keys,
     parse_gains,
     reference_table,
-    refine,
-    simulate_config,
     stated_transmission,
+)
+from fsarm_sim.discrepancy.arm_screen import (
+    MEASUREMENT_CANDIDATES,
+    PLANT_CANDIDATES,
+    nominal_fit,
     step_candidates,
-    to_basis,
-    to_config,
 )
 from fsarm_sim.discrepancy.fit_label import labelled_as
 from fsarm_sim.discrepancy.report import plot_channel_nrmse
@@ -124,10 +132,11 @@ JOINT_SEARCH = True
 WITHIN_NOISE = 1.15  # residual (noise-floor units, channel average) "within noise"
 ARM_LOOK_ALIKES = (
     *LOOK_ALIKES,
-    frozenset({V.BACKLASH, V.OFFSET}),  # one-sided twist: a play is a twist offset
-    frozenset({V.PAYLOAD, V.OFFSET}),
-    frozenset({V.PAYLOAD, V.BACKLASH}),
-    frozenset({V.BACKLASH, V.HYSTERESIS}),  # a slip element that never slips offsets the twist
+    frozenset({variants.BACKLASH, variants.OFFSET}),  # one-sided twist: a play is a twist offset
+    frozenset({variants.PAYLOAD, variants.OFFSET}),
+    frozenset({variants.PAYLOAD, variants.BACKLASH}),
+    # a slip element that never slips offsets the twist
+    frozenset({variants.BACKLASH, variants.HYSTERESIS}),
 )
 
 ArmDiagnosis = core.Diagnosis  # an arm diagnosis is the core's (fits: ArmFit)
@@ -138,7 +147,7 @@ def _weighted_cell(sc: Score) -> str:
 
 
 class ArmSetup:
-    """An ``arm`` record as a :class:`.core.Setup` (fits: :class:`.arm_fit.ArmFit`)."""
+    """An ``arm`` record as a :class:`.setup_protocol.Setup` (fits: :class:`.arm_fit.ArmFit`)."""
 
     main_channel = MAIN
     mse_name = "weighted MSE"
@@ -189,11 +198,11 @@ class ArmSetup:
     ) -> list[tuple[list[tuple[str, str]], ArmFit]]:
         """Pairs fitted together from the start (:func:`.arm_joint.pair_candidates`; the
         core's joint search, optional in the protocol)."""
-        return J.pair_candidates(self.ctx, cur, named)
+        return arm_joint.pair_candidates(self.ctx, cur, named)
 
     def swap_variants(self, fit: ArmFit) -> tuple[ArmFit, dict[str, str]]:
         """:func:`.arm_joint.swap_variants` (the core's pruning, optional in the protocol)."""
-        return J.swap_variants(self.ctx, fit)
+        return arm_joint.swap_variants(self.ctx, fit)
 
     def holds(self, fit: ArmFit, effect: str) -> bool:
         """Does ``fit``'s model still hold ``effect``? (The core's pruning.)"""
@@ -202,7 +211,7 @@ class ArmSetup:
     def without(self, fit: ArmFit, effect: str) -> ArmFit | None:
         """``fit``'s model without ``effect``, the rest refit on the simulation (the core's
         pruning); None when it does not hold the effect."""
-        return J.without(self.ctx, fit, effect)
+        return arm_joint.without(self.ctx, fit, effect)
 
     def accept(self, fit: ArmFit) -> ArmFit:
         return fit
@@ -214,7 +223,7 @@ class ArmSetup:
         nom = self._nominal
         self.slip_added = []
         self.offset_moved = ""
-        if V.HYSTERESIS not in named or nom is None:
+        if variants.HYSTERESIS not in named or nom is None:
             return fit
 
         def judge(cur: ArmFit, cand: ArmFit) -> Judgement:
@@ -227,7 +236,7 @@ class ArmSetup:
         # an encoder offset beside hysteresis: both bias the twist, and the offset's channel is
         # easily the wrong one (.arm_joint.twist_equivalent); the other channel's offset with
         # the elements grown again is kept when it fits the teaching and held-out blocks better
-        for alt in J.twist_equivalent(self.ctx, out):
+        for alt in arm_joint.twist_equivalent(self.ctx, out):
             grown, added = slip.grow(self.ctx, refine(self.ctx, alt), judge)
             if grown.cost < out.cost and grown.w(self.ctx) < out.w(self.ctx):
                 self.offset_moved = f"{alt.effect}[{alt.variant}]"
@@ -240,8 +249,8 @@ class ArmSetup:
         ctx = self.ctx
         gap_b, gap_a = self.gap(nominal), self.gap(final)
         noise_units = math.sqrt(final.w(ctx))
-        unexp = X.unexplained(ctx, final)
-        sig = X.signature(ctx, final)
+        unexp = arm_expert.unexplained(ctx, final)
+        sig = arm_expert.signature(ctx, final)
         if not named and not unexp:
             verdict = (
                 "nothing is missing within noise: the refit nominal model leaves a held-out "
@@ -280,7 +289,7 @@ class ArmSetup:
             "offset_moved_to": self.offset_moved,
             "unexplained": unexp,
             "residual_signature": sig,
-            "confidence_intervals": X.intervals(ctx, final),
+            "confidence_intervals": arm_expert.intervals(ctx, final),
         }
         extras["simulations"] = ctx.n_sims  # the intervals' runs included
         return verdict, extras
@@ -291,7 +300,7 @@ class ArmSetup:
         return {"nominal": model.nominal(), "effects": [e.as_dict() for e in model.effects()]}
 
     def save_model(self, model: ArmModel, path: Path) -> Path:
-        return MF.save_arm_model(self.run, model, path)
+        return arm_modelfile.save_arm_model(self.run, model, path)
 
     def report(self, diag: core.Diagnosis[ArmFit]) -> core.ReportParts:
         ctx = self.ctx
@@ -376,13 +385,13 @@ def residual_signature(
     """Residual signatures of one channel against joint-3 speed, the twist and the bend."""
     ctx = diag.ctx
     h = ctx.run.h
-    q3 = R.smooth(ctx.y["q3"], h)
-    twist = R.smooth(ctx.y["twist"], h)
+    q3 = replay_inputs.smooth(ctx.y["q3"], h)
+    twist = replay_inputs.smooth(ctx.y["twist"], h)
     return signature(
         ctx.y[channel],
         fit.pred[channel],
         twist,
-        R.derivative(q3, h),
+        replay_inputs.derivative(q3, h),
         ctx.y["q2"],
         ctx.run.t,
         ctx.sigma[channel],
@@ -472,7 +481,7 @@ def write_plots(diag: core.Diagnosis[ArmFit], folder: str | Path) -> list[Path]:
 
     sig = diag.extras.get("residual_signature")
     if sig is not None:  # what the final model leaves, on the channel highest above its noise
-        s = X.signal_set(ctx, fin, str(sig["channel"]))
+        s = arm_expert.signal_set(ctx, fin, str(sig["channel"]))
         files.append(plot_signature(sig, s, out / "residual_signature.png"))
 
     files.append(plot_channel_nrmse(channel_nrmse(diag), out / "nrmse.png", log=True))

@@ -48,7 +48,7 @@ from typing import Any
 
 import numpy as np
 
-from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import replay_inputs
 from fsarm_sim.discrepancy.arm_fit import (
     BASIS,
     ArmContext,
@@ -130,8 +130,8 @@ def signal_set(ctx: ArmContext, fit: ArmFit, channel: str) -> Signals:
     use = ctx.teach | ctx.held
     q3 = fit.pred["q3"]
     twist = fit.pred["twist"]
-    q3d = R.derivative(q3, h)
-    twd = R.derivative(twist, h)
+    q3d = replay_inputs.derivative(q3, h)
+    twd = replay_inputs.derivative(twist, h)
     cand = {
         "twist": twist,
         "twist rate": twd,
@@ -140,7 +140,7 @@ def signal_set(ctx: ArmContext, fit: ArmFit, channel: str) -> Signals:
         "|twist|": np.abs(twist),
         "q3": q3,
         "bend": fit.pred["q2"],
-        "joint-3 acceleration": R.derivative(q3d, h),
+        "joint-3 acceleration": replay_inputs.derivative(q3d, h),
         "model output": fit.pred[channel],
     }
     signals: dict[str, Any] = {}

@@ -1,4 +1,4 @@
-"""The arm's pairs for the core's joint search (:func:`.core.joint_step`, issue 16).
+"""The arm's pairs for the core's joint search (:func:`.core_joint.joint_step`, issue 16).
 
 Two arm effects can hide each other so well that neither earns its place alone: a heavier
 payload next to Coulomb friction at joint 3 (the payload alone settles at a fraction of its
@@ -8,13 +8,13 @@ search extends each of the best single fits by a second effect - from those sing
 sit in the wrong valley. :func:`pair_candidates` fits every pair *together from the start*:
 
 1. from the current model and - when its nominal parameters moved away from the stated ones -
-   from the stated nominal (:func:`.arm_fit.stated_nominal`), one secant Jacobian each
-   (:func:`.arm_fit.step_jacobian`: the columns of every candidate, cached runs),
+   from the stated nominal (:func:`.arm_screen.stated_nominal`), one secant Jacobian each
+   (:func:`.arm_screen.step_jacobian`: the columns of every candidate, cached runs),
 2. each pair (not both on the recording: offsets and delays on recorded channels add up
    linearly, a greedy step finds them) solved linearised with the present parameters
    (bounded least squares) and re-simulated,
 3. the :data:`N_REFINE_PAIRS` most promising pairs (lower of re-simulated and linearly
-   predicted cost, as :func:`.arm_fit.step_candidates`) refined on the simulation itself
+   predicted cost, as :func:`.arm_screen.step_candidates`) refined on the simulation itself
    (:func:`.arm_fit.refine`, :data:`PAIR_ITER` Gauss-Newton iterations: the pair's valley is
    far from where it starts).
 
@@ -30,21 +30,23 @@ from dataclasses import replace
 
 import numpy as np
 
-from fsarm_sim.discrepancy import variants as V
+from fsarm_sim.discrepancy import variants
 from fsarm_sim.discrepancy.arm_fit import (
     ArmContext,
     ArmFit,
-    ArmModel,
-    StepJacobian,
-    add_candidate,
     bounds_of,
-    candidate_keys,
-    candidate_pairs,
     evaluate,
     linear_solve,
-    prune_slip,
     refine,
     refine_many,
+)
+from fsarm_sim.discrepancy.arm_model import ArmModel
+from fsarm_sim.discrepancy.arm_screen import (
+    StepJacobian,
+    add_candidate,
+    candidate_keys,
+    candidate_pairs,
+    prune_slip,
     screen,
     screen_solve,
     start_runs,
@@ -74,7 +76,7 @@ def pair_solve(
     du = np.array([m.v(k) - m0.v(k) for k in keys]) / units
     r_lin = sj.r0 + jac @ du
     free = keys
-    if V.HYSTERESIS in (a[0], b[0]):
+    if variants.HYSTERESIS in (a[0], b[0]):
         m, keep = prune_slip(ctx, m)
         if not keep:
             return None
@@ -96,7 +98,7 @@ def pair_candidates(
     pairs = [
         (a, b)
         for a, b in itertools.combinations(pool, 2)
-        if a[0] != b[0] and not (a[0] in V.ARM_RECORDING and b[0] in V.ARM_RECORDING)
+        if a[0] != b[0] and not (a[0] in variants.ARM_RECORDING and b[0] in variants.ARM_RECORDING)
     ]
     ctx.prefetch(start_runs(ctx, cur, pool, pool))  # both starts' linearisations side by side
     starts = [cur]
@@ -124,7 +126,7 @@ def pair_candidates(
     ranked = sorted(best.values(), key=lambda x: x[0])
     lead: list[ArmFit] = []
     for _, members, f in ranked[:N_REFINE_PAIRS]:
-        if any(e == V.HYSTERESIS for e, _ in members):  # the deflections leave their grid
+        if any(e == variants.HYSTERESIS for e, _ in members):  # the deflections leave their grid
             n_el = len(f.model.slip_delta)
             f = replace(f, free=f.free + [f"hysteresis.d{j}" for j in range(n_el)])
         lead.append(f)
@@ -172,7 +174,7 @@ def twist_equivalent(ctx: ArmContext, fit: ArmFit) -> list[ArmFit]:
     for lab in fit.model.labels:
         effect, variant = lab[:-1].split("[")
         old_key = f"{effect}.{variant}"
-        if effect != V.OFFSET or variant not in pair or old_key not in fit.model.values:
+        if effect != variants.OFFSET or variant not in pair or old_key not in fit.model.values:
             continue
         other, factor = pair[variant]
         new_key = f"{effect}.{other}"
@@ -208,8 +210,8 @@ def swap_variants(ctx: ArmContext, fit: ArmFit) -> tuple[ArmFit, dict[str, str]]
             [s[0] for s in (screen_solve(ctx, sj, base, e, v) for e, v in others) if s is not None]
         )
         screened = [screen(ctx, sj, base, e, v) for e, v in others]
-        variants = {v for _, v in others}
-        screened += [f for f in twist_equivalent(ctx, best) if f.variant in variants]
+        other_variants = {v for _, v in others}
+        screened += [f for f in twist_equivalent(ctx, best) if f.variant in other_variants]
         # the variants' refinements side by side (each from the same model without the effect,
         # or from the other encoder's twist-equivalent offset)
         for f in refine_many(ctx, [f for f in screened if f is not None]):

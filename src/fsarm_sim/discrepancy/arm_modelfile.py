@@ -19,8 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from fsarm_sim.discrepancy import arm_fit as A
-from fsarm_sim.discrepancy import variants as V
+from fsarm_sim.discrepancy import arm_fit, arm_model, arm_run, arm_screen, variants
 from fsarm_sim.engine.model import SimConfig
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.paths import bounded_json, regular_file
@@ -29,9 +28,9 @@ from fsarm_sim.records.measured import resolve_shaft
 from fsarm_sim.records.sidecar import as_record, shaft_params_entry
 
 
-def model_dict(run: A.ArmRun, m: A.ArmModel) -> dict[str, Any]:
+def model_dict(run: arm_run.ArmRun, m: arm_model.ArmModel) -> dict[str, Any]:
     """The model file: stated setup, nominal refit, named effects, and the resulting plant."""
-    cfg = A.to_config(run, m)
+    cfg = arm_model.to_config(run, m)
     g = dataclasses.asdict(run.gains)
     stated: dict[str, Any] = {}
     if not run.flexible_shaft:
@@ -45,8 +44,8 @@ def model_dict(run: A.ArmRun, m: A.ArmModel) -> dict[str, Any]:
     if run.integrator is not None:
         stated["integrator"] = run.integrator
     return {
-        "format": A.MODEL_FORMAT,
-        "version": A.MODEL_VERSION,
+        "format": arm_fit.MODEL_FORMAT,
+        "version": arm_fit.MODEL_VERSION,
         "setup": "arm",
         "shaft": {"diameter_mm": run.shaft.diameter_mm, "length_mm": run.shaft.length_mm},
         **({"shaft_params": shaft_params_entry(run.shaft)} if run.exact_shaft else {}),
@@ -74,11 +73,13 @@ class ArmModelFileError(FsarmError, ValueError):
     """An arm model file is malformed."""
 
 
-def model_from_dict(d: Mapping[str, Any], where: str = "arm model") -> tuple[A.ArmModel, A.ArmRun]:
+def model_from_dict(
+    d: Mapping[str, Any], where: str = "arm model"
+) -> tuple[arm_model.ArmModel, arm_run.ArmRun]:
     """(model, stated run without references) from a model-file dict."""
-    if d.get("format") != A.MODEL_FORMAT or d.get("setup") != "arm":
+    if d.get("format") != arm_fit.MODEL_FORMAT or d.get("setup") != "arm":
         raise ArmModelFileError(
-            f"{where}: not an arm model file (format {A.MODEL_FORMAT!r}, setup 'arm')"
+            f"{where}: not an arm model file (format {arm_fit.MODEL_FORMAT!r}, setup 'arm')"
         )
     try:
         stated = {"setup": "arm", "shaft": d["shaft"]}
@@ -87,8 +88,8 @@ def model_from_dict(d: Mapping[str, Any], where: str = "arm model") -> tuple[A.A
             stated["shaft_params"] = d["shaft_params"]
         shaft = resolve_shaft(as_record(stated, where), Path(where))
         side = {"gains": d.get("gains", {}), "ctrl_dt_s": d["ctrl_dt_s"]}
-        gains = A.parse_gains(side, Path(where))
-        m = A.ArmModel()
+        gains = arm_run.parse_gains(side, Path(where))
+        m = arm_model.ArmModel()
         for k, v in dict(d.get("nominal", {})).items():
             if k in ("k_scale_pos", "k_scale_neg"):
                 if not float(v) > 0.0:
@@ -103,13 +104,13 @@ def model_from_dict(d: Mapping[str, Any], where: str = "arm model") -> tuple[A.A
         tr = d.get("transmission")
         if tr is not None:
             rec = as_record({"setup": "arm", "transmission": tr}, where)
-            tr_name, tr_params, tr_ctrl = A.stated_transmission(rec, Path(where))
+            tr_name, tr_params, tr_ctrl = arm_run.stated_transmission(rec, Path(where))
         else:
             tr_name, tr_params, tr_ctrl = transmissions.DEFAULT, (), None
         integrator = d.get("integrator")
         if integrator is not None and not isinstance(integrator, str):
             raise ArmModelFileError(f"{where}: 'integrator' must be a string, got {integrator!r}")
-        run = A.ArmRun(
+        run = arm_run.ArmRun(
             shaft=shaft,
             payload_kg=float(d.get("payload_kg", 0.0)),
             payload_tolerance_kg=0.0,
@@ -132,40 +133,48 @@ def model_from_dict(d: Mapping[str, Any], where: str = "arm model") -> tuple[A.A
     return m, run
 
 
-def add_effect(m: A.ArmModel, name: str, variant: str, p: Mapping[str, Any], where: str) -> None:
+def add_effect(
+    m: arm_model.ArmModel, name: str, variant: str, p: Mapping[str, Any], where: str
+) -> None:
     """Add a named effect with its parameters (the arm's variants: :data:`.variants.ARM`)."""
     label = f"{name}[{variant}]"
-    if (name, variant) in A.MEASUREMENT_CANDIDATES:  # one parameter: the channel's
-        m.values[f"{name}.{variant}"] = float(p[V.ARM[name][0].params[0].name])
-    elif (name, variant) in A.PLANT_CANDIDATES and name == V.HYSTERESIS:
+    if (name, variant) in arm_screen.MEASUREMENT_CANDIDATES:  # one parameter: the channel's
+        m.values[f"{name}.{variant}"] = float(p[variants.ARM[name][0].params[0].name])
+    elif (name, variant) in arm_screen.PLANT_CANDIDATES and name == variants.HYSTERESIS:
         ks, ds_ = list(p["k_nm_per_rad"]), list(p["delta_rad"])
-        if len(ks) != len(ds_) or not 1 <= len(ks) <= V.ARM_MAX_ELEMENTS:
+        if len(ks) != len(ds_) or not 1 <= len(ks) <= variants.ARM_MAX_ELEMENTS:
             raise ArmModelFileError(
-                f"{where}: hysteresis needs 1-{V.ARM_MAX_ELEMENTS} (k, delta) elements"
+                f"{where}: hysteresis needs 1-{variants.ARM_MAX_ELEMENTS} (k, delta) elements"
             )
         m.set_slip([float(k) for k in ks], [float(x) for x in ds_])
-    elif (name, variant) in A.PLANT_CANDIDATES:
+    elif (name, variant) in arm_screen.PLANT_CANDIDATES:
         for k, v in p.items():
-            if f"{name}.{k}" not in A.BOUNDS:
+            if f"{name}.{k}" not in arm_model.BOUNDS:
                 raise ArmModelFileError(f"{where}: unknown parameter {k!r} of {label}")
             m.values[f"{name}.{k}"] = float(v)
-        for (e, q), default in V.ARM_DEFAULTS.items():  # optional parameters (backlash centre)
+        for (
+            e,
+            q,
+        ), default in variants.ARM_DEFAULTS.items():  # optional parameters (backlash centre)
             if e == name:
                 m.values.setdefault(f"{name}.{q}", default)
     else:
         raise ArmModelFileError(
             f"{where}: unknown arm effect {label}; known: "
-            + ", ".join(f"{a}[{b}]" for a, b in A.PLANT_CANDIDATES + A.MEASUREMENT_CANDIDATES)
+            + ", ".join(
+                f"{a}[{b}]"
+                for a, b in arm_screen.PLANT_CANDIDATES + arm_screen.MEASUREMENT_CANDIDATES
+            )
         )
     for k, v in m.values.items():
-        if k in A.BOUNDS and not A.BOUNDS[k][0] <= v <= A.BOUNDS[k][1]:
+        if k in arm_model.BOUNDS and not arm_model.BOUNDS[k][0] <= v <= arm_model.BOUNDS[k][1]:
             raise ArmModelFileError(
-                f"{where}: {k} = {v:g} outside [{A.BOUNDS[k][0]:g}, {A.BOUNDS[k][1]:g}]"
+                f"{where}: {k} = {v:g} outside [{arm_model.BOUNDS[k][0]:g}, {arm_model.BOUNDS[k][1]:g}]"
             )
     m.labels.append(label)
 
 
-def save_arm_model(run: A.ArmRun, m: A.ArmModel, path: str | Path) -> Path:
+def save_arm_model(run: arm_run.ArmRun, m: arm_model.ArmModel, path: str | Path) -> Path:
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
     p.write_text(json.dumps(jsonable(model_dict(run, m)), indent=2) + "\n", "utf-8")
@@ -182,7 +191,7 @@ def jsonable(x: Any) -> Any:
     return x
 
 
-def load_arm_model(path: str | Path) -> tuple[A.ArmModel, A.ArmRun]:
+def load_arm_model(path: str | Path) -> tuple[arm_model.ArmModel, arm_run.ArmRun]:
     p = Path(path)
     regular_file(p, "model file", ArmModelFileError)  # loops, long names ...
     try:
@@ -200,4 +209,4 @@ def load_arm_config(path: str | Path) -> SimConfig:
     columns with :func:`apply_measurement` (``load_arm_model(path)[0]`` is the model).
     """
     m, run = load_arm_model(path)
-    return A.to_config(run, m)
+    return arm_model.to_config(run, m)

@@ -2,7 +2,7 @@
 
 The candidate screen fits the elements' stiffnesses on a fixed grid of slip deflections
 (:data:`.arm_fit.N_SLIP_GRID` of them, 0.05-0.5 of the twist's range: ``make_context``), drops
-those that take no stiffness (:func:`.arm_fit.prune_slip`), and the refinement then moves the
+those that take no stiffness (:func:`.arm_screen.prune_slip`), and the refinement then moves the
 deflections it kept. A loop made of elements that slip at quite different twists - a
 Maxwell-slip model of a real shaft has several - is then often fitted by one element at a
 compromise deflection, which leaves the residual at the loop's corners many times the noise
@@ -34,10 +34,10 @@ from fsarm_sim.discrepancy.arm_fit import (
     ArmContext,
     ArmFit,
     evaluate,
-    prune_slip,
     refine,
     refine_many,
 )
+from fsarm_sim.discrepancy.arm_screen import prune_slip
 from fsarm_sim.discrepancy.selection import MIN_EXPLAINED_EXTRA, Judgement
 
 # the slip-deflection grid's step (make_context: N_SLIP_GRID values from 0.05 to 0.5 of the range)
@@ -143,7 +143,7 @@ def grow(
 
 
 def _without_idle(ctx: ArmContext, fit: ArmFit) -> ArmFit:
-    """``fit`` without the elements that took no stiffness (:func:`.arm_fit.prune_slip`),
+    """``fit`` without the elements that took no stiffness (:func:`.arm_screen.prune_slip`),
     re-simulated; ``fit`` itself when every element carries stiffness (or the run fails)."""
     m, keep = prune_slip(ctx, fit.model)
     if len(keep) == len(fit.model.slip_delta) or not keep:

@@ -18,8 +18,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim.discrepancy import arm_fit as A
-from fsarm_sim.discrepancy import arm_modelfile as MF
+from fsarm_sim.discrepancy import arm_model, arm_modelfile, arm_run
 from fsarm_sim.discrepancy.effect_text import parse_effect
 from fsarm_sim.engine.model import Gains
 from fsarm_sim.errors import InvalidParameterError, real_number
@@ -102,25 +101,25 @@ def parse_arm_effect(text: str) -> tuple[str, str, dict[str, Any]]:
     hysteresis=K1,D1[,K2,D2[,K3,D3]]; sensor_offset:CH=RAD; delay:CH=S (CH: q3, theta_m, q2).
     """
     e = parse_effect(text, ARM)
-    m = A.ArmModel()
+    m = arm_model.ArmModel()
     try:
-        MF.add_effect(m, e.name, e.variant, e.params, f"effect {text!r}")
-    except MF.ArmModelFileError as exc:
+        arm_modelfile.add_effect(m, e.name, e.variant, e.params, f"effect {text!r}")
+    except arm_modelfile.ArmModelFileError as exc:
         raise InvalidParameterError(str(exc)) from None
     return e.name, e.variant, e.params
 
 
 def truth_model(
     effects: list[str] | None = None, *, stiffness_scale: float = 1.0, kb_scale: float = 1.0
-) -> A.ArmModel:
+) -> arm_model.ArmModel:
     """A synthetic truth: stiffness scales (true / catalogue) plus the parsed effects."""
-    m = A.ArmModel()
+    m = arm_model.ArmModel()
     if not stiffness_scale > 0.0 or not kb_scale > 0.0:
         raise InvalidParameterError("stiffness and K_b scales must be > 0")
     m.values.update(c_scale=1.0 / stiffness_scale, kb_scale=kb_scale)
     for text in effects or []:
         name, variant, p = parse_arm_effect(text)
-        MF.add_effect(m, name, variant, p, f"effect {text!r}")
+        arm_modelfile.add_effect(m, name, variant, p, f"effect {text!r}")
     return m
 
 
@@ -135,7 +134,7 @@ Disturbance = Callable[[FloatArray, dict[str, FloatArray]], dict[str, FloatArray
 
 
 def synthesize_arm(
-    truth: A.ArmModel,
+    truth: arm_model.ArmModel,
     rec: ArmRecording,
     shaft: ShaftParams | None = None,
     disturbance: Disturbance | None = None,
@@ -160,7 +159,7 @@ def synthesize_arm(
     n_ticks = round(duration / ctrl_dt) + 1
     t_ticks: FloatArray = np.arange(n_ticks, dtype=np.float64) * ctrl_dt
     table = sc.reference(np.arange(n_ticks + 1, dtype=np.float64) * ctrl_dt)
-    run = A.ArmRun(
+    run = arm_run.ArmRun(
         sh,
         payload,
         0.0,
@@ -172,8 +171,8 @@ def synthesize_arm(
         "",
         transmission=rec.transmission,
     )
-    raw, _ = A.simulate_config(run, A.to_config(run, truth))
-    meas = A.apply_measurement(raw, truth, ctrl_dt)
+    raw, _ = arm_model.simulate_config(run, arm_model.to_config(run, truth))
+    meas = arm_model.apply_measurement(raw, truth, ctrl_dt)
     # the record: every ``every``-th control tick (the truth's delays act at the control rate)
     pick = np.arange(0, n_ticks, every)
     n = pick.size
@@ -221,7 +220,7 @@ def synthesize_arm(
         columns={c: records.UNITS[c] for c in cols},
         synthetic=records.jsonable(
             {
-                "truth": MF.model_dict(run, truth),
+                "truth": arm_modelfile.model_dict(run, truth),
                 "noise_rad": rec.noise_rad,
                 "encoder_counts": rec.encoder_counts,
                 "seed": rec.seed,
@@ -233,7 +232,7 @@ def synthesize_arm(
 
 def write_arm_synthetic(
     path: str | Path,
-    truth: A.ArmModel,
+    truth: arm_model.ArmModel,
     rec: ArmRecording,
     shaft: ShaftParams | None = None,
     disturbance: Disturbance | None = None,

@@ -1,5 +1,5 @@
-"""The series and parallel benches as a :class:`.core.Setup`: the record replayed by the Numba
-engine (:mod:`.replay`), grey-box candidates fitted inside it (:mod:`.candidates`).
+"""The series and parallel benches as a :class:`.setup_protocol.Setup`: the record replayed by the
+Numba engine (:mod:`.replay`), grey-box candidates fitted inside it (:mod:`.candidates`).
 
 Setups ``series_bench`` (blocked output: a replay of the input's history; inertia load: the load
 simulated in segments from its measured state) and ``parallel_bench``. The cost is the MSE of the
@@ -22,36 +22,38 @@ from typing import Any
 
 import numpy as np
 
-from fsarm_sim.discrepancy import candidates as C
-from fsarm_sim.discrepancy import core
-from fsarm_sim.discrepancy import realness as Real
-from fsarm_sim.discrepancy import replay as R
-from fsarm_sim.discrepancy import residual_search as RS
-from fsarm_sim.discrepancy import selection as S
-from fsarm_sim.discrepancy import variants as V
+from fsarm_sim.discrepancy import (
+    candidate_inertia,
+    candidate_structure,
+    candidates,
+    core,
+    realness,
+    replay,
+    replay_inputs,
+    selection,
+    variants,
+)
+from fsarm_sim.discrepancy.bench_output import channel_nrmse, residual_signature, write_plots
+from fsarm_sim.discrepancy.bench_verdict import replay_error_floor, unexplained, verdict
 from fsarm_sim.discrepancy.benchmodel import BenchModel, save_model, stated_model
 from fsarm_sim.discrepancy.core import UnsupportedSetupError
 from fsarm_sim.discrepancy.input_errors import input_error_floor
-from fsarm_sim.discrepancy.report import plot_channel_nrmse
 from fsarm_sim.discrepancy.residuals import (
     gap_excess,
     noise_floor,
     nrmse,
     nrmse_floor,
-    signature,
 )
 from fsarm_sim.discrepancy.selection import Score
-from fsarm_sim.discrepancy.uncertainty import RICHARDSON, interval_lines, intervals
+from fsarm_sim.discrepancy.uncertainty import interval_lines, intervals
 from fsarm_sim.discrepancy.unexplained import Signals, characterise
-from fsarm_sim.discrepancy.unexplained import plot as plot_signature
 from fsarm_sim.plant.effects import registry
 from fsarm_sim.records.measured import Dataset
 
 SETUPS = (registry.SERIES, registry.PARALLEL)
-WITHIN_NOISE = 1.15  # a held-out residual RMS up to this x the noise floor is "within noise"
 
 
-class BenchDiagnosis(core.Diagnosis[C.Fit]):
+class BenchDiagnosis(core.Diagnosis[candidate_structure.Fit]):
     """A bench diagnosis, with its noise floors in held-out NRMSE units."""
 
     @property
@@ -90,10 +92,11 @@ def _nrmse_cell(sc: Score) -> str:
 
 
 class BenchSetup:
-    """A bench record as a :class:`.core.Setup` (fits: :class:`.candidates.Fit`)."""
+    """A bench record as a :class:`.setup_protocol.Setup` (fits:
+    :class:`.candidate_structure.Fit`)."""
 
     mse_name = "MSE"
-    look_alikes = S.LOOK_ALIKES
+    look_alikes = selection.LOOK_ALIKES
     score_cell = ("held-out NRMSE %", _nrmse_cell)
     load_hint = (
         "load the final model: fsarm_sim.discrepancy.benchmodel.load_model(MODEL) -> BenchModel"
@@ -107,80 +110,92 @@ class BenchSetup:
                 "the right one)"
             )
         self.dataset = ds
-        self.ctx = C.make_context(R.prepare_inputs(ds), stated_model(ds))
+        self.ctx = candidate_structure.make_context(
+            replay_inputs.prepare_inputs(ds), stated_model(ds)
+        )
         self.main_channel = ds.output_column
         self.noise_var = self.ctx.sigma_y**2
         self.pairs = registry.applicable(ds.setup, self.ctx.inp.inertia_load)
 
     # ------------------------------------------------------------------ selection
 
-    def nominal(self) -> tuple[C.Fit, C.Fit]:
-        return C.stated(self.ctx), C.nominal(self.ctx)
+    def nominal(self) -> tuple[candidate_structure.Fit, candidate_structure.Fit]:
+        return candidates.stated(self.ctx), candidates.nominal(self.ctx)
 
-    def candidates(self, cur: C.Fit, named: Sequence[str]) -> list[C.Fit]:
+    def candidates(
+        self, cur: candidate_structure.Fit, named: Sequence[str]
+    ) -> list[candidate_structure.Fit]:
         ctx = self.ctx
         inertia = ctx.inp.inertia_load
         if inertia:  # screen with a short output-error refinement, redo the leader
-            ctx.options["oe_nfev"] = C.OE_NFEV_SCREEN
-        fits = [C.candidate(ctx, cur, e, v) for e, v in self.pairs if e not in named]
+            ctx.options["oe_nfev"] = candidate_inertia.OE_NFEV_SCREEN
+        fits = [candidates.candidate(ctx, cur, e, v) for e, v in self.pairs if e not in named]
         ctx.options.pop("oe_nfev", None)
         good = [f for f in fits if f is not None and math.isfinite(f.mse_held)]
         if inertia and good:
             i_lead = min(range(len(good)), key=lambda i: good[i].mse_held)
             lead = good[i_lead]
-            redo = C.solve(ctx, lead.structure)
+            redo = candidate_inertia.solve(ctx, lead.structure)
             redo.label, redo.effect, redo.variant = lead.label, lead.effect, lead.variant
             if redo.mse_teach <= lead.mse_teach:
                 good[i_lead] = redo
         return good
 
-    def cost(self, fit: C.Fit) -> tuple[float, float, int]:
+    def cost(self, fit: candidate_structure.Fit) -> tuple[float, float, int]:
         return fit.mse_teach, fit.mse_held, fit.k
 
-    def residual(self, fit: C.Fit) -> tuple[C.FloatArray, C.BoolArray, C.BoolArray]:
+    def residual(
+        self, fit: candidate_structure.Fit
+    ) -> tuple[
+        candidate_structure.FloatArray, candidate_structure.BoolArray, candidate_structure.BoolArray
+    ]:
         return self.ctx.inp.y - fit.yhat, self.ctx.teach, self.ctx.held
 
-    def gap(self, fit: C.Fit) -> float:
+    def gap(self, fit: candidate_structure.Fit) -> float:
         return nrmse(self.ctx.inp.y, fit.yhat, self.ctx.held)
 
-    def effect_params(self, fit: C.Fit) -> dict[str, Any]:
+    def effect_params(self, fit: candidate_structure.Fit) -> dict[str, Any]:
         eff = fit.model.effect(fit.effect or "", fit.variant)
         return dict(eff.params) if eff is not None else {}
 
-    def accept(self, fit: C.Fit) -> C.Fit:
+    def accept(self, fit: candidate_structure.Fit) -> candidate_structure.Fit:
         # hysteresis elements were fitted on a fixed grid: move them off it before the next
         # step, so that the grid's approximation error is not left for another effect
-        out = C.refine_elements(self.ctx, fit) if fit.effect == V.HYSTERESIS else fit
+        out = (
+            candidates.refine_elements(self.ctx, fit) if fit.effect == variants.HYSTERESIS else fit
+        )
         # the nonlinear settings of the effects named before, searched again with this one in
-        return C.backfit(self.ctx, out, fit.effect)
+        return candidates.backfit(self.ctx, out, fit.effect)
 
-    def swap_variants(self, fit: C.Fit) -> tuple[C.Fit, dict[str, str]]:
+    def swap_variants(
+        self, fit: candidate_structure.Fit
+    ) -> tuple[candidate_structure.Fit, dict[str, str]]:
         """:func:`.candidates.swap_variants` (the core's pruning, optional in the protocol; an
         inertia load's fits are output-error fits: kept as they are)."""
         if self.ctx.inp.inertia_load:
             return fit, {}
-        return C.swap_variants(self.ctx, fit, list(self.pairs), self.look_alikes)
+        return candidates.swap_variants(self.ctx, fit, list(self.pairs), self.look_alikes)
 
-    def holds(self, fit: C.Fit, effect: str) -> bool:
+    def holds(self, fit: candidate_structure.Fit, effect: str) -> bool:
         """Does ``fit``'s structure still hold ``effect`` (hysteresis elements can all be
         pruned when later effects are fitted)? (The core's pruning, optional in the protocol.)"""
-        return any(e == effect for e, _ in C.present(fit.structure))
+        return any(e == effect for e, _ in candidates.present(fit.structure))
 
-    def without(self, fit: C.Fit, effect: str) -> C.Fit | None:
+    def without(self, fit: candidate_structure.Fit, effect: str) -> candidate_structure.Fit | None:
         """:func:`.candidates.without` (the core's pruning, optional in the protocol; None on
         an inertia load)."""
         if self.ctx.inp.inertia_load:
             return None
-        return C.without(self.ctx, fit, effect)
+        return candidates.without(self.ctx, fit, effect)
 
-    def finish(self, fit: C.Fit, named: Sequence[str]) -> C.Fit:
-        return C.refine(self.ctx, fit) if named else fit
+    def finish(self, fit: candidate_structure.Fit, named: Sequence[str]) -> candidate_structure.Fit:
+        return candidates.refine(self.ctx, fit) if named else fit
 
     def conclude(
-        self, nominal: C.Fit, final: C.Fit, named: Sequence[str]
+        self, nominal: candidate_structure.Fit, final: candidate_structure.Fit, named: Sequence[str]
     ) -> tuple[str, dict[str, Any]]:
         sigma_in = input_error_floor(self.dataset, self.ctx, final.model)
-        half = R.prepare_inputs(self.dataset, window_scale=0.5)
+        half = replay_inputs.prepare_inputs(self.dataset, window_scale=0.5)
         sigma_rep = replay_error_floor(self.ctx, final, half)
         sigma_all = math.hypot(sigma_in, sigma_rep)
         extras: dict[str, Any] = {"sigma_inputs": sigma_in, "sigma_replay": sigma_rep}
@@ -200,7 +215,7 @@ class BenchSetup:
             text += f"; what remains: {sig['summary']}"
         return text, extras
 
-    def signal_set(self, fit: C.Fit) -> Signals:
+    def signal_set(self, fit: candidate_structure.Fit) -> Signals:
         """The main channel's residual (warm-up excluded) and the signals it may depend on."""
         inp = self.ctx.inp
         use = self.ctx.teach | self.ctx.held
@@ -217,13 +232,13 @@ class BenchSetup:
             "input acceleration": inp.uacc,
             "model output": fit.yhat,
         }
-        signals: dict[str, C.FloatArray] = {}
+        signals: dict[str, candidate_structure.FloatArray] = {}
         for name, v in cand.items():
             v = np.asarray(v, dtype=np.float64)[use]
             if any(v.shape == w.shape and np.allclose(v, w) for w in signals.values()):
                 continue  # the same signal by another name (e.g. the blocked bench's twist)
             signals[name] = v
-        angles: dict[str, tuple[C.FloatArray, list[str]]] = {}
+        angles: dict[str, tuple[candidate_structure.FloatArray, list[str]]] = {}
         cand_angles = {self.dataset.input_column: inp.u, "twist": x}
         if inp.inertia_load and inp.theta_s is not None:
             cand_angles["theta_s"] = inp.theta_s
@@ -261,7 +276,7 @@ class BenchSetup:
     def save_model(self, model: BenchModel, path: Path) -> Path:
         return save_model(model, path)
 
-    def report(self, diag: core.Diagnosis[C.Fit]) -> core.ReportParts:
+    def report(self, diag: core.Diagnosis[candidate_structure.Fit]) -> core.ReportParts:
         ctx = self.ctx
         inp = ctx.inp
         ds = self.dataset
@@ -320,15 +335,16 @@ class BenchSetup:
                 "noise_floor_inputs": "the recorded angles re-measured (their encoder grid at a "
                 "random phase, or their white noise) and the final model replayed on both: RMS "
                 "output difference on the held-out samples",
-                "inertia_load_replay": f"segments of {R.SEGMENT_S:g} s started from the "
+                "inertia_load_replay": f"segments of {replay.SEGMENT_S:g} s started from the "
                 "measured load state",
             },
         )
 
-    def plots(self, diag: core.Diagnosis[C.Fit], folder: Path) -> list[Path]:
-        return write_plots(diag, folder)
+    def plots(self, diag: core.Diagnosis[candidate_structure.Fit], folder: Path) -> list[Path]:
+        signal_set = diag.setup.signal_set if isinstance(diag.setup, BenchSetup) else None
+        return write_plots(diag, folder, signal_set)
 
-    def summary_lines(self, diag: core.Diagnosis[C.Fit]) -> list[str]:
+    def summary_lines(self, diag: core.Diagnosis[candidate_structure.Fit]) -> list[str]:
         ds = self.dataset
         return [
             f"named effects: {diag.named or 'none'}",
@@ -341,7 +357,7 @@ class BenchSetup:
         ]
 
 
-def _floors(diag: core.Diagnosis[C.Fit]) -> BenchDiagnosis:
+def _floors(diag: core.Diagnosis[candidate_structure.Fit]) -> BenchDiagnosis:
     """The diagnosis as a :class:`BenchDiagnosis` (for its noise floors)."""
     return BenchDiagnosis(**{f.name: getattr(diag, f.name) for f in dataclasses.fields(diag)})
 
@@ -350,7 +366,7 @@ def _over_noise(mse: float, sigma: float) -> float:
     return math.sqrt(mse) / sigma if sigma > 0 else math.inf
 
 
-def diagnose(ds: Dataset, *, max_effects: int = S.MAX_EFFECTS) -> BenchDiagnosis:
+def diagnose(ds: Dataset, *, max_effects: int = selection.MAX_EFFECTS) -> BenchDiagnosis:
     """Find, name and fit the effects missing from the nominal model of a bench dataset; the
     named effects that do not hold (:func:`check_real`) are reported as stand-ins."""
     t0 = time.perf_counter()
@@ -381,25 +397,27 @@ def check_real(setup: BenchSetup, diag: BenchDiagnosis) -> None:
     use = ctx.teach | ctx.held
     # nothing left unexplained: an effect at a bound of its range stands in for nothing
     explained = not diag.extras.get("unexplained", True)
-    checks: list[Real.EffectCheck] = []
-    without: dict[str, C.Fit] = {}
-    for e, v in C.present(final.structure):
+    checks: list[realness.EffectCheck] = []
+    without: dict[str, candidate_structure.Fit] = {}
+    for e, v in candidates.present(final.structure):
         if e not in diag.named:
             continue
-        wo = C.solve(ctx, C.strip(final.structure, e))
+        wo = candidate_inertia.solve(ctx, candidates.strip(final.structure, e))
         without[e] = wo
         eff = final.model.effect(e, v)
         params = dict(eff.params) if eff is not None else {}
-        c = Real.check(e, v, params, ctx.inp.y, final.yhat, wo.yhat, ctx.inp.t, use, ctx.sigma_y)
-        checks.append(Real.bound_waived(c) if explained else c)
+        c = realness.check(
+            e, v, params, ctx.inp.y, final.yhat, wo.yhat, ctx.inp.t, use, ctx.sigma_y
+        )
+        checks.append(realness.bound_waived(c) if explained else c)
     bad = [c for c in checks if not c.passed]
     stand: list[dict[str, Any]] = []
     if bad:
         st = final.structure
         for c in bad:
-            st = C.strip(st, c.effect)
+            st = candidates.strip(st, c.effect)
         named = [e for e in diag.named if e not in {c.effect for c in bad}]
-        new = C.solve(ctx, st)
+        new = candidate_inertia.solve(ctx, st)
         new = setup.finish(new, named) if named else new
         new.label = "nominal + " + " + ".join(named) if named else diag.nominal.label
         new.effect = new.variant = None
@@ -429,225 +447,3 @@ def check_real(setup: BenchSetup, diag: BenchDiagnosis) -> None:
         )
     diag.extras["stand_ins"] = stand
     diag.extras["realness"] = {"checked": True, "effects": [c.as_dict() for c in checks]}
-
-
-UNEXPLAINED = math.sqrt(2.0)  # residual RMS / noise floor from which the rest is "unexplained"
-
-
-def replay_error_floor(ctx: C.Context, final: C.Fit, half: R.ReplayInputs) -> float:
-    """The replay's own error on the held-out samples: the recorded angles are smoothed and
-    differentiated before they drive the model (:func:`.replay.prepare_inputs`), which rounds off
-    fast motion (steps at 500 Hz: ~0.6 x the output noise on a plain record). Estimated as in
-    :mod:`.uncertainty`: the RMS change of the final model's replay with every filter window
-    halved, times :data:`.uncertainty.RICHARDSON`. Like the inputs' own errors, part of the floor
-    below which a residual is not ``unexplained``; never used to name an effect."""
-    d = (final.yhat - R.replay(final.model, half)["y"])[ctx.held]
-    d = d[np.isfinite(d)]
-    return float(RICHARDSON * np.sqrt(np.mean(d * d))) if d.size else 0.0
-
-
-def unexplained(
-    ctx: C.Context, final: C.Fit, sigma_in: float = 0.0, sig: dict[str, Any] | None = None
-) -> bool:
-    """True when the final model leaves a held-out residual clearly above the noise floor: what
-    lies above the noise (output noise and the recorded inputs' own errors together, in
-    variance) is at least as large as the noise itself - the size an extra effect must explain
-    to be named (:data:`.selection.MIN_EXPLAINED_EXTRA` = 1 noise variance). Without a
-    signature: residual RMS above :data:`UNEXPLAINED` x that floor. Given the residual signature
-    ``sig``: the residual's mean square minus the floors' (output noise, the inputs' errors, the
-    replay's own error) at least ``UNEXPLAINED^2 - 1`` output-noise variances, *and* the general
-    search found structure in it (:func:`.residual_search.structured`: a finding significant at
-    the false-alarm rate :data:`.residual_search.ALPHA` against noise of the record's own colour
-    that explains at least :data:`.residual_search.MIN_STRUCT` noise variances). The floor of
-    the first test is the white part of the noise; coloured noise, quantisation and the
-    replay's own error raise the residual above it without structure, which the second test
-    tells apart."""
-    rms = math.sqrt(final.mse_held)
-    total = math.hypot(ctx.sigma_y, sigma_in)
-    if sig is None or "structured" not in sig:
-        return bool(rms > UNEXPLAINED * total)
-    # with the structure test: what lies above the floors (output noise, the inputs' errors,
-    # the replay's own error) must be at least (UNEXPLAINED^2 - 1) output-noise variances
-    excess = rms * rms - total * total
-    return bool(excess >= (UNEXPLAINED**2 - 1.0) * ctx.sigma_y**2 and sig["structured"])
-
-
-def verdict(
-    ctx: C.Context,
-    nom: C.Fit,
-    final: C.Fit,
-    named: Sequence[str],
-    sigma_in: float = 0.0,
-    unexp: bool | None = None,
-) -> str:
-    """One honest sentence: what was named, the gap before / after, the noise floor and the
-    gap above it (independent noise adds in variance)."""
-    y, held = ctx.inp.y, ctx.held
-    floor = nrmse_floor(y, ctx.sigma_y, held)
-    gap_b, gap_a = nrmse(y, nom.yhat, held), nrmse(y, final.yhat, held)
-    rms = math.sqrt(final.mse_held)
-    ratio = rms / ctx.sigma_y if ctx.sigma_y > 0 else math.inf
-    within = ratio <= WITHIN_NOISE
-    if unexp is None:
-        unexp = unexplained(ctx, final, sigma_in)
-    above = rms * rms - sigma_in * sigma_in >= UNEXPLAINED**2 * ctx.sigma_y**2
-    why_not = (
-        "what lies above the white-noise floor holds no structure the residual search finds "
-        f"at its {100 * RS.ALPHA:g} % false-alarm rate (coloured noise, quantisation, the "
-        "replay's own error)"
-        if above
-        else "what lies above the noise is smaller than the noise"
-    )
-    floor_txt = (
-        f"noise floor {100 * floor:.3g} %; gap above the floor "
-        f"{100 * gap_excess(gap_b, floor):.3g} % -> {100 * gap_excess(gap_a, floor):.3g} %"
-    )
-    if not named:
-        if within or not unexp:
-            return (
-                "nothing is missing within noise: the refit nominal model leaves a held-out "
-                f"residual of {rms:.4g} (noise floor {ctx.sigma_y:.4g}"
-                + ("" if within else f"; {why_not}")
-                + "); no candidate earns its place"
-            )
-        return (
-            f"no library effect earns its place, but the refit nominal model leaves "
-            f"{ratio:.2g} x the noise floor (held-out NRMSE {100 * gap_a:.3g} %, {floor_txt}): "
-            "something outside the library or the recorded inputs' own errors"
-        )
-    total = math.hypot(ctx.sigma_y, sigma_in)
-    if within:
-        rest = "the rest is within noise"
-    elif total > 0 and rms <= WITHIN_NOISE * total:
-        rest = (
-            f"a residual of {ratio:.2g} x the output noise floor remains, within what the output "
-            f"noise and the recorded inputs' own errors (quantisation / noise, propagated: "
-            f"{100 * nrmse_floor(y, sigma_in, held):.3g} % NRMSE) explain together"
-        )
-    elif not unexp:
-        rest = f"a residual of {ratio:.2g} x the noise floor remains; {why_not}"
-    else:
-        rest = f"a residual of {ratio:.2g} x the noise floor remains that no further effect claims"
-    return (
-        f"missing: {', '.join(named)}; held-out NRMSE {100 * gap_b:.3g} % -> {100 * gap_a:.3g} % "
-        f"({floor_txt}); {rest}"
-    )
-
-
-def residual_signature(diag: core.Diagnosis[C.Fit], fit: C.Fit) -> dict[str, Any]:
-    ctx = diag.ctx
-    inp = ctx.inp
-    s = inp.theta_s if inp.inertia_load and inp.theta_s is not None else inp.s
-    x = inp.u - s
-    xd = np.gradient(x, inp.h)
-    return signature(inp.y, fit.yhat, x, xd, inp.phi, inp.t, ctx.sigma_y).as_dict()
-
-
-def channel_nrmse(diag: core.Diagnosis[C.Fit]) -> dict[str, dict[str, float]]:
-    """Held-out NRMSE per measured channel for the catalogue, refit nominal and final models."""
-    ctx = diag.ctx
-    inp = ctx.inp
-    main = diag.dataset.output_column
-    fits = (("catalogue", diag.catalogue), ("nominal", diag.nominal), ("final", diag.final))
-    out: dict[str, dict[str, float]] = {main: {}}
-    for name, fit in fits:
-        out[main][name] = nrmse(inp.y, fit.yhat, ctx.held)
-    if inp.inertia_load and inp.theta_s is not None:
-        out["theta_s"] = {}
-        for name, fit in fits:
-            th = R.replay(fit.model, inp)["theta_s"]
-            out["theta_s"][name] = nrmse(inp.theta_s, th, ctx.held)
-    return out
-
-
-def write_plots(diag: core.Diagnosis[C.Fit], folder: str | Path) -> list[Path]:
-    """Time series and loops before/after, NRMSE per channel."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    out = Path(folder)
-    out.mkdir(parents=True, exist_ok=True)
-    ctx = diag.ctx
-    inp = ctx.inp
-    ds = diag.dataset
-    unit = "N·m"
-    files: list[Path] = []
-
-    # 1. time series in the first held-out block (a few seconds)
-    idx = np.flatnonzero(ctx.held)
-    i0 = int(idx[0]) if idx.size else 0
-    i1 = min(inp.n, i0 + round(4.0 / inp.h))
-    sl = slice(i0, i1)
-    fig, ax = plt.subplots(3, 1, figsize=(10, 8), sharex=True)
-    ax[0].plot(inp.t[sl], inp.u[sl], color="k", lw=1)
-    ax[0].set_ylabel(f"{ds.input_column} [rad]")
-    ax[0].set_title(f"{ds.path.name}: held-out window")
-    ax[1].plot(inp.t[sl], inp.y[sl], color="k", lw=1, label="measured")
-    ax[1].plot(inp.t[sl], diag.nominal.yhat[sl], color="tab:red", lw=1, label="nominal (refit)")
-    ax[1].plot(
-        inp.t[sl], diag.final.yhat[sl], color="tab:blue", lw=1, ls="--", label=diag.final.label
-    )
-    ax[1].set_ylabel(f"{ds.output_column} [{unit}]")
-    ax[1].legend(loc="upper right", fontsize=8)
-    ax[2].plot(
-        inp.t[sl], (inp.y - diag.nominal.yhat)[sl], color="tab:red", lw=0.8, label="residual before"
-    )
-    ax[2].plot(
-        inp.t[sl], (inp.y - diag.final.yhat)[sl], color="tab:blue", lw=0.8, label="residual after"
-    )
-    for k in (-2, 2):
-        ax[2].axhline(k * ctx.sigma_y, color="grey", ls=":", lw=0.8)
-    ax[2].set_ylabel(f"residual [{unit}]")
-    ax[2].set_xlabel("t [s]")
-    ax[2].legend(loc="upper right", fontsize=8)
-    fig.tight_layout()
-    files.append(out / "timeseries.png")
-    fig.savefig(files[-1], dpi=110)
-    plt.close(fig)
-
-    # 2. torque-deflection loops
-    s = inp.theta_s if inp.inertia_load and inp.theta_s is not None else inp.s
-    x = inp.u - s
-    step = max(1, inp.n // 8000)
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4.5), sharey=True)
-    for a, fit, title in (
-        (ax[0], diag.nominal, "before (nominal refit)"),
-        (ax[1], diag.final, "after (final model)"),
-    ):
-        a.plot(x[::step], inp.y[::step], ".", ms=1.5, color="k", alpha=0.4, label="measured")
-        a.plot(
-            x[::step],
-            fit.yhat[::step],
-            ".",
-            ms=1.5,
-            color="tab:blue" if fit is diag.final else "tab:red",
-            label="replay",
-        )
-        a.set_title(title)
-        a.set_xlabel("deflection (input - output angle) [rad]")
-        a.legend(loc="upper left", fontsize=8, markerscale=6)
-    ax[0].set_ylabel(f"{ds.output_column} [{unit}]")
-    fig.tight_layout()
-    files.append(out / "loops.png")
-    fig.savefig(files[-1], dpi=110)
-    plt.close(fig)
-
-    # 3. what the final model leaves: spectrum, drift, dependence, where
-    sig = diag.extras.get("residual_signature")
-    if isinstance(diag.setup, BenchSetup) and sig is not None:
-        files.append(
-            plot_signature(sig, diag.setup.signal_set(diag.final), out / "residual_signature.png")
-        )
-
-    # 4. NRMSE per channel
-    floor = nrmse_floor(inp.y, ctx.sigma_y, ctx.held)
-    files.append(
-        plot_channel_nrmse(
-            channel_nrmse(diag),
-            out / "nrmse.png",
-            floor=(floor, f"noise floor ({ds.output_column})"),
-        )
-    )
-    return files

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from fsarm_sim.discrepancy import variants as V
+from fsarm_sim.discrepancy import variants
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.paths import bounded_json, regular_file
 from fsarm_sim.plant.effects import registry
@@ -138,7 +138,7 @@ POLY_KEYS = ("poly", "poly_per_sign")  # its variants in r = x / x_ref (registry
 
 def uses_x_ref(name: str, variant: str) -> bool:
     """The effect's law is a polynomial in x / x_ref: the model stores ``x_ref_rad``."""
-    return name == V.NONLINEAR and variant in POLY_KEYS
+    return name == variants.NONLINEAR and variant in POLY_KEYS
 
 
 def element_wise(var: registry.Variant) -> bool:

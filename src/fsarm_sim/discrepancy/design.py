@@ -33,9 +33,13 @@ from typing import Any
 
 import numpy as np
 
-from fsarm_sim.discrepancy import candidates as C
-from fsarm_sim.discrepancy import replay as R
-from fsarm_sim.discrepancy import synth
+from fsarm_sim.discrepancy import (
+    candidate_inertia,
+    candidate_structure,
+    candidates,
+    replay_inputs,
+    synth,
+)
 from fsarm_sim.discrepancy.bench_setup import BenchDiagnosis, BenchSetup
 from fsarm_sim.discrepancy.bench_setup import diagnose as bench_diagnose
 from fsarm_sim.discrepancy.benchmodel import BenchModel, stated_model
@@ -118,15 +122,20 @@ def _record(model: BenchModel, ds: Dataset, t: np.ndarray, u: np.ndarray) -> Dat
 
 
 def wrong_fit_mse(
-    truth: BenchModel, ds: Dataset, t: np.ndarray, u: np.ndarray, base: C.Structure, wrong: C.Fit
+    truth: BenchModel,
+    ds: Dataset,
+    t: np.ndarray,
+    u: np.ndarray,
+    base: candidate_structure.Structure,
+    wrong: candidate_structure.Fit,
 ) -> tuple[float, int, float, int]:
     """(held-out MSE, k) of the wrong effect's structure and (held-out MSE, k) of the step's base
     model (no effect) fitted to ``truth``'s noise-free record on the input ``u``."""
     rec = _record(truth, ds, t, u)
-    ctx = C.make_context(R.prepare_inputs(rec), stated_model(rec))
+    ctx = candidate_structure.make_context(replay_inputs.prepare_inputs(rec), stated_model(rec))
     ctx.sigma_y = max(ctx.sigma_y, 1e-12)
-    cur = C.solve(ctx, base.copy())
-    fit = C.candidate(ctx, cur, wrong.effect or "", wrong.variant or "")
+    cur = candidate_inertia.solve(ctx, base.copy())
+    fit = candidates.candidate(ctx, cur, wrong.effect or "", wrong.variant or "")
     if fit is None:
         return math.inf, 0, float(cur.mse_held), cur.k
     return float(fit.mse_held), fit.k, float(cur.mse_held), cur.k

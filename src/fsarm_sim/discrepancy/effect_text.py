@@ -18,7 +18,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from fsarm_sim.discrepancy import variants as V
+from fsarm_sim.discrepancy import variants
 from fsarm_sim.discrepancy.benchmodel import EffectInstance, element_wise, uses_x_ref
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.plant.effects import registry
@@ -41,12 +41,12 @@ def rules(setup: str) -> Rules:
     if setup == registry.ARM:
         return Rules(
             setup,
-            V.of(setup),
-            max_elements=V.ARM_MAX_ELEMENTS,
-            defaults=V.ARM_DEFAULTS,
-            needs_variant=V.ARM_RECORDING,
+            variants.of(setup),
+            max_elements=variants.ARM_MAX_ELEMENTS,
+            defaults=variants.ARM_DEFAULTS,
+            needs_variant=variants.ARM_RECORDING,
         )
-    return Rules(setup, V.of(setup))
+    return Rules(setup, variants.of(setup))
 
 
 def split_effect_text(text: str, what: str = "effect") -> tuple[str, str, list[float]]:

@@ -10,8 +10,7 @@ from dataclasses import replace
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim.discrepancy import candidates as C
-from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import candidate_structure, replay, replay_inputs
 from fsarm_sim.discrepancy.benchmodel import BenchModel
 from fsarm_sim.discrepancy.residuals import noise_floor
 from fsarm_sim.records.measured import Dataset
@@ -37,7 +36,7 @@ def remeasure(x: FloatArray, h: float, rng: np.random.Generator) -> tuple[FloatA
     re-measured on the record's encoder grid (random grid phase) when the record is quantised and
     its noise is what quantisation alone leaves (d4 estimate <= the step), else with white noise
     of the record's noise floor."""
-    proxy = R.smooth(x, h)
+    proxy = replay_inputs.smooth(x, h)
     q = quantisation_step(x)
     sig = noise_floor(x)
     if q > 0.0 and sig <= q:
@@ -46,7 +45,7 @@ def remeasure(x: FloatArray, h: float, rng: np.random.Generator) -> tuple[FloatA
     return proxy, proxy + sig * rng.standard_normal(x.size)
 
 
-def input_error_floor(ds: Dataset, ctx: C.Context, model: BenchModel) -> float:
+def input_error_floor(ds: Dataset, ctx: candidate_structure.Context, model: BenchModel) -> float:
     """RMS (held-out) of the output change a re-measurement of the recorded angles causes in the
     replay of ``model``: the part of the residual that the inputs' own errors explain."""
     names = ["theta_m", "theta_s"] if ds.setup == "series_bench" else ["phi_b"]
@@ -56,8 +55,12 @@ def input_error_floor(ds: Dataset, ctx: C.Context, model: BenchModel) -> float:
     for nm in names:
         cols_ref[nm], cols_new[nm] = remeasure(np.asarray(ds.columns[nm], float), ds.dt, rng)
     try:
-        y_ref = R.replay(model, R.prepare_inputs(replace(ds, columns=cols_ref)))["y"]
-        y_new = R.replay(model, R.prepare_inputs(replace(ds, columns=cols_new)))["y"]
+        y_ref = replay.replay(model, replay_inputs.prepare_inputs(replace(ds, columns=cols_ref)))[
+            "y"
+        ]
+        y_new = replay.replay(model, replay_inputs.prepare_inputs(replace(ds, columns=cols_new)))[
+            "y"
+        ]
     except (ValueError, FloatingPointError):  # an estimate for the report: never fatal
         return 0.0
     d = (y_new - y_ref)[ctx.held]

@@ -39,7 +39,7 @@ from typing import Any
 
 import numpy as np
 
-from fsarm_sim.discrepancy import selection as S
+from fsarm_sim.discrepancy import selection
 from fsarm_sim.discrepancy.core import Diagnosis
 from fsarm_sim.discrepancy.residuals import bic, effective_n
 from fsarm_sim.discrepancy.selection import Step
@@ -148,11 +148,11 @@ def result_dict(diag: Diagnosis[Any], model_file: Path | None = None) -> dict[st
         "method": {
             **parts.method,
             "split": "12 contiguous blocks, every third held out (first 1 % of samples in neither)",
-            "bic_threshold": S.BIC_THRESHOLD,
-            "min_heldout_gain": S.MIN_GAIN,
-            "min_explained_fraction_of_noise_variance": S.MIN_EXPLAINED,
-            "extra_effect_min_explained_fraction_of_noise_variance": S.MIN_EXPLAINED_EXTRA,
-            "extra_effect_min_share_of_named_effects_explained": S.MIN_SHARE_EXTRA,
+            "bic_threshold": selection.BIC_THRESHOLD,
+            "min_heldout_gain": selection.MIN_GAIN,
+            "min_explained_fraction_of_noise_variance": selection.MIN_EXPLAINED,
+            "extra_effect_min_explained_fraction_of_noise_variance": selection.MIN_EXPLAINED_EXTRA,
+            "extra_effect_min_share_of_named_effects_explained": selection.MIN_SHARE_EXTRA,
             "nrmse": "RMSE / (max - min) of the measured channel on the held-out samples",
         },
     }
@@ -235,7 +235,7 @@ def plot_bic_steps(steps: list[Step], path: Path) -> Path:
             [sc.d_bic_held for sc in st.scores],
             color=["tab:green" if sc.earns_place else "tab:grey" for sc in st.scores],
         )
-        a.axvline(-S.BIC_THRESHOLD, color="k", ls=":", lw=0.8)
+        a.axvline(-selection.BIC_THRESHOLD, color="k", ls=":", lw=0.8)
         a.set_xscale("symlog", linthresh=10)
         a.invert_yaxis()
         a.set_title(f"step {st.index}: added {st.added or 'nothing'}", fontsize=9)

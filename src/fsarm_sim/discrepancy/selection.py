@@ -64,7 +64,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from fsarm_sim.discrepancy import variants as V
+from fsarm_sim.discrepancy import variants
 from fsarm_sim.discrepancy.benchmodel import stated_model
 from fsarm_sim.discrepancy.input_errors import input_error_floor, quantisation_step, remeasure
 from fsarm_sim.discrepancy.residuals import bic
@@ -105,11 +105,11 @@ def extra_share_ok(share: float, gain_held: float) -> bool:
 
 
 LOOK_ALIKES = (
-    frozenset({V.DELAY, V.VISCOUS}),
-    frozenset({V.BACKLASH, V.NONLINEAR}),
-    frozenset({V.COULOMB, V.VISCOUS}),
-    frozenset({V.COULOMB, V.HYSTERESIS}),
-    frozenset({V.VISCOUS, V.HYSTERESIS}),
+    frozenset({variants.DELAY, variants.VISCOUS}),
+    frozenset({variants.BACKLASH, variants.NONLINEAR}),
+    frozenset({variants.COULOMB, variants.VISCOUS}),
+    frozenset({variants.COULOMB, variants.HYSTERESIS}),
+    frozenset({variants.VISCOUS, variants.HYSTERESIS}),
 )
 
 

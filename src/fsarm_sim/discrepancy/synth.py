@@ -31,8 +31,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy.signal import butter, sosfiltfilt
 
-from fsarm_sim.discrepancy import effect_text
-from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import effect_text, replay
 from fsarm_sim.discrepancy.benchmodel import (
     BenchModel,
     EffectInstance,
@@ -257,22 +256,22 @@ def synthesize(
     else:
         amp = rec.amplitude if rec.amplitude is not None else default_amplitude(truth, sh)
         u_true = trajectory(rec.trajectory, tf, amp, rate_limit, rec.seed)
-    d, off = R.input_transform(truth)
+    d, off = replay.input_transform(truth)
     # the model is driven by the true input, delayed by d (the recorded input is not)
-    u_model = R.shifted(u_true, d / hf) if d != 0.0 else u_true
-    r = R.param_vector(truth)
+    u_model = replay.shifted(u_true, d / hf) if d != 0.0 else u_true
+    r = replay.param_vector(truth)
     z = np.zeros(nf)
     cols: dict[str, FloatArray] = {"t": np.arange(n, dtype=np.float64) * h}
     if truth.setup == "series_bench":
         phi = np.full(nf, rec.bend_rad)
         if truth.inertia_load:
-            n_sub = R.substeps(r, hf)
+            n_sub = replay.substeps(r, hf)
             zero = np.zeros(nf)
-            y, th = R.replay_inertia(
-                r, u_model, phi, hf, n_sub, zero, zero, R.restarts(nf, hf, None)
+            y, th = replay.replay_inertia(
+                r, u_model, phi, hf, n_sub, zero, zero, replay.restarts(nf, hf, None)
             )
         else:
-            y = R.replay_static(r, u_model, np.gradient(u_model, hf), z, z, z, phi, hf)
+            y = replay.replay_static(r, u_model, np.gradient(u_model, hf), z, z, z, phi, hf)
             th = z
         y = y[:: rec.oversample]
         theta_s = _quantise(th[:: rec.oversample], rec.encoder_counts)
@@ -282,7 +281,7 @@ def synthesize(
     else:
         ud = np.gradient(u_model, hf)
         ua = np.gradient(ud, hf)
-        y = R.replay_static(r, u_model, ud, ua, z, z, u_model, hf)[:: rec.oversample]
+        y = replay.replay_static(r, u_model, ud, ua, z, z, u_model, hf)[:: rec.oversample]
         phi_rec = _quantise(_reading(u_true[:: rec.oversample], off), rec.encoder_counts)
         cols.update(phi_b=phi_rec)
         out_name = "m_b"

@@ -9,7 +9,7 @@ teaching samples with ``sigma^2`` the teaching residual's variance, and the cova
 are normal, 95 % (``value +- 1.96 sd``), clipped to the parameter's bounds where it has them.
 
 The replay's own error (``sd_method``): the replay drives the model with the recorded angles
-smoothed and differentiated by Savitzky-Golay filters (:func:`.replay.prepare_inputs`), which
+smoothed and differentiated by Savitzky-Golay filters (:func:`.replay_inputs.prepare_inputs`), which
 round off what the physical motion does (an acceleration estimate through a 31 ms window loses
 a few % at 10 Hz) - the fitted parameters absorb that error (a link inertia a few sd off on
 noise-free synthetic records). It is estimated by halving every window: the parameters' shift
@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim.discrepancy import replay as R
+from fsarm_sim.discrepancy import replay, replay_inputs
 from fsarm_sim.discrepancy.benchmodel import BenchModel
 from fsarm_sim.discrepancy.residuals import tau_int
 from fsarm_sim.plant.effects import registry
@@ -57,7 +57,7 @@ METHOD = (
 
 
 def nominal_keys(model: BenchModel, multi_bend: bool) -> list[str]:
-    """The nominal parameters the diagnosis refits (:func:`.candidates.n_params`)."""
+    """The nominal parameters the diagnosis refits (:func:`.candidate_structure.n_params`)."""
     if model.setup == "series_bench":
         keys = ["k_pos", "k_neg"] + (["s_pos", "s_neg"] if multi_bend else [])
         return keys + (["j_load"] if model.inertia_load else [])
@@ -124,11 +124,11 @@ def _slots(
 
 def intervals(
     model: BenchModel,
-    inp: R.ReplayInputs,
+    inp: replay_inputs.ReplayInputs,
     rows: BoolArray,
     yhat: FloatArray,
     multi_bend: bool = False,
-    half: R.ReplayInputs | None = None,
+    half: replay_inputs.ReplayInputs | None = None,
 ) -> dict[str, Any]:
     """``{"method", "level", "parameters": [{name, value, sd, sd_fisher, sd_method, lower,
     upper}, ...]}`` of every fitted parameter of ``model`` (module docstring); ``rows``: the
@@ -145,8 +145,8 @@ def intervals(
         plus, minus = model.copy(), model.copy()
         put(plus, v + dv)
         put(minus, v - dv)
-        yp = R.replay(plus, inp)["y"][rows]
-        ym = R.replay(minus, inp)["y"][rows]
+        yp = replay.replay(plus, inp)["y"][rows]
+        ym = replay.replay(minus, inp)["y"][rows]
         col = (yp - ym) / (2 * dv)
         cols.append(np.where(np.isfinite(col), col, 0.0))
     params = []
@@ -161,7 +161,7 @@ def intervals(
             inv = np.linalg.pinv(js.T @ js) / np.outer(scale[ok], scale[ok])
             cov[np.ix_(ok, ok)] = inv * sigma2 * tau
             if half is not None:
-                dy = (yhat - R.replay(model, half)["y"])[rows]
+                dy = (yhat - replay.replay(model, half)["y"])[rows]
                 if np.all(np.isfinite(dy)):
                     shift[ok] = inv @ (j[:, ok].T @ dy)
         for i, (name, get, _p, (lo, hi)) in enumerate(slots):

@@ -43,7 +43,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy.ndimage import median_filter
 
-from fsarm_sim.discrepancy import residual_search as RS
+from fsarm_sim.discrepancy import residual_search
 from fsarm_sim.discrepancy.residual_search import Signals
 from fsarm_sim.discrepancy.residuals import above_noise_intervals, tau_int
 
@@ -310,7 +310,7 @@ def characterise(s: Signals) -> dict[str, Any]:
     cands = [c for c in cands if c[0] >= MIN_SHARE]
     cands.sort(key=lambda c: -c[0])
     band, _ = input_band(s.inputs, float(s.t[1] - s.t[0]))
-    found = RS.findings(s, band, dep, tr, WINDOW_S)
+    found = residual_search.findings(s, band, dep, tr, WINDOW_S)
     var = float(np.var(r)) or 1.0
     top = [f for f in found if f["significant"] and f["explained_var"] >= MIN_SHARE * var]
     if top:  # the general search's strongest significant finding is the headline
@@ -344,7 +344,7 @@ def characterise(s: Signals) -> dict[str, Any]:
         "findings": [
             {k: v for k, v in f.items() if k not in ("bin_centres", "bin_means")} for f in found
         ],
-        "structured": RS.structured(found, s.sigma),
+        "structured": residual_search.structured(found, s.sigma),
         "method": "spectral lines: Hann periodogram vs its 101-bin running median (> "
         f"{LINE_POWER:g} x), amplitude by least squares at the refined frequency; trends: least "
         "squares on time (offset) and time x model output (gain), standard errors inflated by the "
