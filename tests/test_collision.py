@@ -286,19 +286,24 @@ def test_algorithm2_hand_guiding_follows_the_push_and_holds() -> None:
 
     sc = C.algorithm2_scenario()
     assert sc.disturbance is not None
-    res = run_scenario(sc, SimConfig(transmission="tendon-sheath"), backend="python")
+    res = run_scenario(sc, SimConfig(transmission="tendon-sheath"))
     g = C.evaluate_guiding(res, sc.disturbance, [(a, b) for a, b, _ in scenarios.HAND_PUSHES])
+    assert len(g.pushes) == 6 and g.cycles() == 3  # seed 004: three up-and-down cycles
     for p in g.pushes:
         assert math.copysign(1.0, p["travel_rad"]) == math.copysign(1.0, p["mean_push_nm"])
         assert abs(p["travel_rad"]) > math.radians(1.0)  # the joint yields to a 9 N*m push
         assert abs(p["drift_after_release_rad"]) < math.radians(0.5)  # and stays where left
         assert abs(p["speed_after_release_rad_s"]) < 0.05
+        assert p["motor_share"] > 0.9  # the motor carries the joint's move, not the stretch
+    assert g.motor_follows()
 
 
 def test_guiding_report_says_whether_the_joint_followed_and_held() -> None:
     """The hand-guiding claim's criterion (seed 004 Sec. V-B), as GuidingReport reads it."""
 
-    def push(travel: float, speed: float, drift: float, sign: float = 1.0) -> dict[str, float]:
+    def push(
+        travel: float, speed: float, drift: float, sign: float = 1.0, motor: float = 1.0
+    ) -> dict[str, float]:
         return {
             "start_s": 0.5,
             "end_s": 1.5,
@@ -306,6 +311,7 @@ def test_guiding_report_says_whether_the_joint_followed_and_held() -> None:
             "travel_rad": travel * sign,
             "speed_after_release_rad_s": speed,
             "drift_after_release_rad": drift,
+            "motor_share": motor,
         }
 
     def report(*pushes: dict[str, float]) -> C.GuidingReport:
@@ -317,3 +323,11 @@ def test_guiding_report_says_whether_the_joint_followed_and_held() -> None:
     assert creeping.follows() and not creeping.holds() and not creeping.stays()
     wrong_way = report(push(-0.5, 0.0, 0.0))
     assert not wrong_way.follows()
+    # the motor held while the transmission stretched: the joint moved, the motor did not follow
+    stretched = report(push(0.5, 0.0, 0.0), push(0.5, 0.0, 0.0, -1.0, motor=0.1))
+    assert stretched.follows() and not stretched.motor_follows()
+    assert good.motor_follows()
+    # cycles: an up push answered by a down push; two ups in a row are no cycle
+    assert good.cycles() == 1
+    assert report(*(push(0.5, 0.0, 0.0, s) for s in (1.0, -1.0) * 3)).cycles() == 3
+    assert report(push(0.5, 0.0, 0.0), push(0.5, 0.0, 0.0)).cycles() == 0

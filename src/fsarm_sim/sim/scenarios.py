@@ -280,10 +280,14 @@ def _collision_hit(t: Array) -> Array:
     return _fig14(t)
 
 
-# Hand guiding: a hand pushes the flange perpendicular to link 3, lets go, pushes back, lets go.
-# Estimate (the seed gives no force): 25 N, a light one-hand push (10 N*m on joint 3), with
-# 0.1 s raised-cosine onsets.
-HAND_PUSHES = ((0.5, 1.5, 25.0), (2.5, 3.5, -25.0))  # (start s, end s, force N along flange x)
+# Hand guiding: a hand pushes the flange perpendicular to link 3, lets go, pushes back, lets go,
+# three times (seed 004 Sec. V-B: "the joint is dragged for three cycles. Every cycle includes both
+# upward and downward actions"). Estimate (the seed gives no force or timing): 25 N, a light
+# one-hand push (10 N*m on joint 3), 1 s each with 1 s between, 0.1 s raised-cosine onsets.
+HAND_CYCLES = 3
+HAND_PUSHES = tuple(
+    (0.5 + 2.0 * i, 1.5 + 2.0 * i, 25.0 if i % 2 == 0 else -25.0) for i in range(2 * HAND_CYCLES)
+)  # (start s, end s, force N along flange x)
 HAND_RAMP_S = 0.1
 
 
@@ -295,8 +299,9 @@ def _hand_force(t: float) -> tuple[float, float, float]:
 @register(
     "hand-guide",
     "Hand guiding of joint 3 (seed 004 Algorithm 2): the arm holds a pose, a hand pushes the "
-    "flange with 25 N for 1 s, lets go, pushes back, lets go; joint 3 yields and then holds",
-    duration_s=4.5,
+    "flange with 25 N for 1 s, lets go, pushes back, lets go, three cycles; joint 3 yields and "
+    "then holds",
+    duration_s=12.5,
     disturbance=Disturbance("flange", _hand_force, (HAND_PUSHES[0][0], HAND_PUSHES[-1][1])),
     outer_loop=hand_guiding_loop,
     rmse_warn_deg=(0.5, 2.0, 10.0),

@@ -119,6 +119,11 @@ def calibrate(
 # (estimate: the seed gives no number; 0.05 rad is 2.9 deg, a hand's placing accuracy)
 HOLD_SPEED_RAD_S = 0.05
 HOLD_DRIFT_RAD = 0.05
+# "The motor can move following the change of the joint angle" (seed 004 Sec. V-B): over each
+# push the motor-side shaft angle travels at least this share of the joint-side one, i.e. the
+# motor, not the transmission's stretch, carries most of the joint's move (estimate: the seed
+# gives no number; a motor held in place gives ~0, one that follows ~1)
+MOTOR_FOLLOW_SHARE = 0.5
 
 
 @dataclass(frozen=True)
@@ -145,6 +150,15 @@ class GuidingReport:
         """After every release the joint drifts less than :data:`HOLD_DRIFT_RAD`."""
         return all(abs(p["drift_after_release_rad"]) < HOLD_DRIFT_RAD for p in self.pushes)
 
+    def motor_follows(self) -> bool:
+        """Over every push the motor moved with the joint (:data:`MOTOR_FOLLOW_SHARE`)."""
+        return all(p["motor_share"] >= MOTOR_FOLLOW_SHARE for p in self.pushes)
+
+    def cycles(self) -> int:
+        """Up-and-down cycles: consecutive pushes that moved the joint one way, then back."""
+        signs = [math.copysign(1.0, p["travel_rad"]) for p in self.pushes]
+        return sum(1 for a, b in zip(signs[::2], signs[1::2], strict=False) if a == -b)
+
     def as_dict(self) -> dict[str, object]:
         return {
             "pushes": list(self.pushes),
@@ -152,6 +166,12 @@ class GuidingReport:
             "final_speed_rad_s": self.final_speed_rad_s,
             "q3_range_rad": list(self.q3_range_rad),
         }
+
+
+def _share(motor: float, joint: float) -> float:
+    """The motor side's travel over the joint side's (both as shaft angles); 0 if the joint
+    did not move."""
+    return float(motor / joint) if joint != 0.0 else 0.0
 
 
 def evaluate_guiding(
@@ -162,6 +182,7 @@ def evaluate_guiding(
     of the run."""
     c = result.columns
     t, q3, qd3 = c["t"], c["q3"], c["qd3"]
+    th_m, th_s = c["theta_m"], c["theta_s"]
     tau = external_torque(result, disturbance)
     rows = []
     for i, (a, b) in enumerate(pushes):
@@ -177,6 +198,7 @@ def evaluate_guiding(
                 "travel_rad": float(q3[settled] - q3[ia]),
                 "drift_after_release_rad": float(q3[ie] - q3[settled]),
                 "speed_after_release_rad_s": float(np.max(np.abs(qd3[settled : ie + 1]))),
+                "motor_share": _share(th_m[settled] - th_m[ia], th_s[settled] - th_s[ia]),
             }
         )
     dt = np.diff(t, prepend=t[0])

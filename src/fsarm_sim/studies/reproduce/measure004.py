@@ -47,6 +47,7 @@ SPEEDS_RAD_S = (0.02, 0.04, 0.06)  # Table 1
 # pi/2 instead would contradict the text.)
 DEFAULT_SPEED = 0.06
 TENDON_RADII_M = (0.0010, 0.0012, 0.0015)  # Fig. 10(b)
+HAND_CYCLES = 3  # Sec. V-B: "the joint is dragged for three cycles"
 # the joint's step and the friction state's are solved together (``_bracketed_root``): the
 # bracket grows by at most this many motor steps; the root is found to the tolerance
 FIXED_POINT_ITERATIONS = 20
@@ -412,20 +413,26 @@ def hand_guiding(ctx: Context) -> Measured:
     b = _battery(ctx)
     g = b.guiding_alg2
     if g is None:
-        return Measured(ours=[False, False, False], text=f"not run: {b.guiding_skipped}")
-    follows, holds, drift = g.follows(), g.holds(), g.stays()
-    text = "Algorithm 2: " + "; ".join(
-        f"push {p['mean_push_nm']:+.3g} N·m → {p['travel_rad']:+.3g} rad, then "
-        f"{p['speed_after_release_rad_s']:.3g} rad/s, drift {p['drift_after_release_rad']:+.3g} rad"
+        return Measured(ours=[False] * 5, text=f"not run: {b.guiding_skipped}")
+    cycles = g.cycles()
+    text = f"Algorithm 2, {cycles} cycle(s): " + "; ".join(
+        f"push {p['mean_push_nm']:+.3g} N·m → {p['travel_rad']:+.3g} rad (motor's "
+        f"share {p['motor_share']:.2f}), then {p['speed_after_release_rad_s']:.3g} rad/s, "
+        f"drift {p['drift_after_release_rad']:+.3g} rad"
         for p in g.pushes
     )
     note = "the joint-3 reference follows the joint encoder, so the motor goes to the "
-    note += "controller's no-load relation at the measured angle (its law copy for eq. 19)"
+    note += "controller's no-load relation at the measured angle (its law copy for eq. 19); "
+    note += "the hand (25 N on the flange, 1 s pushes) is an estimate, the seed gives no force. "
+    note += "A push moves the joint only a few degrees: the reference's speed is 0, so the "
+    note += "joint-3 loop's speed term damps the hand's motion (the seed's servo, whose "
+    note += "gains it does not print, sets its guiding speed)"
     if b.guiding is not None:
         note += "; observer + admittance on the same pushes: travel " + ", ".join(
             f"{p['travel_rad']:+.3g} rad" for p in b.guiding.pushes
         )
-    return Measured(ours=[follows, holds, drift], text=text, note=note)
+    ours = [g.follows(), cycles >= HAND_CYCLES, g.motor_follows(), g.holds(), g.stays()]
+    return Measured(ours=ours, text=text, note=note)
 
 
 def capstan_ratio(ctx: Context) -> Measured:
