@@ -73,3 +73,14 @@ def test_the_bench_meets_both_tables_branch_gaps(run_pi: dict) -> None:
         *zip(gaps_speed, m.TABLE1_GAPS, strict=True),
     ):
         assert abs(ours / table - 1.0) <= 0.10, (ours, table)
+
+
+def test_a_coarse_joint_encoder_adds_about_a_count_to_eq19s_error(run_pi: dict) -> None:
+    exact = run_pi["max_error"]
+    # a fine encoder reads the same fit; a coarse one adds up to about one count
+    assert m.max_error_read(run_pi, 24) == pytest.approx(exact, rel=1e-3)
+    q6 = 2.0 * math.pi / 2**6  # 0.098 rad per count
+    coarse = m.max_error_read(run_pi, 6)
+    assert exact + 0.1 * q6 < coarse < exact + q6
+    with pytest.raises(ValueError, match="bits"):
+        m.max_error_read(run_pi, 0)
