@@ -454,9 +454,12 @@ def hand_guiding(ctx: Context) -> Measured:
     note = "the joint-3 reference follows the joint encoder, so the motor goes to the "
     note += "controller's no-load relation at the measured angle (its law copy for eq. 19); "
     note += "the hand (25 N on the flange, 1 s pushes) is an estimate, the seed gives no force. "
-    note += "A push moves the joint only a few degrees: the reference's speed is 0, so the "
-    note += "joint-3 loop's speed term damps the hand's motion (the seed's servo, whose "
-    note += "gains it does not print, sets its guiding speed)"
+    note += "A push moves the joint only ~2° a second: the joint moves only as far as the "
+    note += "tendon stretches (τ_h/K, K ≈ 1.4e4 N·m/rad at the joint for the arm's steel tendon "
+    note += "and rigid sheath) and the motor's position loop follows that stretch at its gain "
+    note += "(60 rad/s, an estimate: the seed prints no gains), so the joint drifts at "
+    note += "≈ 60 τ_h/K ≈ 0.04 rad/s; the seed's far more compliant bench (its branch gaps are "
+    note += "~100× the arm's) would follow a hand faster"
     if b.guiding is not None:
         note += "; observer + admittance on the same pushes: travel " + ", ".join(
             f"{p['travel_rad']:+.3g} rad" for p in b.guiding.pushes
