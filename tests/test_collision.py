@@ -217,7 +217,8 @@ def test_cli_table_and_json(monkeypatch: pytest.MonkeyPatch, tmp_path) -> None: 
     )
     guide = C.GuidingReport(
         ({"start_s": 0.5, "end_s": 1.5, "mean_push_nm": 9.0, "travel_rad": 0.2,
-          "drift_after_release_rad": 0.0, "speed_after_release_rad_s": 0.0},),
+          "drift_after_release_rad": 0.0, "speed_after_release_rad_s": 0.0,
+          "motor_share": 0.75},),
         6.0, 0.0, (0.5, 0.8),
     )  # fmt: skip
     monkeypatch.setattr(
@@ -234,6 +235,7 @@ def test_cli_table_and_json(monkeypatch: pytest.MonkeyPatch, tmp_path) -> None: 
     assert data["detection"][0]["delay_s"] == 0.002
     assert data["detection"][1]["skipped"] == "cannot hold"
     assert data["hand_guiding"]["pushes"][0]["travel_rad"] == 0.2
+    assert "motor's share" in res.output and "0.75" in res.output
     bad = CliRunner().invoke(app, ["collision", "--backend", "gpu"])
     assert bad.exit_code != 0
 

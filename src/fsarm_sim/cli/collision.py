@@ -154,13 +154,15 @@ def register(app: typer.Typer) -> None:
 
 
 def _guiding_table(title: str, g: GuidingReport) -> Table:
-    """One hand-guiding run: per push its travel, then the drift and speed after release."""
+    """One hand-guiding run: per push its travel and the motor's share of it, then the drift and
+    speed after release."""
     t = number_table(
         title,
         (
             "push [s]",
             "mean tau_ext [N·m]",
             "travel [deg]",
+            "motor's share",
             "drift after release [deg]",
             "max speed after release [deg/s]",
         ),
@@ -170,6 +172,7 @@ def _guiding_table(title: str, g: GuidingReport) -> Table:
             f"{p['start_s']:g}-{p['end_s']:g}",
             f"{p['mean_push_nm']:.3g}",
             f"{math.degrees(p['travel_rad']):.3g}",
+            f"{p['motor_share']:.3g}",
             f"{math.degrees(p['drift_after_release_rad']):.3g}",
             f"{math.degrees(p['speed_after_release_rad_s']):.3g}",
         )
