@@ -458,8 +458,10 @@ def hand_guiding(ctx: Context) -> Measured:
     note += "tendon stretches (τ_h/K, K ≈ 1.4e4 N·m/rad at the joint for the arm's steel tendon "
     note += "and rigid sheath) and the motor's position loop follows that stretch at its gain "
     note += "(60 rad/s, an estimate: the seed prints no gains), so the joint drifts at "
-    note += "≈ 60 τ_h/K ≈ 0.04 rad/s; the seed's far more compliant bench (its branch gaps are "
-    note += "~100× the arm's) would follow a hand faster"
+    note += "≈ 60 τ_h/K ≈ 0.04 rad/s. The seed's bench is ~100× softer (Sec. III: a steel "
+    note += "tendon of 0.6 mm radius, 1.2 m long, on a 25 mm pulley: EA r²/L ≈ 120 N·m/rad at "
+    note += "E = 200 GPa, before the sheath's own give), so the same loop would follow a hand "
+    note += "~100× faster there"
     if b.guiding is not None:
         note += "; observer + admittance on the same pushes: travel " + ", ".join(
             f"{p['travel_rad']:+.3g} rad" for p in b.guiding.pushes
