@@ -161,7 +161,7 @@ def get(name: str) -> Scenario:
 
 # rmse_warn_deg of the built-in scenarios (estimates): about 5x what the default configuration
 # gives on each joint (fig14-sine q3 0.41°, p2p-payload 0.065°, step-q3 1.55°, step-q2 q2 1.77°,
-# collision-hit 1.24°, hand-guide 2.56°), at least 0.5°: far beyond what any catalogue shaft or
+# collision-hit 1.24°, hand-guide 2.66°), at least 0.5°: far beyond what any catalogue shaft or
 # transmission gives with the default gains (fig14-sine q3 0.001-0.49°), so a warning means a
 # configuration that does not do what the scenario is for (e.g. a QA-Joint at sigma_cmd = 0.1:
 # 8.0°).
