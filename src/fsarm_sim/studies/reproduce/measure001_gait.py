@@ -94,10 +94,16 @@ def walking_bend_increase(ctx: Context) -> Measured:
     ours = {j: [w.max_sensor_nm for w in ws] for j, ws in walks.items()}
     return Measured(
         ours=ours,
-        text="max |T| straight → 450 → 200 mm: " + _walk_text(walks),
+        text="max |T| straight → 450 → 200 mm: "
+        + _walk_text(walks)
+        + "; the estimate's max |T̂|: "
+        + "; ".join(
+            f"{j}: " + " → ".join(f"{w.max_est_nm:.3g}" for w in ws) for j, ws in walks.items()
+        ),
         details=_walk_details(walks),
-        note=WALK_NOTE + "; the bend acts through μ(R) on T̂ and the shaft's bend-dependent "
-        "residual friction",
+        note=WALK_NOTE + "; the bend acts through μ(R) on T̂ (a lower loop gain: T̂ rises with "
+        "the sensor, as Sec. 4.2.2 reports) and the shaft's bend-dependent residual friction "
+        "(across the twist: felt by the load, not read by T̂)",
     )
 
 
@@ -136,8 +142,16 @@ def _exo_static(ctx: Context) -> Any:
     return ctx.once("001/exo/static", build)
 
 
+def _exo_thigh_side(ctx: Context) -> Any:
+    """The other reading of Sec. 5.2: the 1.1 kg 0.1 m above the knee (on the thigh)."""
+    from fsarm_sim.studies import exo_leg
+
+    return ctx.once("001/exo/thigh", lambda: exo_leg.reductions(exo_leg.RTCA_MASSES_THIGH_SIDE))
+
+
 def _exo_measured(ctx: Context, joint: str, which: str, paper: str) -> Measured:
     red, static = _exo(ctx)[joint], _exo_static(ctx)[joint]
+    other = _exo_thigh_side(ctx)[joint]
     ours = red.percent(which)
     (fi, ei), (fr, er) = red.inline_nm, red.rtca_nm
     return Measured(
@@ -146,7 +160,8 @@ def _exo_measured(ctx: Context, joint: str, which: str, paper: str) -> Measured:
         f"{red.percent('extension'):.3g} %, peak |τ| {red.percent('peak'):.3g} %): in-line "
         f"{fi:.3g}/{ei:.3g} → RTCA {fr:.3g}/{er:.3g} N·m (flexion/extension); gravity alone "
         f"{static.percent(which):.3g} % ({static.inline_nm[0]:.3g}/{static.inline_nm[1]:.3g} → "
-        f"{static.rtca_nm[0]:.3g}/{static.rtca_nm[1]:.3g} N·m)",
+        f"{static.rtca_nm[0]:.3g}/{static.rtca_nm[1]:.3g} N·m); with the 1.1 kg on the thigh "
+        f"side {other.percent(which):.3g} %",
         details={
             "inline_nm": list(red.inline_nm),
             "rtca_nm": list(red.rtca_nm),
@@ -154,6 +169,7 @@ def _exo_measured(ctx: Context, joint: str, which: str, paper: str) -> Measured:
             "gravity_only_percent": {
                 w: static.percent(w) for w in ("flexion", "extension", "peak")
             },
+            "thigh_side_percent": {w: other.percent(w) for w in ("flexion", "extension", "peak")},
         },
         note=EXO_NOTE + f"; ours is the {which} reduction ({paper}). Where ours departs: at 1.2 "
         "s/stride the swing's accelerations dominate the in-line mass's torques (its peaks "
