@@ -27,8 +27,8 @@ GAIT_NOTE = (
 WALK_NOTE = (
     "seed 001's bench with the Ziegler-Nichols PID at a 0 N·m set-point; the load motor "
     "(studies.rtca_tracking.LoadServo, speed-limited position servo: estimates) imposes each "
-    "profile relative to heel strike for 3 strides (2 in --quick), the first not scored; the interaction torque "
-    "is the torque sensor's reading; " + GAIT_NOTE
+    "profile relative to heel strike for 3 strides (2 in --quick), the first not scored; the "
+    "interaction torque is the torque sensor's reading; " + GAIT_NOTE
 )
 
 
