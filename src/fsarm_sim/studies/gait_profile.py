@@ -9,8 +9,10 @@ The profile here is an **estimate because the paper shows [36] only as a figure*
 sagittal angles at normal cadence as published in the standard normative gait curves (Winter,
 *Biomechanics and Motor Control of Human Movement*, 4th ed., Wiley 2009, normal-cadence sagittal
 joint angles; the same shape as Perry & Burnfield, *Gait Analysis*, 2nd ed. 2010, Figs. 4-3, 4-9,
-4-15), read approximately at every 5 % of the cycle from heel strike (:data:`KEY_PERCENT`,
-:data:`KEY_ANGLES_DEG`). Hip: flexion +, peak ~28° in late swing, extension to -10° near toe-off;
+4-15), given approximately at every 5 % of the cycle from heel strike (:data:`KEY_PERCENT`,
+:data:`KEY_ANGLES_DEG`): textbook values written from those curves' shape and landmarks, not
+digitised from a copy of them (no copy is in the project). Hip: flexion +, peak ~28° in late
+swing, extension to -10° near toe-off;
 knee: flexion +, loading peak ~19° at 15 %, swing peak ~62° at 75 %; ankle: dorsiflexion +,
 plantarflexion to -18° just after toe-off. The read values are smoothed by a least-squares Fourier
 series of :data:`HARMONICS` harmonics (the usual representation of a periodic gait curve), which
@@ -35,7 +37,7 @@ JOINTS = ("hip", "knee", "ankle")
 
 KEY_PERCENT: tuple[float, ...] = tuple(float(p) for p in range(0, 100, 5))
 # Approximate normative means, degrees, at 0, 5, ..., 95 % of the stride (heel strike at 0 %):
-# estimates read from the published normative curves named in the module docstring.
+# estimates after the published normative curves named in the module docstring (not digitised).
 KEY_ANGLES_DEG: dict[str, tuple[float, ...]] = {
     "hip": (25, 25, 23, 20, 15, 10, 6, 2, -2, -6, -9, -10, -6, 2, 11, 19, 25, 28, 28, 26),
     "knee": (3, 10, 16, 19, 17, 13, 9, 6, 5, 6, 10, 18, 32, 48, 59, 62, 55, 40, 20, 7),

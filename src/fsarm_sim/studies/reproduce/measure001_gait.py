@@ -20,9 +20,9 @@ R_WALKING_M = (math.inf, 0.450, 0.200)  # Sec. 4.2.2: straight, 450 and 200 mm
 _T_STRIDE = np.arange(1200) * 1.2 / 1200  # one stride at 1.2 s, 1 ms steps
 GAIT_NOTE = (
     "hip, knee and ankle profiles: a normative adult sagittal gait (studies.gait_profile: "
-    "approximate published normative means, Winter 2009 / Perry & Burnfield 2010, 5-harmonic "
-    "Fourier series; an estimate because the paper shows [36] only as a figure) at the paper's "
-    "1.2 s/stride"
+    "approximate normative means after Winter 2009 / Perry & Burnfield 2010, not digitised; "
+    "5-harmonic Fourier series; an estimate because the paper shows [36] only as a figure) at "
+    "the paper's 1.2 s/stride"
 )
 WALK_NOTE = (
     "seed 001's bench with the Ziegler-Nichols PID at a 0 N·m set-point; the load motor "
