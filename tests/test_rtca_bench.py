@@ -271,3 +271,35 @@ def test_a_bend_per_cycle_is_the_bend_of_its_radius_and_moves_the_estimate() -> 
     k = td.size // 2
     np.testing.assert_array_equal(moving.tau_est[:k], straight.tau_est[:k])
     assert not np.array_equal(moving.tau_est[k:], straight.tau_est[k:])
+
+
+def test_core_segments_split_the_friction_and_the_estimate_does_not_read_it() -> None:
+    # the load moves the output slowly at a 0 N*m set-point: the core's friction against its
+    # casing, split over 1 or 3 joints, is felt at the output; T̂ (the twist end to end) is set
+    # by the loop and the motion, the same wherever the friction sits
+    t = np.arange(_steps(1.2)) * ACT.ctrl_dt_s
+    out = 0.3 * np.sin(2.0 * math.pi * t / 1.2)
+    pid = rb.Pid(kp=34.6, ki=961.0, kd=0.31)
+    twist = rb.run(ACT, pid, np.zeros(t.size), radius_m=0.2, theta_s=out)
+    runs = [
+        rb.run(
+            rb.with_(ACT, friction_site="core", core_segments=n, substeps=s),
+            pid,
+            np.zeros(t.size),
+            radius_m=0.2,
+            theta_s=out,
+        )
+        for n, s in ((2, 5), (4, 20))
+    ]
+    for r in runs:
+        np.testing.assert_allclose(r.tau_est, twist.tau_est, atol=2e-3)
+        assert float(np.max(np.abs(r.tau_sensor))) > 1.5 * float(np.max(np.abs(r.tau_est)))
+
+
+def test_a_diverging_core_is_a_named_error() -> None:
+    act = rb.with_(ACT, friction_site="core", core_segments=8, substeps=1)
+    t = np.arange(_steps(0.3)) * ACT.ctrl_dt_s
+    with pytest.raises(rb.BenchError, match="diverged"):
+        rb.run(act, rb.Pid(34.6, 961.0, 0.31), np.zeros(t.size), theta_s=0.3 * np.sin(5.0 * t))
+    with pytest.raises(rb.BenchError, match="core_segments"):
+        rb.with_(ACT, core_segments=1)

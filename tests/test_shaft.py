@@ -59,6 +59,15 @@ def test_extrapolation_is_opt_in() -> None:
         CAT.shaft(4.0, 2000.0, extrapolate=True)  # eq. 3 goes negative there: still refused
 
 
+def test_seed_001_masterflex08_cannot_be_built_from_the_catalogue() -> None:
+    # seed 001's 8 x 865 mm shaft: outside eq. 3/4's lengths, and eq. 4's bending stiffness is
+    # negative there (why 001-*-flexible-shaft are not judged on our shaft model)
+    with pytest.raises(ShaftRangeError, match="validity range"):
+        CAT.shaft(8.0, 865.0)
+    with pytest.raises(ShaftRangeError, match=r"bending -0\.886"):
+        CAT.shaft(8.0, 865.0, extrapolate=True)
+
+
 @pytest.mark.parametrize("bad", [float("nan"), -1.0, 0.0, float("inf")])
 def test_non_finite_dimensions(bad: float) -> None:
     with pytest.raises(ShaftRangeError):

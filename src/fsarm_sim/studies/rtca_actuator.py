@@ -66,6 +66,7 @@ class Rtca001:
     residual_friction: bool = True  # the shaft's unmodelled residual (module docstring)
     friction_site: str = "twist"  # "twist": end to end; "core": core on its casing (docstring)
     core_inertia_kgm2: float = 2.7e-6  # estimate: solid 8 mm steel core, 865 mm (docstring)
+    core_segments: int = 2  # "core": the core's equal segments, friction at the joints between
     sensor_lsb_nm: float = 40.0 / 2**16  # EL3102 (16 bit, +-10 V) on the DRBK20's +-20 N*m
     block: tuple[float, ...] = field(default_factory=lambda: tuple(rtca.default_block()))
 
@@ -85,6 +86,10 @@ class Rtca001:
             ("reference_delay_s", 0.0 <= self.reference_delay_s <= 0.2),
             ("core_inertia_kgm2", self.core_inertia_kgm2 > 0.0),
             ("substeps", 1 <= self.substeps <= 100),
+            (
+                "core_segments",
+                isinstance(self.core_segments, int) and 2 <= self.core_segments <= 16,
+            ),
             ("sensor_lsb_nm", self.sensor_lsb_nm >= 0.0),
         )
         if self.friction_site not in FRICTION_SITES:
@@ -212,82 +217,104 @@ def run(
     n_ref = round(act.reference_delay_s / dt)
     ref = np.concatenate([np.zeros(n_ref), tau_des[: n - n_ref]]) if n_ref else tau_des
 
+    n_seg = float(act.core_segments)
+    n_node = act.core_segments - 1
+    jn, kn = jc / n_node, k_fr / n_node  # each joint: its share of the core's inertia, friction
+
     def half(y: float, yd: float) -> float:
-        """Torque of one half of the core (half the length: the law at twice the twist)."""
-        return rtca.torque_nm(law, 2.0 * y, 2.0 * yd, bend, st, 0)
+        """Torque of one core segment (1/n of the length: the law at n times the twist)."""
+        return rtca.torque_nm(law, n_seg * y, n_seg * yd, bend, st, 0)
 
     th, om = 0.0, 0.0  # gearbox output angle, speed
-    thc, omc, z = 0.0, 0.0, 0.0  # the core's middle: angle, speed, friction deflection
+    # the joints between the core's segments: angle, speed, friction deflection
+    thc, omc, z = [0.0] * n_node, [0.0] * n_node, [0.0] * n_node
     rotor_prev = 0.0
     integ_v = integ_t = 0.0
     e_prev, d_f = 0.0, 0.0
     queue = [0.0] * (act.delay_cycles + 1)
     res = {k: np.empty(n) for k in ("est", "true", "sens", "thm", "cmd")}
     n_sat = 0
-    for k in range(n):
-        if bend_rad is not None and bends[k] != bend:
-            bend = float(bends[k])
-            if core and tr[rtca.I_SLIP_F] > 0.0:
-                band = rtca.slip_band_rad(tr, bend)
-        ths = out[k]  # the output angle at the start of cycle k
-        ths_next = out[k + 1] if k + 1 < n else ths
-        v_s = (ths_next - ths) / dt
-        # ---- sensing (start of the cycle): encoders and torque sensor at the same instant
-        dth_meas = _quantise(th, q_s) - _quantise(ths, q_s)
-        est = rtca.sensor_torque_nm(tr, dth_meas, bend)
-        if core:
-            true = half(thc - ths, omc - v_s)  # the output half: what the sensor carries
-        else:
-            true = rtca.torque_nm(tr, th - ths, om - v_s, bend, st, 0)
-        res["thm"][k] = th
-        rotor = _quantise(th * act.gear_ratio, q_m)
-        om_meas = (rotor - rotor_prev) / dt / act.gear_ratio
-        rotor_prev = rotor
-        # ---- outer PID torque loop (EtherCAT master)
-        e = ref[k] - est
-        d_raw = (e - e_prev) / dt if k > 0 else 0.0
-        e_prev = e
-        d_f = a_d * d_f + (1.0 - a_d) * d_raw
-        cmd = pid.kp * e + integ_t + pid.kd * d_f
-        if abs(cmd) >= w_lim:
-            cmd = math.copysign(w_lim, cmd)
-            n_sat += 1
-        else:
-            integ_t += pid.ki * e * dt  # no wind-up while saturated
-        queue.append(cmd)
-        w_set = queue.pop(0)
-        # ---- EPOS3 velocity PI
-        ev = w_set - om_meas
-        tm = kpv * ev + integ_v
-        if abs(tm) >= t_lim:
-            tm = math.copysign(t_lim, tm)
-        else:
-            integ_v += kiv * ev * dt
-        # ---- physics (output-referred rotor on the shaft), the output moving to out[k + 1]
-        for i in range(act.substeps):
-            ths_i = ths + v_s * h * i
-            if core:
-                # rotor - half - core node (friction on the casing) - half - output
-                t1 = half(th - thc, om - omc)
-                t2 = half(thc - ths_i, omc - v_s)
-                rate = maxwell_slip.banded_rate(z, omc, band[0], band[1])
-                om += h * (tm - t1) / j
-                omc += h * (t1 - t2 - k_fr * z) / jc
-                th += om * h
-                thc += omc * h
-                z += rate * h
-            else:
-                x = th - ths_i
-                xd = om - v_s
-                tq = rtca.torque_nm(tr, x, xd, bend, st, 0)  # eq. 1 with c x', + friction
-                rate = rtca.state_rate(tr, x, xd, bend, st, 0, 0)
-                om += h * (tm - tq) / j
-                th += om * h
-                st[0] += rate * h
-        res["est"][k] = est
-        res["true"][k] = true
-        res["sens"][k] = round(true / lsb) * lsb if lsb > 0.0 else true
-        res["cmd"][k] = cmd
+    try:
+        with np.errstate(over="raise", invalid="raise"):
+            for k in range(n):
+                if bend_rad is not None and bends[k] != bend:
+                    bend = float(bends[k])
+                    if core and tr[rtca.I_SLIP_F] > 0.0:
+                        band = rtca.slip_band_rad(tr, bend)
+                ths = out[k]  # the output angle at the start of cycle k
+                ths_next = out[k + 1] if k + 1 < n else ths
+                v_s = (ths_next - ths) / dt
+                if not (math.isfinite(th) and math.isfinite(om)):
+                    raise FloatingPointError
+                # ---- sensing (start of the cycle): encoders and torque sensor at the same instant
+                dth_meas = _quantise(th, q_s) - _quantise(ths, q_s)
+                est = rtca.sensor_torque_nm(tr, dth_meas, bend)
+                if core:
+                    true = half(thc[-1] - ths, omc[-1] - v_s)  # the output segment: the sensor's
+                else:
+                    true = rtca.torque_nm(tr, th - ths, om - v_s, bend, st, 0)
+                res["thm"][k] = th
+                rotor = _quantise(th * act.gear_ratio, q_m)
+                om_meas = (rotor - rotor_prev) / dt / act.gear_ratio
+                rotor_prev = rotor
+                # ---- outer PID torque loop (EtherCAT master)
+                e = ref[k] - est
+                d_raw = (e - e_prev) / dt if k > 0 else 0.0
+                e_prev = e
+                d_f = a_d * d_f + (1.0 - a_d) * d_raw
+                cmd = pid.kp * e + integ_t + pid.kd * d_f
+                if abs(cmd) >= w_lim:
+                    cmd = math.copysign(w_lim, cmd)
+                    n_sat += 1
+                else:
+                    integ_t += pid.ki * e * dt  # no wind-up while saturated
+                queue.append(cmd)
+                w_set = queue.pop(0)
+                # ---- EPOS3 velocity PI
+                ev = w_set - om_meas
+                tm = kpv * ev + integ_v
+                if abs(tm) >= t_lim:
+                    tm = math.copysign(t_lim, tm)
+                else:
+                    integ_v += kiv * ev * dt
+                # ---- physics (output-referred rotor on the shaft), the output moving to out[k + 1]
+                for i in range(act.substeps):
+                    ths_i = ths + v_s * h * i
+                    if core:
+                        # rotor - segment - joint (friction on the casing) - ... - segment - output
+                        ang, spd = [th, *thc, ths_i], [om, *omc, v_s]
+                        seg = [
+                            half(ang[i] - ang[i + 1], spd[i] - spd[i + 1])
+                            for i in range(n_node + 1)
+                        ]
+                        rates = [
+                            maxwell_slip.banded_rate(z[i], omc[i], band[0], band[1])
+                            for i in range(n_node)
+                        ]
+                        om += h * (tm - seg[0]) / j
+                        for i in range(n_node):
+                            omc[i] += h * (seg[i] - seg[i + 1] - kn * z[i]) / jn
+                        th += om * h
+                        for i in range(n_node):
+                            thc[i] += omc[i] * h
+                            z[i] += rates[i] * h
+                    else:
+                        x = th - ths_i
+                        xd = om - v_s
+                        tq = rtca.torque_nm(tr, x, xd, bend, st, 0)  # eq. 1 with c x', + friction
+                        rate = rtca.state_rate(tr, x, xd, bend, st, 0, 0)
+                        om += h * (tm - tq) / j
+                        th += om * h
+                        st[0] += rate * h
+                res["est"][k] = est
+                res["true"][k] = true
+                res["sens"][k] = round(true / lsb) * lsb if lsb > 0.0 else true
+                res["cmd"][k] = cmd
+    except (FloatingPointError, OverflowError):
+        raise BenchError(
+            f"seed-001 bench diverged at t = {k * dt:.3g} s (substeps = {act.substeps}, "
+            f"core_segments = {act.core_segments}): raise substeps (1-100)"
+        ) from None
     t: Array = np.arange(n, dtype=np.float64) * dt
     return BenchRun(
         t=t,

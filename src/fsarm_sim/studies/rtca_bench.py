@@ -71,14 +71,19 @@ What it does not give, and the estimates used here (each a field of :class:`Rtca
   switches it off. Where it acts (``friction_site``):
 
   - ``"twist"`` (default): across the twist, end to end, as the transmission has it on the arm;
-  - ``"core"``: the core rubbing on its casing. The core is two halves (each the law at twice
-    the twist) with its middle node (``core_inertia_kgm2``: a solid 8 mm steel core 865 mm long,
-    2.7e-6 kg*m², **estimate**, an upper bound for a wound core) held by the friction element
-    against the casing (ground), twice the transmission's slip torque (the output end carries
-    half of it: the same residual at the sensor). The encoders see the core's twist end to end.
+  - ``"core"``: the core rubbing on its casing. The core is ``core_segments`` equal segments
+    (2 by default; each the law at that many times its twist) joined at nodes that share its
+    inertia (``core_inertia_kgm2``: a solid 8 mm steel core 865 mm long, 2.7e-6 kg*m²,
+    **estimate**, an upper bound for a wound core) and its friction against the casing (ground),
+    twice the transmission's slip torque in all (the output end carries about half of it: the
+    same residual at the sensor); more segments need more ``substeps`` (4 segments: 20), and a
+    run that diverges is a :class:`BenchError`. The encoders see the core's twist end to end.
     Measured: the load feels the friction (ZN PID, 20° sine at 1.2 s: 0.028 -> 0.053 N*m RMS
     straight -> R = 200 mm) but T̂ does not follow (0.0037 -> 0.0038 N*m): with a velocity-
-    sourced motor T̂ is set by the loop and the output's motion, wherever the friction sits;
+    sourced motor T̂ is set by the loop and the output's motion, wherever the friction sits
+    (the knee walking profile, default gains: max |T̂| 0.078 -> 0.081 N*m straight -> 200 mm with
+    the friction across the twist, on 2 or on 4 core segments alike, while the sensor's max
+    reads 0.109 -> 0.116, 0.085 -> 0.202 and 0.083 -> 0.181 N*m);
     and its stick-slip sets the ZN probe's oscillation (Tu 25 ms instead of 72 ms) - so it is an
     option, not the default.
 """

@@ -50,6 +50,7 @@ from fsarm_sim.studies.reproduce.measure001_bench import (
     mu_of,
     rtca_law,
 )
+from fsarm_sim.studies.reproduce.measure001_gait import MEASURES as GAIT_MEASURES
 
 # Table 1 as printed (Δθ in degrees): a0, a1, a2, a3, b1, b2, b3, ω ("-" = 0); c = 0.00003
 PRINTED_POS = (4.20200, -4.20100, 0.0, 0.0, 0.16220, 0.0, 0.0, 0.03322)
@@ -357,4 +358,5 @@ MEASURES: dict[str, MeasureFn] = {
     "masterflex08_eq3_tol": masterflex08_eq3_tol,
     "masterflex08_eq3_lol": masterflex08_eq3_lol,
     "one_table1_curve": one_table1_curve,
+    **GAIT_MEASURES,
 }
