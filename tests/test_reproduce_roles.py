@@ -20,7 +20,7 @@ from fsarm_sim.studies.reproduce.targets import claim_value
 # transmission's default block, the benches' settings. Run as: python -c SNAPSHOT ROLE
 SNAPSHOT = r"""
 import dataclasses, json, sys
-from fsarm_sim.studies.reproduce import claims as C
+from fsarm_sim.studies.reproduce import claims
 from fsarm_sim.studies.reproduce import claims_file
 
 ROLE = sys.argv[1]
@@ -93,13 +93,13 @@ def test_moving_every_prediction_changes_no_model_parameter() -> None:
 
 
 def test_every_claim_has_a_role_and_calibrations_name_parameters() -> None:
-    claims = runner.all_claims()
-    counts = Counter(c.role for c in claims)
-    assert set(counts) <= set(ROLES) and sum(counts.values()) == len(claims)
-    for c in claims:
+    every_claim = runner.all_claims()
+    counts = Counter(c.role for c in every_claim)
+    assert set(counts) <= set(ROLES) and sum(counts.values()) == len(every_claim)
+    for c in every_claim:
         assert c.role_why.strip(), c.id
         assert bool(c.calibrates) == (c.role == "calibration"), c.id
-    params = runner.calibrated_parameters(claims)
+    params = runner.calibrated_parameters(every_claim)
     assert "shafts.series.p4" in params and "000-length-lever" in params["shafts.series.p4"]
 
 

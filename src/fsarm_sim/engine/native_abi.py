@@ -32,8 +32,7 @@ from typing import Any
 import mujoco
 
 from fsarm_sim.errors import FsarmError
-from fsarm_sim.kernels import dispatch, physics
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import dispatch, layout, physics
 
 CACHE_ENV = "FSARM_CACHE_DIR"  # overrides the cache directory (default: $XDG_CACHE_HOME/fsarm-sim)
 
@@ -278,7 +277,7 @@ def _verify_offsets(offsets: dict[str, dict[str, list[int]]]) -> None:
 def kernel_modules() -> list[ModuleType]:
     """physics, the generated dispatch, every effects, controllers and transmissions module
     (what the callbacks run)."""
-    mods: list[ModuleType] = [physics, L, dispatch]
+    mods: list[ModuleType] = [physics, layout, dispatch]
     for pkg_name in (
         "fsarm_sim.plant.effects",
         "fsarm_sim.controllers",
