@@ -276,10 +276,6 @@ class Sidecar:
             out += RUN_COLUMNS
         return tuple(dict.fromkeys(out))
 
-    @property
-    def transmission_name(self) -> str | None:
-        return None if self.transmission is None else self.transmission.name
-
 
 def read_sidecar(path: str | Path) -> tuple[Sidecar, dict[str, Any]]:
     """(typed record, raw JSON object) of a sidecar file; named errors for a missing file,
