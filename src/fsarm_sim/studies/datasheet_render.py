@@ -28,83 +28,34 @@ def _band_of(sheet: Mapping[str, Any], head: str, bends: list[float]) -> tuple[l
     return lo, hi
 
 
-def figure(sheet: Mapping[str, Any], pdf: Path, png: Path) -> None:
-    """The one-page figure: six panels vs bend / per run, the band shaded where given."""
-    import matplotlib
+def _panel(
+    ax: Any,
+    sheet: Mapping[str, Any],
+    heads: list[tuple[str, str, list[float]]],
+    title: str,
+    unit: str,
+) -> None:
+    """One panel of the figure: each head's series vs bend, its band shaded where given."""
+    for head, label, xs in heads:
+        ys = series_of(sheet, head, xs)
+        if all(not math.isfinite(y) for y in ys):
+            continue
+        style = "x--" if "(sim)" in label else "o-"  # simulated: dashed over the catalogue
+        (line,) = ax.plot(xs, ys, style, label=label)
+        lo, hi = _band_of(sheet, head, xs)
+        if any(math.isfinite(v) for v in lo):
+            ax.fill_between(xs, lo, hi, color=line.get_color(), alpha=0.2)
+    ax.set_title(title, fontsize=9)
+    ax.set_xlabel("bend angle [deg]", fontsize=8)
+    ax.set_ylabel(unit, fontsize=8)
+    ax.grid(alpha=0.3)
+    ax.tick_params(labelsize=7)
+    if ax.lines:
+        ax.legend(fontsize=7)
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
-    s = sheet["shaft"]
-    bends = list(sheet["settings"]["bends_deg"])
-    bench_bends = list(sheet["settings"]["bench_bends_deg"])
-    fig, axes = plt.subplots(3, 2, figsize=(8.27, 11.0))  # A4 portrait
-    fig.suptitle(
-        f"{s['name']}: D = {s['diameter_mm']:g} mm, L = {s['length_mm']:g} mm "
-        f"(rating {sheet['numbers']['rating_nm']['value']:.2f} N*m)\n{s['catalogue']}",
-        fontsize=10,
-    )
-
-    def panel(ax: Any, heads: list[tuple[str, str, list[float]]], title: str, unit: str) -> None:
-        for head, label, xs in heads:
-            ys = series_of(sheet, head, xs)
-            if all(not math.isfinite(y) for y in ys):
-                continue
-            style = "x--" if "(sim)" in label else "o-"  # simulated: dashed over the catalogue
-            (line,) = ax.plot(xs, ys, style, label=label)
-            lo, hi = _band_of(sheet, head, xs)
-            if any(math.isfinite(v) for v in lo):
-                ax.fill_between(xs, lo, hi, color=line.get_color(), alpha=0.2)
-        ax.set_title(title, fontsize=9)
-        ax.set_xlabel("bend angle [deg]", fontsize=8)
-        ax.set_ylabel(unit, fontsize=8)
-        ax.grid(alpha=0.3)
-        ax.tick_params(labelsize=7)
-        if ax.lines:
-            ax.legend(fontsize=7)
-
-    panel(
-        axes[0, 0],
-        [
-            ("k_sp", "K_sp eq. 3", bends),
-            ("k_sn", "K_sn eq. 3", bends),
-            ("bench_k_sp", "K_sp series test (sim)", bench_bends),
-            ("bench_k_sn", "K_sn series test (sim)", bench_bends),
-        ],
-        "series stiffness per side",
-        "N*m/rad",
-    )
-    panel(
-        axes[0, 1],
-        [
-            ("loop_width_nm", "loop height at full slip", bends),
-            ("bench_rmse_p_nm", "series-test RMSE + (sim)", bench_bends),
-            ("bench_rmse_n_nm", "series-test RMSE - (sim)", bench_bends),
-        ],
-        "series hysteresis",
-        "N*m",
-    )
-    panel(axes[1, 0], [("relief_nm", "static relief", bends)], "joint-2 relief (bending)", "N*m")
-    bw = series_of(sheet, "bandwidth_hz", bends)
-    missing = [f"{b:g}" for b, v in zip(bends, bw, strict=True) if not math.isfinite(v)]
-    panel(
-        axes[1, 1],
-        [("bandwidth_hz", "-3 dB", bends)],
-        "torque-loop bandwidth"
-        + (
-            f"\n(none below 40 Hz, the analysed band, at {', '.join(missing)} deg)"
-            if missing
-            else ""
-        ),
-        "Hz",
-    )
-    panel(
-        axes[2, 0],
-        [("impedance_low_nm_per_rad", "|Z| low f", bends)],
-        "output impedance (zero-torque command)",
-        "N*m/rad",
-    )
-    ax = axes[2, 1]
+def _tracking_bars(ax: Any, sheet: Mapping[str, Any]) -> None:
+    """The last panel: q3's tracking RMSE per run (with its band as error bars when given)."""
     runs = [k for k in sheet["numbers"] if k.startswith("track.") and k.endswith(".q3_rmse_deg")]
     if runs:
         labels = [k.split(".")[1] + "\n" + k.split(".")[2] for k in runs]
@@ -123,6 +74,77 @@ def figure(sheet: Mapping[str, Any], pdf: Path, png: Path) -> None:
         ax.tick_params(labelsize=7)
     else:
         ax.axis("off")
+
+
+def figure(sheet: Mapping[str, Any], pdf: Path, png: Path) -> None:
+    """The one-page figure: six panels vs bend / per run, the band shaded where given."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    s = sheet["shaft"]
+    bends = list(sheet["settings"]["bends_deg"])
+    bench_bends = list(sheet["settings"]["bench_bends_deg"])
+    fig, axes = plt.subplots(3, 2, figsize=(8.27, 11.0))  # A4 portrait
+    fig.suptitle(
+        f"{s['name']}: D = {s['diameter_mm']:g} mm, L = {s['length_mm']:g} mm "
+        f"(rating {sheet['numbers']['rating_nm']['value']:.2f} N*m)\n{s['catalogue']}",
+        fontsize=10,
+    )
+
+    _panel(
+        axes[0, 0],
+        sheet,
+        [
+            ("k_sp", "K_sp eq. 3", bends),
+            ("k_sn", "K_sn eq. 3", bends),
+            ("bench_k_sp", "K_sp series test (sim)", bench_bends),
+            ("bench_k_sn", "K_sn series test (sim)", bench_bends),
+        ],
+        "series stiffness per side",
+        "N*m/rad",
+    )
+    _panel(
+        axes[0, 1],
+        sheet,
+        [
+            ("loop_width_nm", "loop height at full slip", bends),
+            ("bench_rmse_p_nm", "series-test RMSE + (sim)", bench_bends),
+            ("bench_rmse_n_nm", "series-test RMSE - (sim)", bench_bends),
+        ],
+        "series hysteresis",
+        "N*m",
+    )
+    _panel(
+        axes[1, 0],
+        sheet,
+        [("relief_nm", "static relief", bends)],
+        "joint-2 relief (bending)",
+        "N*m",
+    )
+    bw = series_of(sheet, "bandwidth_hz", bends)
+    missing = [f"{b:g}" for b, v in zip(bends, bw, strict=True) if not math.isfinite(v)]
+    _panel(
+        axes[1, 1],
+        sheet,
+        [("bandwidth_hz", "-3 dB", bends)],
+        "torque-loop bandwidth"
+        + (
+            f"\n(none below 40 Hz, the analysed band, at {', '.join(missing)} deg)"
+            if missing
+            else ""
+        ),
+        "Hz",
+    )
+    _panel(
+        axes[2, 0],
+        sheet,
+        [("impedance_low_nm_per_rad", "|Z| low f", bends)],
+        "output impedance (zero-torque command)",
+        "N*m/rad",
+    )
+    _tracking_bars(axes[2, 1], sheet)
     fig.tight_layout(rect=(0, 0, 1, 0.95))
     fig.savefig(pdf)
     fig.savefig(png, dpi=90)
