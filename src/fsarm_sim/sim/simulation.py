@@ -235,6 +235,47 @@ class Simulation:
                     f"{ud[layout.U_OUT + 2]:.3g} N·m)"
                 )
 
+    def _check_before_run(self, duration_s: float, log_every_ticks: int) -> None:
+        """The model's timestep as built, the run's size, the clock and the springs."""
+        m, d = self.model, self.data
+        if m.opt.timestep != self.params[layout.P_TIMESTEP]:
+            raise InvalidParameterError(
+                f"model.opt.timestep was changed to {m.opt.timestep:g} s after the model was built "
+                f"for {self.params[layout.P_TIMESTEP]:g} s; set SimConfig.timestep_s instead"
+            )
+        check_run_size(
+            duration_s,
+            m.opt.timestep,
+            self.config.gains.ctrl_dt_s,
+            int(log_every_ticks),
+            m.nq + m.nv + m.na + layout.N_USERDATA_LOGGED,
+        )
+        check_clock(m, d)
+        self._check_springs()
+
+    def _arm_recorder(self, stride: float, cap: int) -> None:
+        """Set the control kernel's recorder: a row every ``stride`` steps (0: off) from now."""
+        ud = self.data.userdata
+        ud[layout.U_REC_STRIDE] = stride
+        ud[layout.U_REC_NEXT] = self._step0
+        ud[layout.U_REC_LAST] = -1.0
+        ud[layout.U_REC_ROWS] = 0.0
+        ud[layout.U_REC_CAP] = cap
+        ud[layout.U_REC_LOST] = 0.0
+
+    def _recorded_columns(self, rec: Array) -> dict[str, Array]:
+        """The columns of the rows drained into ``rec`` (and ``self.states`` from them)."""
+        r = self._rows
+        nq, nv, na = self.model.nq, self.model.nv, self.model.na
+        self.states = self._states(rec[:r, 1 + nq + nv : 1 + nq + nv + na])
+        return self._columns(
+            rec[:r, 0],
+            rec[:r, 1 : 1 + nq],
+            rec[:r, 1 + nq : 1 + nq + nv],
+            rec[:r, 1 + nq + nv : 1 + nq + nv + na],
+            rec[:r, 1 + nq + nv + na :],
+        )
+
     def run(
         self, duration_s: float, log_every_ticks: int = 1, *, keep_partial: bool = False
     ) -> tuple[dict[str, Array], float]:
@@ -256,20 +297,7 @@ class Simulation:
             log_every_ticks, "log_every_ticks (0: no logging)", 0, MAX_LOG_EVERY
         )
         m, d = self.model, self.data
-        if m.opt.timestep != self.params[layout.P_TIMESTEP]:
-            raise InvalidParameterError(
-                f"model.opt.timestep was changed to {m.opt.timestep:g} s after the model was built "
-                f"for {self.params[layout.P_TIMESTEP]:g} s; set SimConfig.timestep_s instead"
-            )
-        check_run_size(
-            duration_s,
-            m.opt.timestep,
-            self.config.gains.ctrl_dt_s,
-            int(log_every_ticks),
-            m.nq + m.nv + m.na + layout.N_USERDATA_LOGGED,
-        )
-        check_clock(m, d)
-        self._check_springs()
+        self._check_before_run(duration_s, log_every_ticks)
         steps_per_tick = round(self.config.gains.ctrl_dt_s / m.opt.timestep)
         n_steps = round(duration_s / m.opt.timestep)
         stride = steps_per_tick * log_every_ticks if log_every_ticks > 0 else n_steps + 1
@@ -288,12 +316,7 @@ class Simulation:
         self._rows = 0
         failure: RunFailedError | None = None
         ud = d.userdata
-        ud[layout.U_REC_STRIDE] = stride if n_rec else 0.0
-        ud[layout.U_REC_NEXT] = self._step0
-        ud[layout.U_REC_LAST] = -1.0
-        ud[layout.U_REC_ROWS] = 0.0
-        ud[layout.U_REC_CAP] = cap
-        ud[layout.U_REC_LOST] = 0.0
+        self._arm_recorder(stride if n_rec else 0.0, cap)
         with callbacks.active(self.backend):
             start = _time.perf_counter()
             try:
@@ -311,16 +334,7 @@ class Simulation:
             raise ModelStructureError(
                 f"the run recorder lost {int(ud[layout.U_REC_LOST])} rows (a full buffer): a bug"
             )
-        r = self._rows
-        nq, nv, na = m.nq, m.nv, m.na
-        self.states = self._states(rec[:r, 1 + nq + nv : 1 + nq + nv + na])
-        cols = self._columns(
-            rec[:r, 0],
-            rec[:r, 1 : 1 + nq],
-            rec[:r, 1 + nq : 1 + nq + nv],
-            rec[:r, 1 + nq + nv : 1 + nq + nv + na],
-            rec[:r, 1 + nq + nv + na :],
-        )
+        cols = self._recorded_columns(rec)
         try:
             if failure is not None:
                 raise failure
