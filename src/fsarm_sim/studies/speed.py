@@ -348,6 +348,16 @@ def _per_step_fields(times: dict[str, list[float]]) -> dict[str, float]:
     return out
 
 
+def _batch_size(max_workers: int | None, batch_runs: int | None) -> tuple[int, int, int]:
+    """(cores, workers, runs) of the batch part: all cores and 4 runs a worker by default."""
+    cores = batch.available_cores()
+    n_workers = cores if max_workers is None else max_workers
+    check_workers(n_workers, "max_workers (--max-workers)")
+    n_runs = 4 * n_workers if batch_runs is None else batch_runs
+    whole_number(n_runs, "batch_runs", 1, MAX_BATCH_RUNS)
+    return cores, n_workers, n_runs
+
+
 def measure_speed(
     reps: int = 15,
     block_steps: int = 200,
@@ -373,11 +383,7 @@ def measure_speed(
     for name, d in (("rtf_duration_s", rtf_duration_s), ("batch_duration_s", batch_duration_s)):
         if not 0.0 < real_number(d, name) <= MAX_RUN_S:
             raise InvalidParameterError(f"{name} must be > 0 and <= {MAX_RUN_S:g} s, got {d!r}")
-    cores = batch.available_cores()
-    n_workers = cores if max_workers is None else max_workers
-    check_workers(n_workers, "max_workers (--max-workers)")
-    n_runs = 4 * n_workers if batch_runs is None else batch_runs
-    whole_number(n_runs, "batch_runs", 1, MAX_BATCH_RUNS)
+    cores, n_workers, n_runs = _batch_size(max_workers, batch_runs)
     from fsarm_sim.engine import native
 
     times, nefc, timestep = _per_step(reps, block_steps)
