@@ -35,10 +35,18 @@ from typing import Any
 import numpy as np
 
 from batteries import battery
-from fsarm_sim.discrepancy import variants
 from fsarm_sim.discrepancy.bench_setup import diagnose
 from fsarm_sim.discrepancy.benchmodel import BenchModel
 from fsarm_sim.discrepancy.synth import parallel_link_inertia
+from fsarm_sim.discrepancy.variants import (
+    BACKLASH,
+    COULOMB,
+    DELAY,
+    HYSTERESIS,
+    NONLINEAR,
+    OFFSET,
+    VISCOUS,
+)
 
 RATES = (500.0, 1000.0, 2000.0)
 PAIR_SIZE = 0.03
@@ -47,53 +55,30 @@ OOL_SIZE = 0.01  # out-of-library disturbance: RMS ~3x the noise floor
 NOISE = 0.003
 PAIR_EFFECTS = {
     "series_bench": (
-        (variants.COULOMB, "shaft"),
-        (variants.VISCOUS, "shaft"),
-        (variants.BACKLASH, "coupling"),
-        (variants.HYSTERESIS, "maxwell_slip"),
-        (variants.NONLINEAR, "poly"),
-        (variants.DELAY, "input"),
-        (variants.OFFSET, "output"),
+        (COULOMB, "shaft"),
+        (VISCOUS, "shaft"),
+        (BACKLASH, "coupling"),
+        (HYSTERESIS, "maxwell_slip"),
+        (NONLINEAR, "poly"),
+        (DELAY, "input"),
+        (OFFSET, "output"),
     ),
     "parallel_bench": (
-        (variants.COULOMB, "shaft"),
-        (variants.VISCOUS, "shaft"),
-        (variants.BACKLASH, "coupling"),
-        (variants.HYSTERESIS, "viscoelastic"),
-        (variants.NONLINEAR, "poly"),
-        (variants.DELAY, "input"),
-        (variants.OFFSET, "output"),
+        (COULOMB, "shaft"),
+        (VISCOUS, "shaft"),
+        (BACKLASH, "coupling"),
+        (HYSTERESIS, "viscoelastic"),
+        (NONLINEAR, "poly"),
+        (DELAY, "input"),
+        (OFFSET, "output"),
     ),
 }
 TRIPLES = (
-    (
-        "series_bench",
-        [
-            (variants.HYSTERESIS, "maxwell_slip"),
-            (variants.OFFSET, "output"),
-            (variants.DELAY, "input"),
-        ],
-    ),
-    (
-        "series_bench",
-        [(variants.COULOMB, "shaft"), (variants.BACKLASH, "coupling"), (variants.VISCOUS, "shaft")],
-    ),
-    (
-        "series_bench",
-        [(variants.NONLINEAR, "poly"), (variants.OFFSET, "output"), (variants.VISCOUS, "shaft")],
-    ),
-    (
-        "parallel_bench",
-        [
-            (variants.HYSTERESIS, "viscoelastic"),
-            (variants.OFFSET, "output"),
-            (variants.DELAY, "input"),
-        ],
-    ),
-    (
-        "parallel_bench",
-        [(variants.COULOMB, "shaft"), (variants.NONLINEAR, "poly"), (variants.DELAY, "input")],
-    ),
+    ("series_bench", [(HYSTERESIS, "maxwell_slip"), (OFFSET, "output"), (DELAY, "input")]),
+    ("series_bench", [(COULOMB, "shaft"), (BACKLASH, "coupling"), (VISCOUS, "shaft")]),
+    ("series_bench", [(NONLINEAR, "poly"), (OFFSET, "output"), (VISCOUS, "shaft")]),
+    ("parallel_bench", [(HYSTERESIS, "viscoelastic"), (OFFSET, "output"), (DELAY, "input")]),
+    ("parallel_bench", [(COULOMB, "shaft"), (NONLINEAR, "poly"), (DELAY, "input")]),
 )
 TRAJ = ("multisine", "random", "triangle", "steps")
 
@@ -155,7 +140,7 @@ def cases(duration_s: float = 30.0) -> list[tuple[str, battery.Case]]:
         )
     for setup in PAIR_EFFECTS:
         for kind in battery.OUT_OF_LIBRARY:
-            for with_eff in (None, (variants.COULOMB, "shaft")):
+            for with_eff in (None, (COULOMB, "shaft")):
                 seed += 1
                 hidden = [with_eff] if with_eff else []
                 nm = f"{tags[setup]}/ool:{kind}{'+' + with_eff[0] if with_eff else ''}"

@@ -5,6 +5,7 @@ with its unit, source and band."""
 from __future__ import annotations
 
 import base64
+import functools
 import html
 import math
 from collections.abc import Mapping
@@ -29,8 +30,8 @@ def _band_of(sheet: Mapping[str, Any], head: str, bends: list[float]) -> tuple[l
 
 
 def _panel(
-    ax: Any,
     sheet: Mapping[str, Any],
+    ax: Any,
     heads: list[tuple[str, str, list[float]]],
     title: str,
     unit: str,
@@ -92,10 +93,9 @@ def figure(sheet: Mapping[str, Any], pdf: Path, png: Path) -> None:
         f"(rating {sheet['numbers']['rating_nm']['value']:.2f} N*m)\n{s['catalogue']}",
         fontsize=10,
     )
-
-    _panel(
+    panel = functools.partial(_panel, sheet)
+    panel(
         axes[0, 0],
-        sheet,
         [
             ("k_sp", "K_sp eq. 3", bends),
             ("k_sn", "K_sn eq. 3", bends),
@@ -105,9 +105,8 @@ def figure(sheet: Mapping[str, Any], pdf: Path, png: Path) -> None:
         "series stiffness per side",
         "N*m/rad",
     )
-    _panel(
+    panel(
         axes[0, 1],
-        sheet,
         [
             ("loop_width_nm", "loop height at full slip", bends),
             ("bench_rmse_p_nm", "series-test RMSE + (sim)", bench_bends),
@@ -116,18 +115,11 @@ def figure(sheet: Mapping[str, Any], pdf: Path, png: Path) -> None:
         "series hysteresis",
         "N*m",
     )
-    _panel(
-        axes[1, 0],
-        sheet,
-        [("relief_nm", "static relief", bends)],
-        "joint-2 relief (bending)",
-        "N*m",
-    )
+    panel(axes[1, 0], [("relief_nm", "static relief", bends)], "joint-2 relief (bending)", "N*m")
     bw = series_of(sheet, "bandwidth_hz", bends)
     missing = [f"{b:g}" for b, v in zip(bends, bw, strict=True) if not math.isfinite(v)]
-    _panel(
+    panel(
         axes[1, 1],
-        sheet,
         [("bandwidth_hz", "-3 dB", bends)],
         "torque-loop bandwidth"
         + (
@@ -137,9 +129,8 @@ def figure(sheet: Mapping[str, Any], pdf: Path, png: Path) -> None:
         ),
         "Hz",
     )
-    _panel(
+    panel(
         axes[2, 0],
-        sheet,
         [("impedance_low_nm_per_rad", "|Z| low f", bends)],
         "output impedance (zero-torque command)",
         "N*m/rad",
