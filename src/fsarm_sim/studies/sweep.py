@@ -109,20 +109,18 @@ def build_spec(
     for key, raw in dict(data.get("fixed", {})).items():
         f[key] = scalar_value(field_info(key), raw)
     seen: set[str] = set()
-    for item in grid:
-        key, raw = parse_assignment(item)
-        if key in seen:
-            raise SweepSpecError(f"field {key!r} is given twice on the command line")
-        seen.add(key)
-        g[key] = parse_values(field_info(key), raw)
-        f.pop(key, None)
-    for item in fixed:
-        key, raw = parse_assignment(item)
-        if key in seen:
-            raise SweepSpecError(f"field {key!r} is given twice on the command line")
-        seen.add(key)
-        f[key] = scalar_value(field_info(key), raw)
-        g.pop(key, None)
+    for items, swept in ((grid, True), (fixed, False)):
+        for item in items:
+            key, raw = parse_assignment(item)
+            if key in seen:
+                raise SweepSpecError(f"field {key!r} is given twice on the command line")
+            seen.add(key)
+            if swept:
+                g[key] = parse_values(field_info(key), raw)
+                f.pop(key, None)
+            else:
+                f[key] = scalar_value(field_info(key), raw)
+                g.pop(key, None)
     both = set(g) & set(f)
     if both:
         raise SweepSpecError(f"fields {sorted(both)} are both swept and fixed")
