@@ -11,9 +11,9 @@ import pytest
 from fsarm_sim.engine.model import Effects, SimConfig, build_model, read_structure
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.kernels import layout, physics
-from fsarm_sim.sim.simulation import Simulation, initial_state, run_scenario
+from fsarm_sim.sim.simulation import Simulation, run_scenario
 
-from conftest import hold_table
+from conftest import hold_table, joint3_gravity_balance
 
 
 def _gravity_bias(m: mujoco.MjModel, q: np.ndarray) -> np.ndarray:
@@ -118,12 +118,5 @@ def test_bad_arm_effects_are_named_errors(fx: Effects) -> None:
 
 def test_initial_state_unchanged_for_the_default_transmission() -> None:
     """The generalised start (static_twist) gives the eq. 8 twist tau / K exactly."""
-    m = build_model(SimConfig(), hold_table(0.0, 0.7, 0.5))
-    d = mujoco.MjData(m)
-    st = read_structure(m)
-    initial_state(m, d, st)
-    tau = physics.shaft_torque(m.numeric(layout.PARAMS_NAME).data, d.qpos, d.qvel, d.act)
-    mujoco.mj_kinematics(m, d)
-    mujoco.mj_comPos(m, d)
-    mujoco.mj_rne(m, d, 0, d.qfrc_bias)
-    assert tau * st.coef_s == pytest.approx(d.qfrc_bias[st.dof[2]], rel=1e-12)
+    held, gravity = joint3_gravity_balance(build_model(SimConfig(), hold_table(0.0, 0.7, 0.5)))
+    assert held == pytest.approx(gravity, rel=1e-12)

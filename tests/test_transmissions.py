@@ -23,7 +23,7 @@ from fsarm_sim.plant.shaft import load_catalogue
 from fsarm_sim.plant.transmissions.base import N_STATES, TransmissionError
 from fsarm_sim.sim.simulation import initial_state, run_scenario
 
-from conftest import hold_table, run_fsarm
+from conftest import hold_table, joint3_gravity_balance, run_fsarm
 
 NAMES = transmissions.names()
 
@@ -147,15 +147,8 @@ def test_every_transmission_starts_in_equilibrium_and_runs_fig14(name: str) -> N
     """Start: the transmission holds joint 3's gravity torque; then fig14-sine runs to the end,
     deterministic, and the native path reproduces the Python path bit for bit."""
     cfg = SimConfig(transmission=name)
-    m = build_model(cfg, hold_table(0.0, math.radians(45.0), 0.0))
-    d = mujoco.MjData(m)
-    st = read_structure(m)
-    initial_state(m, d, st)
-    tau = physics.shaft_torque(m.numeric(layout.PARAMS_NAME).data, d.qpos, d.qvel, d.act)
-    mujoco.mj_kinematics(m, d)
-    mujoco.mj_comPos(m, d)
-    mujoco.mj_rne(m, d, 0, d.qfrc_bias)
-    assert tau * st.coef_s == pytest.approx(d.qfrc_bias[st.dof[2]], rel=1e-6, abs=1e-9)
+    held, gravity = joint3_gravity_balance(build_model(cfg, hold_table(0.0, math.radians(45), 0.0)))
+    assert held == pytest.approx(gravity, rel=1e-6, abs=1e-9)
     a = run_scenario("fig14-sine", cfg, duration_s=2.0, backend="python")
     b = run_scenario("fig14-sine", cfg, duration_s=2.0, backend="native")
     for key in ("q3", "theta_m", "tau_shaft", "tau_model"):
