@@ -26,10 +26,10 @@ from fsarm_sim.studies.reproduce import claims_file
 ROLE = sys.argv[1]
 SCALE = 1.5
 FIELDS = {
-    C.Between: ("lo", "hi"),
-    C.AtLeast: ("threshold", "partly"),
-    C.AtMost: ("threshold", "partly"),
-    C.Trend: ("paper_change",),
+    claims.Between: ("lo", "hi"),
+    claims.AtLeast: ("threshold", "partly"),
+    claims.AtMost: ("threshold", "partly"),
+    claims.Trend: ("paper_change",),
 }
 
 
@@ -44,7 +44,7 @@ def moved(c):
 
 
 n = 0
-for paper in C.PAPERS:
+for paper in claims.PAPERS:
     old = claims_file.paper_claims(paper)
     new = tuple(moved(c) if c.role == ROLE else c for c in old)
     n += sum(a != b for a, b in zip(new, old))
@@ -93,13 +93,13 @@ def test_moving_every_prediction_changes_no_model_parameter() -> None:
 
 
 def test_every_claim_has_a_role_and_calibrations_name_parameters() -> None:
-    every_claim = runner.all_claims()
-    counts = Counter(c.role for c in every_claim)
-    assert set(counts) <= set(ROLES) and sum(counts.values()) == len(every_claim)
-    for c in every_claim:
+    claims = runner.all_claims()
+    counts = Counter(c.role for c in claims)
+    assert set(counts) <= set(ROLES) and sum(counts.values()) == len(claims)
+    for c in claims:
         assert c.role_why.strip(), c.id
         assert bool(c.calibrates) == (c.role == "calibration"), c.id
-    params = runner.calibrated_parameters(every_claim)
+    params = runner.calibrated_parameters(claims)
     assert "shafts.series.p4" in params and "000-length-lever" in params["shafts.series.p4"]
 
 
