@@ -41,6 +41,14 @@ class NativeBackendError(FsarmError, RuntimeError):
     """The native backend cannot be built here (no C compiler, unknown MuJoCo struct layout)."""
 
 
+def run_compiler(command: list[str], what: str) -> None:
+    """Run the C compiler's ``command``; :class:`NativeBackendError` "``what`` failed" with the
+    end of its output when it fails."""
+    done = subprocess.run(command, capture_output=True, text=True, check=False)
+    if done.returncode != 0:
+        raise NativeBackendError(f"{what} failed:\n{done.stderr[-2000:]}")
+
+
 # ------------------------------------------------------------------ struct offsets
 
 MODEL_FIELDS = (
@@ -149,16 +157,10 @@ def _offsets_from_compiler(cc: str) -> dict[str, dict[str, list[int]]]:
     with tempfile.TemporaryDirectory(prefix="fsarm-offsets-") as tmp:
         c_file, exe = Path(tmp) / "probe.c", Path(tmp) / "probe"
         c_file.write_text(src)
-        build = subprocess.run(
+        run_compiler(
             [cc, "-std=c11", "-I", str(_include_dir()), str(c_file), "-o", str(exe)],
-            capture_output=True,
-            text=True,
-            check=False,
+            f"compiling the MuJoCo struct-offset probe with '{cc}'",
         )
-        if build.returncode != 0:
-            raise NativeBackendError(
-                f"compiling the MuJoCo struct-offset probe with '{cc}' failed:\n{build.stderr[-2000:]}"
-            )
         out = subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout
     parsed: dict[str, dict[str, list[int]]] = json.loads(out)
     return parsed
