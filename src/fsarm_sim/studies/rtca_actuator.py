@@ -22,8 +22,6 @@ RPM = 2.0 * math.pi / 60.0
 # Sec. 3.3 (text): NRMSE of eq. 3 straight and at the tightest bend, over the +-5 N*m span
 NRMSE_STRAIGHT = 0.0032
 NRMSE_R150 = 0.023
-R_TIGHT_M = 0.150
-CHARACTERISATION_SPAN_NM = 10.0  # Sec. 3.2: output torque kept within +-5 N*m
 
 
 FRICTION_SITES = ("core", "twist")

@@ -41,7 +41,6 @@ FloatArray = npt.NDArray[np.float64]
 B_EXP_PER_RAD = 15.0  # seed 002 eq. 12-13, 16, 19
 MAX_DEFLECTION_RAD = 1.0  # the law is used for |phi| <= sigma <= 15 deg; beyond 1 rad: units?
 MAX_CONDITION = 1e6  # of the column-normalised data matrix (real sweeps: 1-10)
-PARAM_NAMES = ("a_s", "b_s", "a_f", "b_f")
 
 
 class IdentificationError(FsarmError, ValueError):
