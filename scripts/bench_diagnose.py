@@ -26,9 +26,8 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 
-from batteries import battery as B
-from fsarm_sim.discrepancy import arm_fit, diagnose_record
-from fsarm_sim.discrepancy import arm_synth as S
+from batteries import battery
+from fsarm_sim.discrepancy import arm_fit, arm_synth, diagnose_record
 from fsarm_sim.records.measured import load_dataset
 
 ARM_EFFECTS: tuple[list[str], ...] = (
@@ -60,16 +59,16 @@ def main() -> None:
     args = ap.parse_args()
     rows: list[tuple[str, str, float, float, bool]] = []
     if not args.arm_only:
-        for case in B.reduced(B.cases()):
-            runtime = statistics.median(B.run_case(case).runtime_s for _ in range(args.reps))
+        for case in battery.reduced(battery.cases()):
+            runtime = statistics.median(battery.run_case(case).runtime_s for _ in range(args.reps))
             rows.append(("bench", case.name, runtime, runtime, True))
             print(f"bench {case.name}: {runtime:.2f} s", flush=True)
     if not args.bench_only:
         with tempfile.TemporaryDirectory() as tmp:
             for i, effects in enumerate(ARM_EFFECTS):
-                truth = S.truth_model(effects)
-                rec = S.ArmRecording(duration_s=8.0, noise_rad=2e-5, seed=i)
-                table, _ = S.write_arm_synthetic(Path(tmp) / f"arm{i}.csv", truth, rec)
+                truth = arm_synth.truth_model(effects)
+                rec = arm_synth.ArmRecording(duration_s=8.0, noise_rad=2e-5, seed=i)
+                table, _ = arm_synth.write_arm_synthetic(Path(tmp) / f"arm{i}.csv", truth, rec)
                 ds = load_dataset(table)
                 times = {True: [], False: []}
                 named = {}

@@ -21,8 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fsarm_sim.discrepancy import design as D
-from fsarm_sim.discrepancy import synth
+from fsarm_sim.discrepancy import design, synth
 from fsarm_sim.discrepancy.bench_setup import diagnose
 from fsarm_sim.records.measured import Dataset, stated_shaft
 
@@ -69,7 +68,7 @@ def main() -> None:
                 rec = synth.Recording(noise=args.noise, seed=seed, trajectory=args.trajectory)
             ds, sigma = record(rec, truth)
         d1 = diagnose(ds, max_effects=1)
-        res = D.design(ds, d1)
+        res = design.design(ds, d1)
         with tempfile.TemporaryDirectory() as tmp:
             f = synth.write_input_file(Path(tmp) / "u.csv", res["t"], res["u"], "series_bench")
             clean, _ = record(synth.Recording(noise=0.0, seed=seed + 100, input_file=str(f)), truth)

@@ -18,7 +18,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 
-from batteries import battery as B
+from batteries import battery
 
 
 def main() -> None:
@@ -30,15 +30,20 @@ def main() -> None:
     ap.add_argument("--json", default="", help="write per-case outcomes here")
     args = ap.parse_args()
     cases = [
-        c for c in B.cases(full=not args.quick, duration_s=args.duration) if args.only in c.name
+        c
+        for c in battery.cases(full=not args.quick, duration_s=args.duration)
+        if args.only in c.name
     ]
     print(f"{len(cases)} cases", flush=True)
     t0 = time.perf_counter()
-    outcomes = B.run_all(
-        B.run_case, cases, args.jobs, lambda o: f"  {o.case.name}: {o.named} ({o.runtime_s:.1f} s)"
+    outcomes = battery.run_all(
+        battery.run_case,
+        cases,
+        args.jobs,
+        lambda o: f"  {o.case.name}: {o.named} ({o.runtime_s:.1f} s)",
     )
     print()
-    print(B.format_tables(outcomes))
+    print(battery.format_tables(outcomes))
     print(f"\nwall time {time.perf_counter() - t0:.0f} s")
     if args.json:
         with open(args.json, "w", encoding="utf-8") as f:

@@ -21,9 +21,8 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 
-from batteries import battery as B
-from fsarm_sim.discrepancy import arm as A
-from fsarm_sim.discrepancy import arm_synth as S
+from batteries import battery
+from fsarm_sim.discrepancy import arm, arm_synth
 from fsarm_sim.records.measured import load_dataset
 
 NOISES = (1e-5, 5e-5)  # rad
@@ -84,16 +83,16 @@ def _main_value(name: str, params: dict[str, Any]) -> float:
 
 
 def run_case(c: Case) -> dict[str, Any]:
-    truth = S.truth_model(
+    truth = arm_synth.truth_model(
         [c.spec] if c.spec else [], stiffness_scale=c.stiffness_scale, kb_scale=c.kb_scale
     )
-    rec = S.ArmRecording(duration_s=c.duration_s, noise_rad=c.noise_rad, seed=c.seed)
+    rec = arm_synth.ArmRecording(duration_s=c.duration_s, noise_rad=c.noise_rad, seed=c.seed)
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / f"{c.name}.csv"
-        S.write_arm_synthetic(path, truth, rec)
+        arm_synth.write_arm_synthetic(path, truth, rec)
         ds = load_dataset(path)
         t0 = time.perf_counter()
-        d = A.diagnose_arm(ds)
+        d = arm.diagnose_arm(ds)
         rt = time.perf_counter() - t0
     out: dict[str, Any] = {
         "case": c.name,
@@ -177,7 +176,7 @@ def main() -> None:
     todo = [c for c in cases(args.duration) if args.only in c.name]
     print(f"{len(todo)} cases", flush=True)
     t0 = time.perf_counter()
-    res = B.run_all(
+    res = battery.run_all(
         run_case, todo, args.jobs, lambda r: f"  {r['case']}: {r['named']} ({r['runtime_s']:.1f} s)"
     )
     print()

@@ -20,8 +20,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 
-from batteries import battery as B
-from batteries import battery_arm_expert as E
+from batteries import battery, battery_arm_expert
 from fsarm_sim.discrepancy.report import json_clean
 
 
@@ -38,15 +37,17 @@ def main() -> None:
     )
     ap.add_argument("--json", default="", help="write per-case outcomes here")
     args = ap.parse_args()
-    todo = [c for c in E.cases(args.duration) if args.only in f"{c.group}/{c.name}"]
+    todo = [
+        c for c in battery_arm_expert.cases(args.duration) if args.only in f"{c.group}/{c.name}"
+    ]
     print(f"{len(todo)} cases", flush=True)
     t0 = time.perf_counter()
-    fn = partial(E.run, joint=args.joint)
-    res = B.run_all(
+    fn = partial(battery_arm_expert.run, joint=args.joint)
+    res = battery.run_all(
         fn, todo, args.jobs, lambda r: f"  {r.case.name}: {r.named} ({r.runtime_s:.1f} s)"
     )
     print()
-    print(E.format_results(res))
+    print(battery_arm_expert.format_results(res))
     print(f"\nwall time {time.perf_counter() - t0:.0f} s")
     if args.json:
         out = [json_clean({**asdict(r), "rates": None}) for r in res]

@@ -17,14 +17,13 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 
-from batteries import battery as B
-from batteries import battery_expert as E
+from batteries import battery, battery_expert
 from fsarm_sim.discrepancy.report import json_clean
 
 
-def _run(gc: tuple[str, object]) -> E.Result:
+def _run(gc: tuple[str, object]) -> battery_expert.Result:
     g, c = gc
-    return E.run(g, c)  # type: ignore[arg-type]
+    return battery_expert.run(g, c)  # type: ignore[arg-type]
 
 
 def main() -> None:
@@ -34,10 +33,10 @@ def main() -> None:
     ap.add_argument("--duration", type=float, default=30.0, help="record length, s")
     ap.add_argument("--json", default="", help="write per-case results here")
     args = ap.parse_args()
-    todo = [(g, c) for g, c in E.cases(args.duration) if args.only in f"{g}/{c.name}"]
+    todo = [(g, c) for g, c in battery_expert.cases(args.duration) if args.only in f"{g}/{c.name}"]
     print(f"{len(todo)} cases", flush=True)
     t0 = time.perf_counter()
-    results = B.run_all(
+    results = battery.run_all(
         _run,
         todo,
         args.jobs,
@@ -47,7 +46,7 @@ def main() -> None:
         ),
     )
     print()
-    print(E.format_results(results))
+    print(battery_expert.format_results(results))
     print(f"\nwall time {time.perf_counter() - t0:.0f} s")
     if args.json:
         with open(args.json, "w", encoding="utf-8") as f:
@@ -62,7 +61,7 @@ def main() -> None:
                             "extra": r.case.extra,
                             "named": r.named,
                             "unexplained": r.unexplained,
-                            "signature_right": E.signature_right(r),
+                            "signature_right": battery_expert.signature_right(r),
                             "signature": r.signature,
                             "ci_covered": r.covered,
                             "runtime_s": r.runtime_s,

@@ -31,7 +31,7 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 
-from batteries import gen_bench as G
+from batteries import gen_bench
 
 
 def signature_right(sig: dict[str, Any] | None, want: dict[str, Any] | None) -> bool:
@@ -62,13 +62,13 @@ def signature_right(sig: dict[str, Any] | None, want: dict[str, Any] | None) -> 
     return False
 
 
-def run_one(rec: G.Record) -> dict[str, Any]:
+def run_one(rec: gen_bench.Record) -> dict[str, Any]:
     from fsarm_sim.discrepancy import diagnose_record
     from fsarm_sim.discrepancy.report import json_clean, result_dict
     from fsarm_sim.records.measured import load_dataset
 
     with tempfile.TemporaryDirectory() as tmp:
-        path = G.write_record(rec, Path(tmp))
+        path = gen_bench.write_record(rec, Path(tmp))
         t0, c0 = time.perf_counter(), time.process_time()
         try:
             diag = diagnose_record(load_dataset(path))
@@ -97,7 +97,9 @@ def score(name: str, truth: dict[str, Any], res: dict[str, Any], dt: float) -> d
         "false_alarm": (not truth["unexplained"]) and unexp,
         "library_for_outside": truth["outside"] is not None and bool(set(named) - set(lib)),
         "signature_right": (
-            signature_right(res.get("residual_signature"), G.signature_truth(truth["outside"]))
+            signature_right(
+                res.get("residual_signature"), gen_bench.signature_truth(truth["outside"])
+            )
             if truth["outside"]
             else None
         ),
@@ -180,21 +182,21 @@ def main() -> None:
         rows = list({r["record"]: r for r in rows}.values())  # a record run twice: the last
         for r in rows:  # scored again with this file's rules and the generator's truth
             if r["truth"]["outside"]:
-                want = G.signature_truth(r["truth"]["outside"])
+                want = gen_bench.signature_truth(r["truth"]["outside"])
                 r["signature_right"] = signature_right({"findings": r["findings"]}, want)
         print(summarise(rows))
         return
     rounds = (args.round,) if args.round else (1, 2)
     if args.set == "round1-heldout":
-        r1 = G.split_round1()
+        r1 = gen_bench.split_round1()
         recs = [
-            G.make_record(k, i)
-            for k in G.KINDS
+            gen_bench.make_record(k, i)
+            for k in gen_bench.KINDS
             if k.round == 1 and r1[k.name] == "heldout"
             for i in range(args.per_kind)
         ]
     else:
-        recs = G.battery(args.set, args.per_kind, rounds=rounds)
+        recs = gen_bench.battery(args.set, args.per_kind, rounds=rounds)
     recs = [r for r in recs if args.only in r.kind.name]
     done: set[str] = set()
     if args.resume and args.out and Path(args.out).exists():

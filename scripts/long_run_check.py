@@ -18,7 +18,7 @@ import time
 import numpy as np
 
 from fsarm_sim.engine.model import Gains, SimConfig
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 from fsarm_sim.sim import scenarios
 from fsarm_sim.sim.simulation import Simulation
 
@@ -59,7 +59,7 @@ def main() -> None:
             e = cols[j][mask] - cols[f"{j}_ref"][mask]
             parts.append(f"{j} RMSE {math.degrees(float(np.sqrt(np.mean(e * e)))):.4f} deg")
         print(f"{label} {args.window:g} s: " + ", ".join(parts))
-    ticks = int(sim.data.userdata[L.U_TICK])
+    ticks = int(sim.data.userdata[layout.U_TICK])
     print(
         f"control ticks {ticks}, steps / steps-per-tick {sim.step_index() // round(args.ctrl_dt / args.timestep)}"
     )

@@ -44,6 +44,8 @@ from typing import Any
 
 import numpy as np
 
+from conftest import FailingStdout
+
 HANG_S = 30.0
 RESCUE = "fsarm-rescue-"
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "data"
@@ -298,15 +300,6 @@ def _bend_written(t: Path) -> str | None:
 # ------------------------------------------------------------------------------------ faults
 
 
-class _FailingStdout(io.StringIO):
-    def __init__(self, code: int) -> None:
-        super().__init__()
-        self.code = code
-
-    def write(self, text: str) -> int:
-        raise OSError(self.code, os.strerror(self.code))
-
-
 def _with_stdout_failing(code: int, *args: str) -> Callable[[Path], Any]:
     def call(t: Path) -> tuple[int, str, str]:
         from fsarm_sim import cli
@@ -314,7 +307,7 @@ def _with_stdout_failing(code: int, *args: str) -> Callable[[Path], Any]:
         err = io.StringIO()
         saved = sys.argv, sys.stdout
         sys.argv = ["fsarm", *(a.replace("{t}", str(t)) for a in args)]
-        sys.stdout = _FailingStdout(code)
+        sys.stdout = FailingStdout(code)
         try:
             with contextlib.redirect_stderr(err):
                 try:

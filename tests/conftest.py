@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import os
 
 os.environ.setdefault("MUJOCO_GL", "disable")
@@ -57,11 +58,42 @@ def free_oscillation_energies(
     return out
 
 
+class FailingStdout(io.StringIO):
+    """A standard output whose every write fails with OSError ``code`` (a full or closed
+    device)."""
+
+    def __init__(self, code: int) -> None:
+        super().__init__()
+        self.code = code
+
+    def write(self, text: str) -> int:
+        raise OSError(self.code, os.strerror(self.code))
+
+
 def hold_table(q1: float, q2: float, q3: float, n: int = 1) -> np.ndarray:
     """Reference table holding one pose."""
     row = np.zeros((n, 9))
     row[:, 0], row[:, 1], row[:, 2] = q1, q2, q3
     return row
+
+
+def joint3_gravity_balance(m: Any) -> tuple[float, float]:
+    """At the model's initial state (``initial_state``): (the transmission's torque on joint 3,
+    the gravity torque joint 3 must hold), both joint-side, N*m."""
+    import mujoco
+
+    from fsarm_sim.engine.model import read_structure
+    from fsarm_sim.kernels import layout, physics
+    from fsarm_sim.sim.simulation import initial_state
+
+    d = mujoco.MjData(m)
+    st = read_structure(m)
+    initial_state(m, d, st)
+    tau = physics.shaft_torque(m.numeric(layout.PARAMS_NAME).data, d.qpos, d.qvel, d.act)
+    mujoco.mj_kinematics(m, d)
+    mujoco.mj_comPos(m, d)
+    mujoco.mj_rne(m, d, 0, d.qfrc_bias)
+    return float(tau * st.coef_s), float(d.qfrc_bias[st.dof[2]])
 
 
 def check_battery_printout(

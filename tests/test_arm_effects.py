@@ -10,11 +10,10 @@ import pytest
 
 from fsarm_sim.engine.model import Effects, SimConfig, build_model, read_structure
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.kernels import layout as L
-from fsarm_sim.kernels import physics
-from fsarm_sim.sim.simulation import Simulation, initial_state, run_scenario
+from fsarm_sim.kernels import layout, physics
+from fsarm_sim.sim.simulation import Simulation, run_scenario
 
-from conftest import hold_table
+from conftest import hold_table, joint3_gravity_balance
 
 
 def _gravity_bias(m: mujoco.MjModel, q: np.ndarray) -> np.ndarray:
@@ -37,7 +36,7 @@ def test_payload_error_equals_mujoco_gravity_of_that_mass(dm: float) -> None:
     heavier = build_model(SimConfig(payload_kg=base + dm), table)
     lighter = build_model(SimConfig(payload_kg=base), table)
     st = read_structure(plant)
-    prm = plant.numeric(L.PARAMS_NAME).data
+    prm = plant.numeric(layout.PARAMS_NAME).data
     rng = np.random.default_rng(3)
     for _ in range(5):
         q = rng.uniform(-1.5, 1.5, 3)
@@ -46,7 +45,7 @@ def test_payload_error_equals_mujoco_gravity_of_that_mass(dm: float) -> None:
             d.qpos[st.qadr[j]] = q[j]
         d.qpos[st.qadr[3]] = d.qpos[st.qadr[2]] * st.coef_s / st.coef_m
         qfrc = np.zeros(plant.nv)
-        physics.passive_forces(prm, d.qpos, d.qvel, d.act, qfrc, np.zeros(L.N_USERDATA))
+        physics.passive_forces(prm, d.qpos, d.qvel, d.act, qfrc, np.zeros(layout.N_USERDATA))
         bending, _ = physics.bending_torques(prm, d.qpos, d.qvel, d.act)
         expected = -(_gravity_bias(heavier, q) - _gravity_bias(lighter, q))
         got = np.array([0.0, qfrc[st.dof[1]] - bending, qfrc[st.dof[2]]])
@@ -119,12 +118,5 @@ def test_bad_arm_effects_are_named_errors(fx: Effects) -> None:
 
 def test_initial_state_unchanged_for_the_default_transmission() -> None:
     """The generalised start (static_twist) gives the eq. 8 twist tau / K exactly."""
-    m = build_model(SimConfig(), hold_table(0.0, 0.7, 0.5))
-    d = mujoco.MjData(m)
-    st = read_structure(m)
-    initial_state(m, d, st)
-    tau = physics.shaft_torque(m.numeric(L.PARAMS_NAME).data, d.qpos, d.qvel, d.act)
-    mujoco.mj_kinematics(m, d)
-    mujoco.mj_comPos(m, d)
-    mujoco.mj_rne(m, d, 0, d.qfrc_bias)
-    assert tau * st.coef_s == pytest.approx(d.qfrc_bias[st.dof[2]], rel=1e-12)
+    held, gravity = joint3_gravity_balance(build_model(SimConfig(), hold_table(0.0, 0.7, 0.5)))
+    assert held == pytest.approx(gravity, rel=1e-12)

@@ -14,7 +14,7 @@ import pytest
 
 from fsarm_sim.engine.model import Effects
 from fsarm_sim.errors import InvalidParameterError, ShaftRangeError
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 from fsarm_sim.plant.effects import bend_friction, series_stiffness
 from fsarm_sim.plant.shaft import ShaftParams, load_catalogue
 from fsarm_sim.plant.transmissions import flexible_shaft
@@ -43,10 +43,10 @@ def test_bench_models_compile_with_the_paper_ratios_and_run_without_warnings(
     assert s.structure.coef_s == 1.0
     assert s.structure.bend_qadr == -1  # the bend is a parameter, not a joint
     prm = s.params
-    assert prm[L.P_SETUP] == L.SETUP_SERIES_BENCH
-    assert prm[L.P_EN_CONTROL] == 0.0  # the arm's control kernel never runs on a bench
-    assert prm[L.P_BEND_FIXED] == pytest.approx(math.radians(30))
-    slip = prm[L.P_TR + flexible_shaft.I_SLIP_K : L.P_TR + flexible_shaft.I_SLIP_F]
+    assert prm[layout.P_SETUP] == layout.SETUP_SERIES_BENCH
+    assert prm[layout.P_EN_CONTROL] == 0.0  # the arm's control kernel never runs on a bench
+    assert prm[layout.P_BEND_FIXED] == pytest.approx(math.radians(30))
+    slip = prm[layout.P_TR + flexible_shaft.I_SLIP_K : layout.P_TR + flexible_shaft.I_SLIP_F]
     assert slip == pytest.approx(slip_shaft.slip_k)  # the shaft block carries its elements
     assert s.model.body("load_disc").inertia[0] == pytest.approx(0.01)
     blocked = bench.build_series_bench(prototype, "blocked", 0.0)
@@ -54,10 +54,12 @@ def test_bench_models_compile_with_the_paper_ratios_and_run_without_warnings(
     assert blocked.model.nv == 1  # only the rotor moves
     p = bench.build_parallel_bench(prototype, twist_rad=0.2)
     assert p.structure.motor_gear == 51.0  # 51:1 geared joint motor
-    assert p.params[L.P_SETUP] == L.SETUP_PARALLEL_BENCH
-    assert p.params[L.P_EN_CONDUIT] == 1.0
+    assert p.params[layout.P_SETUP] == layout.SETUP_PARALLEL_BENCH
+    assert p.params[layout.P_EN_CONDUIT] == 1.0
     # the parallel bench has no slip states: the shaft block's elements are off
-    assert not p.params[L.P_TR + flexible_shaft.I_SLIP_K : L.P_TR + flexible_shaft.I_SLIP_F].any()
+    assert not p.params[
+        layout.P_TR + flexible_shaft.I_SLIP_K : layout.P_TR + flexible_shaft.I_SLIP_F
+    ].any()
     t = np.linspace(0.0, 1.0, 201)
     cols = s.replay(0.2 * np.sin(2 * np.pi * 2.0 * t), t)
     assert tuple(cols) == bench.SERIES_COLUMNS

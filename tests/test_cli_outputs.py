@@ -22,7 +22,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from conftest import run_fsarm
+from conftest import FailingStdout, run_fsarm
 
 DATA = Path(__file__).resolve().parents[1] / "examples" / "data"
 SHORT = ["--duration", "0.2"]
@@ -675,15 +675,6 @@ def test_sweep_dry_run_counts_failed_points_in_the_store(
 # closed standard output is one named line at the end, a reader that left (| head) no error
 
 
-class _FailingStdout(io.StringIO):
-    def __init__(self, code: int) -> None:
-        super().__init__()
-        self.code = code
-
-    def write(self, text: str) -> int:
-        raise OSError(self.code, os.strerror(self.code))
-
-
 def test_run_with_stdout_on_a_full_device_keeps_every_file(tmp_path: Path) -> None:
     if not Path("/dev/full").exists():
         pytest.skip("no /dev/full here")
@@ -723,7 +714,7 @@ def test_a_failing_stdout_is_named_once_and_stops_nothing(
     exit_code: int,
     message: str | None,
 ) -> None:
-    monkeypatch.setattr(sys, "stdout", _FailingStdout(code))
+    monkeypatch.setattr(sys, "stdout", FailingStdout(code))
     assert run_fsarm(monkeypatch, "scenarios") == exit_code
     assert run_fsarm(monkeypatch, "run", "step-q3", *SHORT, "--out", str(tmp_path)) == exit_code
     err = capsys.readouterr().err
@@ -739,7 +730,7 @@ def test_a_failing_stdout_is_named_once_and_stops_nothing(
 def test_guarded_stream_keeps_the_first_error_and_drops_the_rest() -> None:
     from fsarm_sim.outputs import GuardedStream
 
-    g = GuardedStream(_FailingStdout(errno.ENOSPC))
+    g = GuardedStream(FailingStdout(errno.ENOSPC))
     assert g.write("abc") == 3 and g.write("de") == 2
     g.flush()
     assert g.error is not None and g.error.errno == errno.ENOSPC
@@ -776,7 +767,7 @@ def test_design_experiment_saves_before_it_prints(
         }
 
     monkeypatch.setattr(design, "design", quick)
-    monkeypatch.setattr(sys, "stdout", _FailingStdout(errno.ENOSPC))
+    monkeypatch.setattr(sys, "stdout", FailingStdout(errno.ENOSPC))
     code = run_fsarm(
         monkeypatch,
         "design-experiment",

@@ -24,7 +24,7 @@ from fsarm_sim.plant.effects import bend_friction
 from fsarm_sim.plant.shaft import load_catalogue
 from fsarm_sim.sim import scenarios
 from fsarm_sim.sim.simulation import RunResult, run_scenario
-from fsarm_sim.studies import collision as C
+from fsarm_sim.studies import collision
 
 HIT = scenarios.get("collision-hit")
 HAND = scenarios.get("hand-guide")
@@ -37,7 +37,7 @@ ELASTIC = SimConfig(shaft=load_catalogue().shaft(series_hysteresis=False))
 def default_runs() -> dict[str, RunResult]:
     return {
         "hit": run_scenario(HIT, ELASTIC),
-        "twin": run_scenario(C.without_disturbance(HIT), ELASTIC),
+        "twin": run_scenario(collision.without_disturbance(HIT), ELASTIC),
         "fig14-sine": run_scenario("fig14-sine", ELASTIC),
         "p2p-payload": run_scenario("p2p-payload", ELASTIC),
         "hand": run_scenario(HAND, ELASTIC),
@@ -57,7 +57,7 @@ def test_observer_reproduces_the_external_torque_through_its_lag(
 ) -> None:
     res = default_runs["hit"]
     assert HIT.disturbance is not None
-    tau = C.external_torque(res, HIT.disturbance)
+    tau = collision.external_torque(res, HIT.disturbance)
     # the hit is F x lever: 100 N at the flange, perpendicular to link 3
     m = build_model(ELASTIC, np.zeros((1, 9)))
     d = mujoco.MjData(m)
@@ -66,17 +66,17 @@ def test_observer_reproduces_the_external_torque_through_its_lag(
     flange = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, "flange")
     lever = float(np.linalg.norm(d.site_xpos[flange] - d.xanchor[q3]))
     assert np.max(np.abs(tau)) == pytest.approx(scenarios.HIT_PEAK_N * lever, rel=1e-9)
-    r = C.residual(res)
-    ideal = _lowpass(tau, C.GAIN_RAD_S, res.config.gains.ctrl_dt_s)
+    r = collision.residual(res)
+    ideal = _lowpass(tau, collision.GAIN_RAD_S, res.config.gains.ctrl_dt_s)
     assert np.max(np.abs(r - ideal)) < 0.005 * np.max(np.abs(tau))
 
 
 def test_hit_is_detected_within_5_ms_and_the_arm_stops(
     default_runs: dict[str, RunResult],
 ) -> None:
-    cal = C.calibrate(ELASTIC)
+    cal = collision.calibrate(ELASTIC)
     res = default_runs["hit"]
-    rep = C.evaluate_detection("hit", res, cal.threshold_nm, HIT.disturbance)
+    rep = collision.evaluate_detection("hit", res, cal.threshold_nm, HIT.disturbance)
     assert rep.delay_s is not None and 0.0 < rep.delay_s <= 0.005
     assert rep.false_alarms == 0
     # Algorithm 1 line 8: joint 3 holds the angle it had when the alarm came
@@ -97,8 +97,8 @@ def test_no_false_alarm_on_collision_free_runs(
     default_runs: dict[str, RunResult], run: str
 ) -> None:
     """The threshold comes from the identification runs, not from these."""
-    cal = C.calibrate(ELASTIC)
-    rep = C.evaluate_detection(run, default_runs[run], cal.threshold_nm)
+    cal = collision.calibrate(ELASTIC)
+    rep = collision.evaluate_detection(run, default_runs[run], cal.threshold_nm)
     assert rep.false_alarms == 0 and rep.detected_s is None
     assert rep.peak_estimate_nm < cal.threshold_nm
 
@@ -119,19 +119,21 @@ def test_hysteresis_band_is_the_slip_torque_the_encoders_cannot_see() -> None:
     shaft - on the winding side, grown by the bend friction at the identification runs' bends
     (joint 2 swings 15-60 deg); on joint 3 that is i_G2 times it, and the identification finds a
     band inside those bounds."""
-    cal = C.calibrate(HYSTERESIS)
+    cal = collision.calibrate(HYSTERESIS)
     m = build_model(HYSTERESIS, np.zeros((1, 9)))
     straight = read_structure(m).coef_s * sum(HYSTERESIS.shaft.slip_f)
     mu = HYSTERESIS.shaft.bend_friction_per_rad
     lo = straight * bend_friction.factor(math.radians(15.0), mu)
     hi = straight * bend_friction.factor(math.radians(60.0), mu)
     assert 0.98 * lo <= cal.max_abs_residual_nm <= 1.02 * hi
-    hit = C.evaluate_detection(
+    hit = collision.evaluate_detection(
         "hit", run_scenario(HIT, HYSTERESIS), cal.threshold_nm, HIT.disturbance
     )
     assert hit.delay_s is not None and hit.delay_s <= 0.03
     assert hit.false_alarms == 0
-    free = C.evaluate_detection("p2p", run_scenario("p2p-payload", HYSTERESIS), cal.threshold_nm)
+    free = collision.evaluate_detection(
+        "p2p", run_scenario("p2p-payload", HYSTERESIS), cal.threshold_nm
+    )
     assert free.false_alarms == 0 and free.detected_s is None
 
 
@@ -141,15 +143,17 @@ def test_hand_guiding_moves_by_impulse_over_damping_then_holds(
     res = default_runs["hand"]
     assert HAND.disturbance is not None
     pushes = [(a, b) for a, b, _ in scenarios.HAND_PUSHES]
-    rep = C.evaluate_guiding(res, HAND.disturbance, pushes)
-    tau = C.external_torque(res, HAND.disturbance)
+    rep = collision.evaluate_guiding(res, HAND.disturbance, pushes)
+    tau = collision.external_torque(res, HAND.disturbance)
     t, dt = res.columns["t"], res.config.gains.ctrl_dt_s
     for (a, b, force), p in zip(scenarios.HAND_PUSHES, rep.pushes, strict=True):
         inside = (t >= a) & (t <= b + 0.5)
         impulse = float(np.sum(tau[inside]) * dt)
         assert math.copysign(1.0, p["travel_rad"]) == math.copysign(1.0, force)
         # first-order admittance: total displacement = impulse / D_a
-        assert p["travel_rad"] == pytest.approx(impulse / C.ADMITTANCE_DAMPING_NMS, rel=0.02)
+        assert p["travel_rad"] == pytest.approx(
+            impulse / collision.ADMITTANCE_DAMPING_NMS, rel=0.02
+        )
         assert abs(p["drift_after_release_rad"]) < 1e-3
         assert p["speed_after_release_rad_s"] < 0.01
     assert rep.human_work_j > 0.0  # the joint yields: the hand does positive work
@@ -161,23 +165,25 @@ def test_hand_guiding_moves_by_impulse_over_damping_then_holds(
 
 
 def test_hand_guiding_mode_without_a_hand_holds_still() -> None:
-    res = run_scenario(C.without_disturbance(HAND), duration_s=1.0)
+    res = run_scenario(collision.without_disturbance(HAND), duration_s=1.0)
     q3 = res.columns["q3"]
     assert np.max(np.abs(q3 - q3[0])) < 1e-6
 
 
 def test_on_another_transmission_rtca() -> None:
     cfg = SimConfig(transmission="rtca")
-    cal = C.calibrate(cfg)
-    hit = C.evaluate_detection("hit", run_scenario(HIT, cfg), cal.threshold_nm, HIT.disturbance)
+    cal = collision.calibrate(cfg)
+    hit = collision.evaluate_detection(
+        "hit", run_scenario(HIT, cfg), cal.threshold_nm, HIT.disturbance
+    )
     assert hit.delay_s is not None and hit.delay_s <= 0.02
     assert hit.false_alarms == 0
-    twin = C.evaluate_detection(
-        "twin", run_scenario(C.without_disturbance(HIT), cfg), cal.threshold_nm
+    twin = collision.evaluate_detection(
+        "twin", run_scenario(collision.without_disturbance(HIT), cfg), cal.threshold_nm
     )
     assert twin.false_alarms == 0 and twin.detected_s is None
     assert HAND.disturbance is not None
-    hand = C.evaluate_guiding(
+    hand = collision.evaluate_guiding(
         run_scenario(replace(HAND, duration_s=2.5), cfg),
         HAND.disturbance,
         [scenarios.HAND_PUSHES[0][:2]],
@@ -189,19 +195,19 @@ def test_on_another_transmission_rtca() -> None:
 def test_alarm_intervals_and_bad_inputs() -> None:
     t = np.arange(8) * 0.001
     r = np.array([0.0, 2.0, 3.0, 0.5, -4.0, -1.0, 0.0, 2.5])
-    found = C.alarms(t, r, 1.5)
+    found = collision.alarms(t, r, 1.5)
     assert [(a.start_s, a.end_s, a.peak_nm) for a in found] == [
         (0.001, 0.002, 3.0),
         (0.004, 0.004, -4.0),
         (0.007, 0.007, 2.5),
     ]
-    with pytest.raises(C.CollisionError, match="threshold"):
-        C.alarms(t, r, 0.0)
-    with pytest.raises(C.CollisionError, match="length"):
-        C.alarms(t, r[:-1], 1.0)
+    with pytest.raises(collision.CollisionError, match="threshold"):
+        collision.alarms(t, r, 0.0)
+    with pytest.raises(collision.CollisionError, match="length"):
+        collision.alarms(t, r[:-1], 1.0)
     m = build_model(ELASTIC, np.zeros((1, 9)))
-    with pytest.raises(C.CollisionError, match="too high"):
-        C.JointThreeObserver(m, ELASTIC, gain_rad_s=2000.0)
+    with pytest.raises(collision.CollisionError, match="too high"):
+        collision.JointThreeObserver(m, ELASTIC, gain_rad_s=2000.0)
     bad = replace(HIT, disturbance=scenarios.Disturbance("elbow", lambda t: (0, 0, 0), (0, 1)))
     with pytest.raises(InvalidParameterError, match="elbow"):
         run_scenario(bad, duration_s=0.01)
@@ -210,19 +216,23 @@ def test_alarm_intervals_and_bad_inputs() -> None:
 def test_cli_table_and_json(monkeypatch: pytest.MonkeyPatch, tmp_path) -> None:  # type: ignore[no-untyped-def]
     from fsarm_sim.cli import collision as cli_collision
 
-    cal = C.Calibration(0.2, 0.1, 2.0, ("id @ 0 kg",))
+    cal = collision.Calibration(0.2, 0.1, 2.0, ("id @ 0 kg",))
     det = (
-        C.DetectionReport("collision-hit", 0.2, (1.2, 1.25), 1.202, 0.002, 0, 40.0, 32.0),
-        C.DetectionReport("p2p-payload", 0.2, None, None, None, None, 0.0, 0.0, "cannot hold"),
+        collision.DetectionReport("collision-hit", 0.2, (1.2, 1.25), 1.202, 0.002, 0, 40.0, 32.0),
+        collision.DetectionReport(
+            "p2p-payload", 0.2, None, None, None, None, 0.0, 0.0, "cannot hold"
+        ),
     )
-    guide = C.GuidingReport(
+    guide = collision.GuidingReport(
         ({"start_s": 0.5, "end_s": 1.5, "mean_push_nm": 9.0, "travel_rad": 0.2,
           "drift_after_release_rad": 0.0, "speed_after_release_rad_s": 0.0,
           "motor_share": 0.75},),
         6.0, 0.0, (0.5, 0.8),
     )  # fmt: skip
     monkeypatch.setattr(
-        C, "run_battery", lambda cfg, backend: C.Battery("x", cal, 100.0, det, guide)
+        collision,
+        "run_battery",
+        lambda cfg, backend: collision.Battery("x", cal, 100.0, det, guide),
     )
     app = typer.Typer()
     app.callback()(lambda: None)
@@ -257,27 +267,27 @@ def _columns(th2: np.ndarray, noise: float = 0.0) -> dict[str, np.ndarray]:
 
 def test_identification_recovers_the_branches_and_sets_delta_a() -> None:
     th2 = 0.8 * np.sin(np.linspace(0.0, 4.0 * math.pi, 4001))
-    model = C.identify_position_model([_columns(th2, noise=1e-3)], ["synthetic"])
+    model = collision.identify_position_model([_columns(th2, noise=1e-3)], ["synthetic"])
     np.testing.assert_allclose(model.up, RC, atol=5e-3)
     np.testing.assert_allclose(model.down, RA, atol=5e-3)
     assert 0.0 < model.max_error_rad < 0.01
-    assert model.threshold_rad == pytest.approx(C.MARGIN * model.max_error_rad)
+    assert model.threshold_rad == pytest.approx(collision.MARGIN * model.max_error_rad)
     # a joint that never moves one way cannot be identified (eq. 19 needs both fits)
-    with pytest.raises(C.CollisionError, match="both ways"):
-        C.identify_position_model([_columns(np.linspace(0.0, 1.0, 500))], ["one way"])
+    with pytest.raises(collision.CollisionError, match="both ways"):
+        collision.identify_position_model([_columns(np.linspace(0.0, 1.0, 500))], ["one way"])
 
 
 def test_algorithm1_delta_sees_a_displacement_error() -> None:
     th2 = 0.8 * np.sin(np.linspace(0.0, 4.0 * math.pi, 4001))
     cols = _columns(th2)
-    clean = C.algorithm1_delta(cols, RC, RA)
+    clean = collision.algorithm1_delta(cols, RC, RA)
     assert np.max(np.abs(clean)) < 1e-12
     hit = dict(cols)
     hit["theta_m"] = cols["theta_m"].copy()
     hit["theta_m"][2000:2050] -= 0.1  # the joint pushed back: motor ahead of both branches
-    d = C.algorithm1_delta(hit, RC, RA)
+    d = collision.algorithm1_delta(hit, RC, RA)
     assert np.max(np.abs(d[2000:2050])) > 0.05
-    found = C.alarms(cols["t"], d, 0.05)
+    found = collision.alarms(cols["t"], d, 0.05)
     assert len(found) == 1 and found[0].start_s == pytest.approx(2.0)
 
 
@@ -286,10 +296,12 @@ def test_algorithm2_hand_guiding_follows_the_push_and_holds() -> None:
     from fsarm_sim.sim import scenarios
     from fsarm_sim.sim.simulation import run_scenario
 
-    sc = C.algorithm2_scenario()
+    sc = collision.algorithm2_scenario()
     assert sc.disturbance is not None
     res = run_scenario(sc, SimConfig(transmission="tendon-sheath"))
-    g = C.evaluate_guiding(res, sc.disturbance, [(a, b) for a, b, _ in scenarios.HAND_PUSHES])
+    g = collision.evaluate_guiding(
+        res, sc.disturbance, [(a, b) for a, b, _ in scenarios.HAND_PUSHES]
+    )
     assert len(g.pushes) == 6 and g.cycles() == 3  # seed 004: three up-and-down cycles
     for p in g.pushes:
         assert math.copysign(1.0, p["travel_rad"]) == math.copysign(1.0, p["mean_push_nm"])
@@ -316,12 +328,12 @@ def test_guiding_report_says_whether_the_joint_followed_and_held() -> None:
             "motor_share": motor,
         }
 
-    def report(*pushes: dict[str, float]) -> C.GuidingReport:
-        return C.GuidingReport(pushes, 1.0, 0.0, (0.0, 1.0))
+    def report(*pushes: dict[str, float]) -> collision.GuidingReport:
+        return collision.GuidingReport(pushes, 1.0, 0.0, (0.0, 1.0))
 
     good = report(push(0.5, 0.001, 0.001), push(0.5, 0.002, -0.001, -1.0))
     assert good.follows() and good.holds() and good.stays()
-    creeping = report(push(0.5, C.HOLD_SPEED_RAD_S * 1.5, 0.2), push(0.5, 0.0, 0.0, -1.0))
+    creeping = report(push(0.5, collision.HOLD_SPEED_RAD_S * 1.5, 0.2), push(0.5, 0.0, 0.0, -1.0))
     assert creeping.follows() and not creeping.holds() and not creeping.stays()
     wrong_way = report(push(-0.5, 0.0, 0.0))
     assert not wrong_way.follows()

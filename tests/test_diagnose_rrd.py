@@ -8,13 +8,13 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from fsarm_sim.cli import diagnose_rrd as d
+from fsarm_sim.cli import diagnose_rrd
 
 T = np.linspace(0.0, 1.0, 11)
 
 
 def _models(**per_model: object) -> dict[str, SimpleNamespace]:
-    return {m: SimpleNamespace(**per_model) for m in d.MODELS}
+    return {m: SimpleNamespace(**per_model) for m in diagnose_rrd.MODELS}
 
 
 @pytest.mark.parametrize(
@@ -29,7 +29,7 @@ def test_bench_panels_and_loops_carry_units(
         dataset=SimpleNamespace(input_column=inp, output_column=out),
         **_models(yhat=0.9 * np.sin(T)),
     )
-    _, panels, loops = d._bench(diag)
+    _, panels, loops = diagnose_rrd._bench(diag)
     titles = {p.name: p.title for p in panels}
     assert titles == {
         "output": f"{out} [{out_unit}]: measured vs models",
@@ -44,7 +44,7 @@ def test_arm_panels_and_loops_carry_units() -> None:
     channels = ("q3", "theta_m", "q2", "twist")
     y = {c: np.sin(T) for c in channels}
     diag = SimpleNamespace(ctx=SimpleNamespace(y=y, run=SimpleNamespace(t=T)), **_models(pred=y))
-    _, panels, loops = d._arm(diag)
+    _, panels, loops = diagnose_rrd._arm(diag)
     assert len(panels) == 8 and len(loops) == 2
     for p in panels:
         assert re.search(r"\[rad\]", p.title), p.title
@@ -52,6 +52,6 @@ def test_arm_panels_and_loops_carry_units() -> None:
 
 
 def test_label_names_the_unit_or_keeps_a_bare_name() -> None:
-    assert d.label("tau_s", "residual") == "tau_s residual [N·m]"
-    assert d.label("qdd1_ref") == "qdd1_ref [rad/s^2]"
-    assert d.label("my_sensor") == "my_sensor"
+    assert diagnose_rrd.label("tau_s", "residual") == "tau_s residual [N·m]"
+    assert diagnose_rrd.label("qdd1_ref") == "qdd1_ref [rad/s^2]"
+    assert diagnose_rrd.label("my_sensor") == "my_sensor"

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from batteries import battery as B
+from batteries import battery
 from fsarm_sim.discrepancy import (
     UnsupportedSetupError,
     candidate_structure,
@@ -19,9 +19,9 @@ from fsarm_sim.discrepancy import (
     replay,
     replay_inputs,
     report,
+    selection,
     synth,
 )
-from fsarm_sim.discrepancy import selection as S
 from fsarm_sim.discrepancy.benchmodel import (
     EffectInstance,
     ModelFileError,
@@ -320,11 +320,15 @@ def test_input_error_floor_follows_the_encoder_step() -> None:
         )
         ds = _dataset(truth, rec)
         if counts:
-            assert S.quantisation_step(ds.columns["theta_m"]) == pytest.approx(2 * np.pi / counts)
+            assert selection.quantisation_step(ds.columns["theta_m"]) == pytest.approx(
+                2 * np.pi / counts
+            )
         else:
-            assert S.quantisation_step(ds.columns["theta_m"]) == 0.0
-        ctx = candidate_structure.make_context(replay_inputs.prepare_inputs(ds), S.stated_model(ds))
-        floors[counts] = S.input_error_floor(ds, ctx, truth)
+            assert selection.quantisation_step(ds.columns["theta_m"]) == 0.0
+        ctx = candidate_structure.make_context(
+            replay_inputs.prepare_inputs(ds), selection.stated_model(ds)
+        )
+        floors[counts] = selection.input_error_floor(ds, ctx, truth)
     k = max(truth.nominal["k_pos"], truth.nominal["k_neg"])
     assert 0.0 < floors[2**17] < k * (2 * np.pi / 2**17) / np.sqrt(12.0)
     assert 3.0 < floors[2**14] / floors[2**17] < 12.0
@@ -350,10 +354,10 @@ def test_an_extra_effect_must_earn_its_place_clearly(monkeypatch: pytest.MonkeyP
     assert last.added is None and "extra effect" in last.reason
     assert diag.steps[-1].added is None  # nor does a joint search or restart name it
     top = last.scores[0]
-    assert top.extra and top.share_of_explained < S.MIN_SHARE_EXTRA
+    assert top.extra and top.share_of_explained < selection.MIN_SHARE_EXTRA
     assert "remains that no further effect claims" in diag.verdict
-    monkeypatch.setattr(S, "MIN_EXPLAINED_EXTRA", 0.0)
-    monkeypatch.setattr(S, "MIN_SHARE_EXTRA", 0.0)
+    monkeypatch.setattr(selection, "MIN_EXPLAINED_EXTRA", 0.0)
+    monkeypatch.setattr(selection, "MIN_SHARE_EXTRA", 0.0)
     assert len(diagnose(ds).named) > 1
 
 
@@ -368,7 +372,9 @@ def test_hysteresis_elements_leave_the_grid() -> None:
     )
     rec = synth.Recording(duration_s=10.0, noise=0.003, trajectory="multisine", seed=7)
     ds = _dataset(truth, rec)
-    ctx = candidate_structure.make_context(replay_inputs.prepare_inputs(ds), S.stated_model(ds))
+    ctx = candidate_structure.make_context(
+        replay_inputs.prepare_inputs(ds), selection.stated_model(ds)
+    )
     grid = candidates.candidate(ctx, candidates.nominal(ctx), "hysteresis", "maxwell_slip")
     assert grid is not None and grid.structure.slip is not None
     assert not np.any(np.isclose(grid.structure.slip[:, None], deltas, rtol=0.05))
@@ -421,7 +427,7 @@ def test_model_file_validation() -> None:
 
 REDUCED = [
     c
-    for c in B.cases(full=False, duration_s=10.0)
+    for c in battery.cases(full=False, duration_s=10.0)
     if c.setup == "series_bench"
     or (c.effects and c.effects[0][0] in ("viscous_damping", "delay", "hysteresis"))
 ]
@@ -430,9 +436,9 @@ REDUCED = [
 def test_reduced_battery() -> None:
     """Every library effect hidden on the blocked series bench (and three on the parallel bench):
     named first, gap at least halved; null records: nothing named."""
-    outcomes = [B.run_case(c) for c in REDUCED]
-    s = B.summary(outcomes)
-    table = B.format_tables(outcomes)
+    outcomes = [battery.run_case(c) for c in REDUCED]
+    s = battery.summary(outcomes)
+    table = battery.format_tables(outcomes)
     right, singles = s["single_right_first"]
     assert right >= 0.9 * singles, table
     ok_null, nulls = s["null_nothing_named"]

@@ -10,10 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fsarm_sim.discrepancy import arm as A
+from fsarm_sim.discrepancy import arm, arm_synth, replay
 from fsarm_sim.discrepancy import arm_modelfile as MF
-from fsarm_sim.discrepancy import arm_synth as S
-from fsarm_sim.discrepancy import replay
 from fsarm_sim.engine.model import SimConfig
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.plant.effects import delay
@@ -36,15 +34,15 @@ def _record(
     effects: list[str],
     *,
     noise: float = 2e-5,
-    counts: int = S.ARM_ENCODER_COUNTS,
+    counts: int = arm_synth.ARM_ENCODER_COUNTS,
     stiffness: float = 1.0,
     seed: int = 0,
     scenario: str = "fig14-sine",
     duration: float = DUR,
     derivatives: bool = True,
 ) -> Path:
-    truth = S.truth_model(effects, stiffness_scale=stiffness)
-    rec = S.ArmRecording(
+    truth = arm_synth.truth_model(effects, stiffness_scale=stiffness)
+    rec = arm_synth.ArmRecording(
         scenario=scenario,
         duration_s=duration,
         noise_rad=noise,
@@ -52,11 +50,11 @@ def _record(
         seed=seed,
         derivatives=derivatives,
     )
-    table, _ = S.write_arm_synthetic(tmp / f"{name}.csv", truth, rec)
+    table, _ = arm_synth.write_arm_synthetic(tmp / f"{name}.csv", truth, rec)
     return table
 
 
-def _effect(diag: A.ArmDiagnosis, name: str) -> dict[str, float]:
+def _effect(diag: arm.ArmDiagnosis, name: str) -> dict[str, float]:
     for e in diag.final.model.effects():
         if e.name == name:
             return e.params
@@ -70,8 +68,8 @@ def test_replay_reproduces_a_clean_record_exactly(tmp_path: Path) -> None:
     """Nothing hidden, no noise, no quantisation: the replay from the CSV (10 digits) and the
     sidecar is the recorded run to the CSV's precision - controller, references and all."""
     ds = load_dataset(_record(tmp_path, "clean", [], noise=0.0, counts=0))
-    run = A.arm_run(ds)
-    sim, coef_s = A.simulate_config(run, A.to_config(run, A.ArmModel()))
+    run = arm.arm_run(ds)
+    sim, coef_s = arm.simulate_config(run, arm.to_config(run, arm.ArmModel()))
     assert coef_s == pytest.approx(10.0)  # i_G2 of the MJCF
     for ch in ("q1", "q2", "q3", "theta_m"):
         assert np.max(np.abs(sim[ch] - ds.columns[ch])) < 1e-8, ch
@@ -82,7 +80,7 @@ def test_reference_table_differentiates_missing_rates(tmp_path: Path) -> None:
     """Without qd/qdd columns the rates are central differences of the recorded references
     (second-order accurate on the smooth sweep) and zero across a step."""
     ds = load_dataset(_record(tmp_path, "sweep", [], derivatives=False, duration=2.0))
-    table, note = A.reference_table(ds, 1e-3)
+    table, note = arm.reference_table(ds, 1e-3)
     t = np.arange(table.shape[0]) * 1e-3
     w = 2 * np.pi / 4.0
     a = 0.25 * np.pi  # fig14-sine: q3 = a (1 - cos w t)
@@ -92,16 +90,16 @@ def test_reference_table_differentiates_missing_rates(tmp_path: Path) -> None:
     assert np.allclose(table[inner, 8], a * w * w * np.cos(w * t[inner]), atol=2e-3)
     assert "central differences" in note
     ds = load_dataset(_record(tmp_path, "step", [], derivatives=False, scenario="step-q3"))
-    table, _ = A.reference_table(ds, 1e-3)
+    table, _ = arm.reference_table(ds, 1e-3)
     assert np.all(table[:, 5] == 0.0) and np.all(table[:, 8] == 0.0)  # the step has no rate
 
 
 def test_measurement_model_uses_the_effect_kernels() -> None:
     h = 1e-3
     y = np.sin(np.arange(500) * h * 7.0)
-    m = A.ArmModel()
+    m = arm.ArmModel()
     m.values.update({"delay.q3": 0.0037, "sensor_offset.theta_m": 0.01})
-    out = A.apply_measurement({"q3": y, "theta_m": y, "q2": y}, m, h)
+    out = arm.apply_measurement({"q3": y, "theta_m": y, "q2": y}, m, h)
     assert np.allclose(out["q3"], delay.delayed_signal(y, 3.7))
     assert np.allclose(out["theta_m"], y + 0.01) and np.array_equal(out["q2"], y)
     assert np.allclose(replay.shifted(y, 3.7), delay.delayed_signal(y, 3.7))
@@ -114,7 +112,7 @@ def test_null_record_names_nothing_and_refits_the_stiffness(tmp_path: Path) -> N
     """True shaft 10 % stiffer than the catalogue, nothing else: the nominal refit finds the
     stiffness of the twist side the run visits and nothing is named; the gap is at the noise
     floor."""
-    diag = A.diagnose_arm(load_dataset(_record(tmp_path, "null", [], stiffness=1.1, seed=3)))
+    diag = arm.diagnose_arm(load_dataset(_record(tmp_path, "null", [], stiffness=1.1, seed=3)))
     assert diag.named == []
     assert diag.final.model.nominal()["k_scale_neg"] == pytest.approx(1.1, rel=0.01)
     assert diag.gap_over_noise(diag.final) < 1.1
@@ -123,7 +121,7 @@ def test_null_record_names_nothing_and_refits_the_stiffness(tmp_path: Path) -> N
 
 
 def test_payload_error_is_named_and_its_mass_recovered(tmp_path: Path) -> None:
-    diag = A.diagnose_arm(load_dataset(_record(tmp_path, "pay", ["payload_error=0.4"], seed=1)))
+    diag = arm.diagnose_arm(load_dataset(_record(tmp_path, "pay", ["payload_error=0.4"], seed=1)))
     assert diag.named == ["payload_error"]
     assert _effect(diag, "payload_error")["dm_kg"] == pytest.approx(0.4, abs=0.01)
     assert diag.gap_after < 0.5 * diag.gap_before
@@ -133,7 +131,7 @@ def test_payload_error_is_named_and_its_mass_recovered(tmp_path: Path) -> None:
 
 def test_coulomb_friction_at_joint_3_is_named(tmp_path: Path) -> None:
     ds = load_dataset(_record(tmp_path, "fric", ["coulomb_friction=0.15"], noise=5e-5, seed=2))
-    diag = A.diagnose_arm(ds)
+    diag = arm.diagnose_arm(ds)
     assert diag.named == ["coulomb_friction"]
     assert _effect(diag, "coulomb_friction")["f_c_nm"] == pytest.approx(0.15, rel=0.05)
     assert diag.gap_after < 0.5 * diag.gap_before
@@ -145,7 +143,7 @@ def test_delay_and_offset_of_recorded_channels_are_named(tmp_path: Path) -> None
     ds = load_dataset(
         _record(tmp_path, "meas", ["delay:q3=0.004", "sensor_offset:theta_m=0.003"], seed=4)
     )
-    diag = A.diagnose_arm(ds)
+    diag = arm.diagnose_arm(ds)
     assert sorted(diag.named) == ["delay", "sensor_offset"]
     assert _effect(diag, "delay")["delay_s"] == pytest.approx(0.004, abs=1e-4)
     assert _effect(diag, "sensor_offset")["offset_rad"] == pytest.approx(0.003, rel=0.02)
@@ -195,7 +193,7 @@ def test_bad_arm_sidecar_is_a_named_error(
     and which key."""
     table = _minimal_arm(tmp_path, **change)
     with pytest.raises(SidecarError, match=match) as info:
-        A.arm_run(load_dataset(table))
+        arm.arm_run(load_dataset(table))
     assert "arm.json" in str(info.value)
 
 
@@ -219,19 +217,19 @@ def test_bad_arm_table_is_a_named_error(tmp_path: Path) -> None:
 
 def test_ctrl_period_not_a_multiple_of_the_timestep_is_a_named_error(tmp_path: Path) -> None:
     ds = load_dataset(_minimal_arm(tmp_path, ctrl_dt_s=1.5e-3))
-    with pytest.raises(A.ArmReplayError, match="whole multiple"):
-        A.make_context(ds, A.arm_run(ds))
+    with pytest.raises(arm.ArmReplayError, match="whole multiple"):
+        arm.make_context(ds, arm.arm_run(ds))
 
 
 # ------------------------------------------------------------------ model file, CLI
 
 
 def test_model_file_loads_as_a_sim_config(tmp_path: Path, prototype) -> None:  # type: ignore[no-untyped-def]
-    m = S.truth_model(
+    m = arm_synth.truth_model(
         ["payload_error=0.3", "coulomb_friction=0.1", "hysteresis=4,0.003", "delay:q3=0.002"],
         stiffness_scale=1.2,
     )
-    run = A.ArmRun(
+    run = arm.ArmRun(
         prototype, 2.0, 0.0, SimConfig().gains, None, np.zeros((1, 9)), np.zeros(1), 1e-3, ""
     )
     path = MF.save_arm_model(run, m, tmp_path / "model.json")
@@ -249,7 +247,7 @@ def test_model_file_loads_as_a_sim_config(tmp_path: Path, prototype) -> None:  #
     with pytest.raises(MF.ArmModelFileError, match="unknown arm effect"):
         MF.load_arm_model(path)
     with pytest.raises(ValueError, match="not understood"):
-        S.parse_arm_effect("payload_error=1,2")
+        arm_synth.parse_arm_effect("payload_error=1,2")
 
 
 def test_cli_synth_and_diagnose_arm(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
@@ -338,16 +336,16 @@ def test_arm_records_at_other_rates_replay(
 ) -> None:
     # slower than the 1 kHz controller: every k-th tick, references interpolated back onto the
     # ticks by the replay; faster: the controller (and the physics) at the record's rate
-    truth = S.truth_model([])
-    rec = S.ArmRecording(duration_s=2.0, noise_rad=0.0, encoder_counts=0, rate_hz=rate)
-    table, side = S.write_arm_synthetic(tmp_path / "r.csv", truth, rec)
+    truth = arm_synth.truth_model([])
+    rec = arm_synth.ArmRecording(duration_s=2.0, noise_rad=0.0, encoder_counts=0, rate_hz=rate)
+    table, side = arm_synth.write_arm_synthetic(tmp_path / "r.csv", truth, rec)
     ds = load_dataset(table)
     assert ds.dt == pytest.approx(1.0 / rate)
     meta = json.loads(side.read_text())
     assert meta["ctrl_dt_s"] == pytest.approx(ctrl_dt)
     assert meta.get("timestep_s") == timestep
-    run = A.arm_run(ds)
-    sim, _ = A.simulate_config(run, A.to_config(run, A.ArmModel()))
+    run = arm.arm_run(ds)
+    sim, _ = arm.simulate_config(run, arm.to_config(run, arm.ArmModel()))
     # exact at the control rate; at 500 Hz the references between samples are interpolated
     tol = 1e-8 if rate >= 1000.0 else 1e-5
     for ch in ("q2", "q3", "theta_m"):
@@ -357,7 +355,7 @@ def test_arm_records_at_other_rates_replay(
 def test_arm_record_rates_that_cannot_be_made_are_named_errors() -> None:
     for rate in (300.0, 1e6, float("nan"), 50.0):
         with pytest.raises(InvalidParameterError, match="rate"):
-            S.ArmRecording(rate_hz=rate).validate()
+            arm_synth.ArmRecording(rate_hz=rate).validate()
 
 
 def test_model_timestep_constant_is_the_models() -> None:

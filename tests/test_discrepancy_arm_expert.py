@@ -12,10 +12,8 @@ from typing import Any
 import numpy as np
 import pytest
 
-from batteries import battery_arm_expert as E
-from fsarm_sim.discrepancy import arm as A
-from fsarm_sim.discrepancy import arm_synth as S
-from fsarm_sim.discrepancy import report
+from batteries import battery_arm_expert
+from fsarm_sim.discrepancy import arm, arm_synth, report
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.records.measured import load_dataset
 
@@ -25,29 +23,37 @@ DURATION_S = 3.0
 
 
 def test_a_pickup_line_on_the_motor_encoder_is_unexplained_and_named(tmp_path: Path) -> None:
-    case = E.ArmCase("line", "ool", (), "line", seed=3, duration_s=DURATION_S)
-    truth = E.truth_of(case)
-    rec = S.ArmRecording(duration_s=DURATION_S, noise_rad=E.NOISE_RAD, seed=3)
+    case = battery_arm_expert.ArmCase("line", "ool", (), "line", seed=3, duration_s=DURATION_S)
+    truth = battery_arm_expert.truth_of(case)
+    rec = arm_synth.ArmRecording(
+        duration_s=DURATION_S, noise_rad=battery_arm_expert.NOISE_RAD, seed=3
+    )
     path = tmp_path / "arm.csv"
-    S.write_arm_synthetic(path, truth, rec, disturbance=E.disturbance("line"))
-    diag = A.diagnose_arm(load_dataset(path))
+    arm_synth.write_arm_synthetic(
+        path, truth, rec, disturbance=battery_arm_expert.disturbance("line")
+    )
+    diag = arm.diagnose_arm(load_dataset(path))
     res = report.json_clean(report.result_dict(diag))
     assert res["named_effects"] == []
     assert res["unexplained"] is True and res["nothing_missing"] is False
     sig = res["residual_signature"]
     assert sig["kind"] == "spectral_line" and sig["channel"] == "twist"
     line = sig["spectral_lines"][0]
-    assert line["frequency_hz"] == pytest.approx(E.LINE_HZ, abs=0.2)
+    assert line["frequency_hz"] == pytest.approx(battery_arm_expert.LINE_HZ, abs=0.2)
     # the line's amplitude on theta_m is the twist's (twist = theta_m - i_G2 q3)
-    assert line["amplitude"] == pytest.approx(E.LINE_AMPLITUDE_RAD, rel=0.15)
+    assert line["amplitude"] == pytest.approx(battery_arm_expert.LINE_AMPLITUDE_RAD, rel=0.15)
     assert "outside the library" in res["verdict"] and "50 Hz line" in res["verdict"]
     json.dumps(res)  # the signature's arrays are JSON-safe
-    files = A.write_plots(diag, tmp_path / "plots")
+    files = arm.write_plots(diag, tmp_path / "plots")
     assert (tmp_path / "plots" / "residual_signature.png") in files
 
 
 def test_intervals_of_an_arm_fit_cover_the_truth() -> None:
-    r = E.run(E.ArmCase("coulomb", "single", ("coulomb_friction",), seed=5, duration_s=DURATION_S))
+    r = battery_arm_expert.run(
+        battery_arm_expert.ArmCase(
+            "coulomb", "single", ("coulomb_friction",), seed=5, duration_s=DURATION_S
+        )
+    )
     assert r.error == "" and r.named == ["coulomb_friction"] and r.unexplained is False
     names = {n for n, _ in r.covered}
     assert "coulomb_friction.f_c_nm" in names and names & {"c_scale", "c_scale_pos"}
@@ -76,36 +82,42 @@ def test_rounding_bias_of_a_quantiser_falls_with_the_noise_that_dithers_it() -> 
 def test_a_quantised_joint_held_at_a_pose_does_not_make_the_interval_overconfident() -> None:
     """tendon-sheath record with nothing hidden: joint 2 dwells on a few encoder counts, whose
     rounding biased kb_scale by 5 of its SDs (0.5.2); the interval now carries that offset."""
-    case = next(c for c in E.cases() if c.name == "tendon-sheath/null")
-    r = E.run(case)
+    case = next(c for c in battery_arm_expert.cases() if c.name == "tendon-sheath/null")
+    r = battery_arm_expert.run(case)
     assert r.error == "" and r.named == []
     assert dict(r.covered).get("kb_scale") is True, r.covered
 
 
 @pytest.mark.parametrize("rate", [500.0, 2000.0])
 def test_arm_records_at_500_hz_and_2_khz_are_diagnosed(rate: float) -> None:
-    r = E.run(
-        E.ArmCase("r", "single", ("coulomb_friction",), seed=6, duration_s=DURATION_S, rate_hz=rate)
+    r = battery_arm_expert.run(
+        battery_arm_expert.ArmCase(
+            "r", "single", ("coulomb_friction",), seed=6, duration_s=DURATION_S, rate_hz=rate
+        )
     )
     assert r.error == "" and r.named == ["coulomb_friction"] and r.unexplained is False
-    assert {c.rate_hz for c in E.cases() if c.group == "pair"} == {None, 500.0, 2000.0}
+    assert {c.rate_hz for c in battery_arm_expert.cases() if c.group == "pair"} == {
+        None,
+        500.0,
+        2000.0,
+    }
 
 
 @pytest.mark.parametrize("transmission", ["qa-joint", "tendon-sheath"])
 def test_synthetic_arm_record_of_another_transmission_is_diagnosed(transmission: str) -> None:
-    case = E.ArmCase(
+    case = battery_arm_expert.ArmCase(
         "t", "transmission", ("sensor_offset",), transmission=transmission, seed=9, duration_s=3.0
     )
-    r = E.run(case)
+    r = battery_arm_expert.run(case)
     assert r.error == "" and r.named == ["sensor_offset"] and r.unexplained is False
 
 
 def test_synthetic_arm_record_states_its_transmission(tmp_path: Path) -> None:
-    rec = S.ArmRecording(duration_s=1.0, transmission="rtca")
-    S.write_arm_synthetic(tmp_path / "a.csv", S.truth_model([]), rec)
-    assert A.arm_run(load_dataset(tmp_path / "a.csv")).transmission == "rtca"
+    rec = arm_synth.ArmRecording(duration_s=1.0, transmission="rtca")
+    arm_synth.write_arm_synthetic(tmp_path / "a.csv", arm_synth.truth_model([]), rec)
+    assert arm.arm_run(load_dataset(tmp_path / "a.csv")).transmission == "rtca"
     with pytest.raises(InvalidParameterError, match="unknown transmission"):
-        S.ArmRecording(transmission="harmonic-drive").validate()
+        arm_synth.ArmRecording(transmission="harmonic-drive").validate()
 
 
 # ---- the printout (format_results, shared with the bench battery: battery_expert.format_battery)
@@ -116,27 +128,27 @@ FAKE_SIGNATURES: list[dict[str, Any]] = [
     {
         "summary": "x" * 120,
         "kind": "spectral_line",
-        "spectral_lines": [{"frequency_hz": E.LINE_HZ, "in_input": False}],
+        "spectral_lines": [{"frequency_hz": battery_arm_expert.LINE_HZ, "in_input": False}],
     },
     {
         "summary": "drift of the offset",
         "kind": "drift",
-        "trend": {"offset": {"change_over_record": E.DRIFT_RAD}},
+        "trend": {"offset": {"change_over_record": battery_arm_expert.DRIFT_RAD}},
     },
     {"summary": "signal", "kind": "signal", "dependence": [{"signal": "q3"}]},
     {"summary": "twist dep", "kind": "signal", "dependence": [{"signal": "twist"}]},
 ]
 
 
-def _fake_results() -> list[E.ArmResult]:
+def _fake_results() -> list[battery_arm_expert.ArmResult]:
     """An ArmResult for every case of the battery, its fields varied case by case (no run)."""
     out = []
-    for i, case in enumerate(E.cases()):
+    for i, case in enumerate(battery_arm_expert.cases()):
         truth = list(case.effects)
         named = truth if i % 3 else truth[:1] + (["payload_error"] if i % 2 else [])
         covered = [(n, (i + j) % 3 != 0) for j, n in enumerate(["k", "c", "tau_f"][: 1 + i % 3])]
         out.append(
-            E.ArmResult(
+            battery_arm_expert.ArmResult(
                 case=case,
                 named=named,
                 unexplained=[None, True, False][i % 3],
@@ -153,11 +165,17 @@ def _fake_results() -> list[E.ArmResult]:
 
 def test_the_printout_reports_every_case_mark_and_rate() -> None:
     results = _fake_results()
-    marks = {E.signature_right(r) for r in results}
+    marks = {battery_arm_expert.signature_right(r) for r in results}
     assert marks == {None, True, False}  # every signature mark is printed
     assert any(not c for r in results for _, c in r.covered)  # and CI-miss lines
     for sel in (results, results[:3], results[-5:], []):
-        text = E.format_results(sel)
-        check_battery_printout(text, sel, E.signature_right, E.rates(sel), ci_misses=True)
+        text = battery_arm_expert.format_results(sel)
+        check_battery_printout(
+            text,
+            sel,
+            battery_arm_expert.signature_right,
+            battery_arm_expert.rates(sel),
+            ci_misses=True,
+        )
         if sel:
             assert f"({sel[0].case.duration_s:g} s records)" in text

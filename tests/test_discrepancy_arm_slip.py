@@ -7,10 +7,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fsarm_sim.discrepancy import arm as A
-from fsarm_sim.discrepancy import arm_expert as X
-from fsarm_sim.discrepancy import arm_fit, arm_model, arm_screen, arm_slip, selection
-from fsarm_sim.discrepancy import arm_synth as S
+from fsarm_sim.discrepancy import (
+    arm,
+    arm_expert,
+    arm_fit,
+    arm_model,
+    arm_screen,
+    arm_slip,
+    arm_synth,
+    selection,
+)
 from fsarm_sim.records.measured import load_dataset
 
 # two elements slipping at quite different twists (the arm expert battery's hysteresis)
@@ -18,12 +24,12 @@ TRUTH = "hysteresis=4,0.002,2,0.005"
 
 
 @pytest.fixture(scope="module")
-def one_element(tmp_path_factory: pytest.TempPathFactory) -> tuple[A.ArmSetup, arm_fit.ArmFit]:
+def one_element(tmp_path_factory: pytest.TempPathFactory) -> tuple[arm.ArmSetup, arm_fit.ArmFit]:
     """A record of the two-element loop and the one-element fit the screen ends up with."""
     path: Path = tmp_path_factory.mktemp("slip") / "arm.csv"
-    rec = S.ArmRecording(duration_s=4.0, noise_rad=2e-5, seed=11)
-    S.write_arm_synthetic(path, S.truth_model([TRUTH]), rec)
-    setup = A.ArmSetup(load_dataset(path))
+    rec = arm_synth.ArmRecording(duration_s=4.0, noise_rad=2e-5, seed=11)
+    arm_synth.write_arm_synthetic(path, arm_synth.truth_model([TRUTH]), rec)
+    setup = arm.ArmSetup(load_dataset(path))
     setup.nominal()
     ctx = setup.ctx
     m = arm_screen.add_candidate(ctx, arm_model.ArmModel(), "hysteresis", "maxwell_slip")
@@ -36,14 +42,14 @@ def one_element(tmp_path_factory: pytest.TempPathFactory) -> tuple[A.ArmSetup, a
 
 
 def test_a_second_element_is_added_where_the_loop_needs_it(
-    one_element: tuple[A.ArmSetup, arm_fit.ArmFit],
+    one_element: tuple[arm.ArmSetup, arm_fit.ArmFit],
 ) -> None:
     setup, fit = one_element
-    before = X.over_noise(setup.ctx, fit)["q3"]
+    before = arm_expert.over_noise(setup.ctx, fit)["q3"]
     assert before > 3.0  # one element leaves the loop's corners far above the noise
     grown = setup.finish(fit, ["hysteresis"])
     assert len(setup.slip_added) >= 1 and len(grown.model.slip_delta) >= 2
-    assert X.over_noise(setup.ctx, grown)["q3"] < 0.3 * before
+    assert arm_expert.over_noise(setup.ctx, grown)["q3"] < 0.3 * before
     deltas = sorted(grown.model.slip_delta)
     assert deltas[0] == pytest.approx(0.002, rel=0.3) and deltas[-1] == pytest.approx(
         0.005, rel=0.3
@@ -59,7 +65,7 @@ def test_a_second_element_is_added_where_the_loop_needs_it(
 
 
 def test_an_element_that_does_not_earn_its_place_is_not_added(
-    one_element: tuple[A.ArmSetup, arm_fit.ArmFit],
+    one_element: tuple[arm.ArmSetup, arm_fit.ArmFit],
 ) -> None:
     setup, fit = one_element
 
@@ -73,7 +79,7 @@ def test_an_element_that_does_not_earn_its_place_is_not_added(
 
 
 def test_new_elements_start_a_step_of_the_screens_own_grid_away(
-    one_element: tuple[A.ArmSetup, arm_fit.ArmFit],
+    one_element: tuple[arm.ArmSetup, arm_fit.ArmFit],
 ) -> None:
     """GRID_RATIO is the ratio of the screen's slip-deflection grid (arm_fit.make_context)."""
     grid = one_element[0].ctx.slip_grid
@@ -86,6 +92,8 @@ def test_the_result_json_lists_the_elements_added(tmp_path: Path) -> None:
     from fsarm_sim.discrepancy import report
 
     path = tmp_path / "arm.csv"
-    S.write_arm_synthetic(path, S.truth_model([]), S.ArmRecording(duration_s=2.0, seed=3))
-    res = report.result_dict(A.diagnose_arm(load_dataset(path)))
+    arm_synth.write_arm_synthetic(
+        path, arm_synth.truth_model([]), arm_synth.ArmRecording(duration_s=2.0, seed=3)
+    )
+    res = report.result_dict(arm.diagnose_arm(load_dataset(path)))
     assert res["slip_elements_added"] == []

@@ -11,9 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fsarm_sim.discrepancy import arm as A
-from fsarm_sim.discrepancy import arm_fit, arm_model, arm_run, core, replay
-from fsarm_sim.discrepancy import arm_synth as S
+from fsarm_sim.discrepancy import arm, arm_fit, arm_model, arm_run, arm_synth, core, replay
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.records.measured import Dataset, load_dataset
 
@@ -22,10 +20,10 @@ DURATION_S = 2.0  # s of fig14-sine: short, the runs are what is compared
 
 @pytest.fixture(scope="module")
 def record(tmp_path_factory: pytest.TempPathFactory) -> Dataset:
-    truth = S.truth_model(["payload_error=0.5", "coulomb_friction:q3=0.1"])
-    rec = S.ArmRecording(duration_s=DURATION_S, noise_rad=2e-5, seed=4)
+    truth = arm_synth.truth_model(["payload_error=0.5", "coulomb_friction:q3=0.1"])
+    rec = arm_synth.ArmRecording(duration_s=DURATION_S, noise_rad=2e-5, seed=4)
     path: Path = tmp_path_factory.mktemp("speed") / "arm.csv"
-    S.write_arm_synthetic(path, truth, rec)
+    arm_synth.write_arm_synthetic(path, truth, rec)
     return load_dataset(path)
 
 
@@ -106,7 +104,7 @@ def test_a_diagnosis_with_its_runs_side_by_side_is_the_same(
     diags = []
     for threads in (1, 2):
         monkeypatch.setattr(arm_fit, "SIM_THREADS", threads)
-        diags.append(A.diagnose_arm(record))
+        diags.append(arm.diagnose_arm(record))
     seq, par = diags
     assert seq.named == par.named
     assert seq.ctx.n_sims == par.ctx.n_sims

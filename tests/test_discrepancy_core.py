@@ -16,8 +16,7 @@ import numpy as np
 import pytest
 from rich.console import Console
 
-from fsarm_sim.discrepancy import core, report
-from fsarm_sim.discrepancy import selection as S
+from fsarm_sim.discrepancy import core, report, selection
 from fsarm_sim.discrepancy.effect_text import parse_effect
 from fsarm_sim.discrepancy.residuals import noise_floor, nrmse, split_masks
 from fsarm_sim.errors import InvalidParameterError
@@ -169,7 +168,7 @@ def test_a_third_setup_runs_through_the_core(tmp_path: Path) -> None:
     assert res["named_effects"] == ["coulomb_friction", "sensor_offset"]
     assert res["setup"] == "toy" and res["toy"] == 1
     assert res["bic"]["final"] < res["bic"]["nominal"]
-    assert res["method"]["bic_threshold"] == S.BIC_THRESHOLD
+    assert res["method"]["bic_threshold"] == selection.BIC_THRESHOLD
     files = report.write_report(diag, tmp_path / "rep")
     assert json.loads(files["model"].read_text())["k"] == pytest.approx(11.0, rel=0.01)
     assert files["bic"].is_file()

@@ -8,11 +8,16 @@ from __future__ import annotations
 
 import math
 
-from batteries import battery as B
+from batteries import battery
 from batteries.battery_expert import truth_values
-from fsarm_sim.discrepancy import candidate_structure, candidates, replay_inputs, synth
-from fsarm_sim.discrepancy import selection as S
-from fsarm_sim.discrepancy import variants as V
+from fsarm_sim.discrepancy import (
+    candidate_structure,
+    candidates,
+    replay_inputs,
+    selection,
+    synth,
+    variants,
+)
 from fsarm_sim.discrepancy.bench_setup import BenchDiagnosis, diagnose
 from fsarm_sim.discrepancy.benchmodel import BenchModel, EffectInstance, stated_model
 from fsarm_sim.plant.effects import registry
@@ -24,7 +29,7 @@ def _record(
     truth = synth.truth_model(setup, stiffness_scale=1.1)
     for e in effects:
         truth = truth.with_effect(e)
-    case = B.Case(
+    case = battery.Case(
         name=f"{setup}-{seed}",
         setup=setup,
         inertia=False,
@@ -36,7 +41,7 @@ def _record(
         duration_s=10.0,
         rate_hz=rate_hz,
     )
-    return truth, diagnose(B.dataset(truth, case, case.noise))
+    return truth, diagnose(battery.dataset(truth, case, case.noise))
 
 
 def _covered(truth: BenchModel, diag: BenchDiagnosis) -> dict[str, bool]:
@@ -52,14 +57,14 @@ def test_backfit_moves_a_delay_found_before_a_coulomb_element() -> None:
     truth, diag = _record(
         "series_bench",
         [
-            EffectInstance(V.COULOMB, "shaft", {"f_c_nm": 0.377}),
-            EffectInstance(V.DELAY, "input", {"delay_s": 0.0288}),
+            EffectInstance(variants.COULOMB, "shaft", {"f_c_nm": 0.377}),
+            EffectInstance(variants.DELAY, "input", {"delay_s": 0.0288}),
         ],
         "random",
         1605,
         500.0,
     )
-    assert sorted(diag.named) == sorted([V.COULOMB, V.DELAY])
+    assert sorted(diag.named) == sorted([variants.COULOMB, variants.DELAY])
     assert not diag.extras["unexplained"]
     cov = _covered(truth, diag)
     assert cov["delay[input].delay_s"] and cov["coulomb_friction[shaft].f_c_nm"]
@@ -72,14 +77,16 @@ def test_restart_names_a_backlash_and_the_offset_it_stood_in_for() -> None:
     _, diag = _record(
         "series_bench",
         [
-            EffectInstance(V.BACKLASH, "coupling", {"width_rad": 0.1106, "center_rad": 0.01106}),
-            EffectInstance(V.OFFSET, "output", {"offset_nm": 0.638}),
+            EffectInstance(
+                variants.BACKLASH, "coupling", {"width_rad": 0.1106, "center_rad": 0.01106}
+            ),
+            EffectInstance(variants.OFFSET, "output", {"offset_nm": 0.638}),
         ],
         "steps",
         1615,
         1000.0,
     )
-    assert sorted(diag.named) == sorted([V.BACKLASH, V.OFFSET])
+    assert sorted(diag.named) == sorted([variants.BACKLASH, variants.OFFSET])
     assert any(st.added and "restart" in st.reason for st in diag.steps)
     assert not diag.extras["unexplained"]
 
@@ -90,21 +97,26 @@ def test_a_look_alike_stand_in_is_swapped_for_the_true_effect() -> None:
     beside it, the damper replaces it (:func:`.candidates.swap_variants`)."""
     truth = (
         synth.truth_model("series_bench", stiffness_scale=1.1)
-        .with_effect(EffectInstance(V.COULOMB, "shaft", {"f_c_nm": 0.363}))
-        .with_effect(EffectInstance(V.VISCOUS, "shaft", {"b_nms": 0.477}))
+        .with_effect(EffectInstance(variants.COULOMB, "shaft", {"f_c_nm": 0.363}))
+        .with_effect(EffectInstance(variants.VISCOUS, "shaft", {"b_nms": 0.477}))
     )
-    case = B.Case("swap", "series_bench", False, [], None, 0.003, "random", 1601, duration_s=10.0)
-    ds = B.dataset(truth, case, case.noise)
+    case = battery.Case(
+        "swap", "series_bench", False, [], None, 0.003, "random", 1601, duration_s=10.0
+    )
+    ds = battery.dataset(truth, case, case.noise)
     ctx = candidate_structure.make_context(replay_inputs.prepare_inputs(ds), stated_model(ds))
-    ve = candidates.candidate(ctx, candidates.nominal(ctx), V.HYSTERESIS, "viscoelastic")
+    ve = candidates.candidate(ctx, candidates.nominal(ctx), variants.HYSTERESIS, "viscoelastic")
     assert ve is not None
-    both = candidates.candidate(ctx, ve, V.COULOMB, "shaft")
+    both = candidates.candidate(ctx, ve, variants.COULOMB, "shaft")
     assert both is not None
     pairs = registry.applicable("series_bench", False)
-    swapped, replaced = candidates.swap_variants(ctx, both, pairs, S.LOOK_ALIKES)
-    assert replaced == {V.HYSTERESIS: V.VISCOUS}
+    swapped, replaced = candidates.swap_variants(ctx, both, pairs, selection.LOOK_ALIKES)
+    assert replaced == {variants.HYSTERESIS: variants.VISCOUS}
     assert swapped.mse_held < both.mse_held
-    assert {e for e, _ in candidates.present(swapped.structure)} == {V.COULOMB, V.VISCOUS}
+    assert {e for e, _ in candidates.present(swapped.structure)} == {
+        variants.COULOMB,
+        variants.VISCOUS,
+    }
     # without the look-alikes nothing but a variant may change
     _, none = candidates.swap_variants(ctx, both, pairs, ())
     assert none == {}

@@ -11,8 +11,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from batteries import battery as B
-from batteries import battery_expert as E
+from batteries import battery, battery_expert
 from fsarm_sim.discrepancy import report, synth
 from fsarm_sim.discrepancy.bench_setup import diagnose
 from fsarm_sim.discrepancy.benchmodel import BenchModel
@@ -93,7 +92,7 @@ def test_an_out_of_library_line_is_unexplained_and_intervals_cover_the_truth(
 ) -> None:
     """A bench record with Coulomb friction and a 50 Hz line on the torque: the friction named
     with a 95 % interval holding its true value, the residual unexplained and named."""
-    case = E._case(
+    case = battery_expert._case(
         "line",
         "series_bench",
         [("coulomb_friction", "shaft")],
@@ -102,9 +101,9 @@ def test_an_out_of_library_line_is_unexplained_and_intervals_cover_the_truth(
         duration_s=10.0,
         extra=("line", 0.01),
     )
-    case = B.replace(case, rate_hz=500.0, trajectory="random")
-    truth, _ = B.build_truth(case)
-    diag = diagnose(B.dataset(truth, case, case.noise))
+    case = battery.replace(case, rate_hz=500.0, trajectory="random")
+    truth, _ = battery.build_truth(case)
+    diag = diagnose(battery.dataset(truth, case, case.noise))
     res = report.result_dict(diag)
     assert res["named_effects"] == ["coulomb_friction"]
     assert res["unexplained"] is True and res["nothing_missing"] is False
@@ -136,18 +135,18 @@ def test_an_input_file_drives_synth_and_bad_files_are_refused(tmp_path: Path) ->
 
 
 def test_designed_inputs_rest_at_the_ends_and_keep_the_rate_limit() -> None:
-    from fsarm_sim.discrepancy import design as D
+    from fsarm_sim.discrepancy import design
 
     t = np.arange(0, 30.0, 1e-3)
-    ds = D.designs(0.4)
+    ds = design.designs(0.4)
     assert {d.bias for d in ds} >= {0.0} and min(d.bias for d in ds) < 0 < max(d.bias for d in ds)
     for k, d in enumerate(ds):
-        u = D.input_of(d, t, "series_bench", seed=k)
+        u = design.input_of(d, t, "series_bench", seed=k)
         assert abs(u[0]) < 1e-9 and abs(u[-1]) < 1e-6
         assert np.max(np.abs(np.gradient(u, t))) <= synth.SERIES_RATE_LIMIT
         assert np.max(np.abs(u)) <= abs(d.bias) + d.amplitude + 1e-9
     # a wrong model leaving the noise variance on 10 000 held-out samples: 10 000 ln 2 - ln n
-    assert D.expected_margin(1.0, 1.0, 1e4, 1) == pytest.approx(1e4 * np.log(2) - np.log(1e4))
+    assert design.expected_margin(1.0, 1.0, 1e4, 1) == pytest.approx(1e4 * np.log(2) - np.log(1e4))
 
 
 # ---- the printout (format_results, shared with the arm battery: format_battery)
@@ -158,7 +157,7 @@ FAKE_SIGNATURES: list[dict[str, Any]] = [
     {
         "summary": "x" * 120,
         "kind": "spectral_line",
-        "spectral_lines": [{"frequency_hz": B.LINE_HZ, "in_input": False}],
+        "spectral_lines": [{"frequency_hz": battery.LINE_HZ, "in_input": False}],
     },
     {
         "summary": "drift of the gain",
@@ -170,15 +169,15 @@ FAKE_SIGNATURES: list[dict[str, Any]] = [
 ]
 
 
-def _fake_results() -> list[E.Result]:
+def _fake_results() -> list[battery_expert.Result]:
     """A Result for every case of the battery, its fields varied case by case (no diagnosis)."""
     out = []
-    for i, (group, case) in enumerate(E.cases()):
+    for i, (group, case) in enumerate(battery_expert.cases()):
         truth = [e for e, _ in case.effects]
         named = truth if i % 3 else truth[:1] + (["viscous_damping"] if i % 2 else [])
         covered = [(n, (i + j) % 3 != 0) for j, n in enumerate(["k", "c", "tau_f"][: 1 + i % 3])]
         out.append(
-            E.Result(
+            battery_expert.Result(
                 case=case,
                 group=group,
                 truth=BenchModel(setup=case.setup, nominal={}),
@@ -198,11 +197,13 @@ def _fake_results() -> list[E.Result]:
 
 def test_the_printout_reports_every_case_mark_and_rate() -> None:
     results = _fake_results()
-    marks = {E.signature_right(r) for r in results}
+    marks = {battery_expert.signature_right(r) for r in results}
     assert marks == {None, True, False}  # every signature mark is printed
     for sel in (results, results[:3], results[-5:], []):
-        text = E.format_results(sel)
-        check_battery_printout(text, sel, E.signature_right, E.rates(sel), ci_misses=False)
+        text = battery_expert.format_results(sel)
+        check_battery_printout(
+            text, sel, battery_expert.signature_right, battery_expert.rates(sel), ci_misses=False
+        )
         for r in sel:  # the rate of each case's record, after its name
             assert f"{r.case.rate_hz:5.0f}Hz " in text
         cpu = [r.cpu_s for r in sel if math.isfinite(r.cpu_s)]

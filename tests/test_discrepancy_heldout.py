@@ -11,9 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from batteries import gen_bench as G
+from batteries import gen_bench
 
-GEN = Path(G.__file__)
+GEN = Path(gen_bench.__file__)
 
 
 def _imports(path: Path) -> set[str]:
@@ -35,8 +35,8 @@ def test_generator_imports_no_diagnosis_code() -> None:
     # nor does anything it imports pull the diagnosis in
     code = (
         "import sys; sys.path.insert(0, 'tests');"
-        "from batteries import gen_bench as G;"
-        "G.make_record(G.KINDS[0], 3);"
+        "from batteries import gen_bench;"
+        "gen_bench.make_record(gen_bench.KINDS[0], 3);"
         "bad = [m for m in sys.modules if m.startswith('fsarm_sim.discrepancy')];"
         "print(bad); sys.exit(1 if bad else 0)"
     )
@@ -65,27 +65,27 @@ HELDOUT_ROUND2 = {
 
 
 def test_split_is_fixed_and_covers_every_category() -> None:
-    sp = G.split()
-    assert sp == G.split()
-    assert set(sp) == {k.name for k in G.KINDS}
+    sp = gen_bench.split()
+    assert sp == gen_bench.split()
+    assert set(sp) == {k.name for k in gen_bench.KINDS}
     assert {n for n, s in sp.items() if s == "heldout"} == HELDOUT_ROUND2
     # every kind seen before (round 1, both of its sets) is development now
-    assert all(sp[k.name] == "dev" for k in G.KINDS if k.round == 1)
-    held = [k for k in G.KINDS if sp[k.name] == "heldout"]
+    assert all(sp[k.name] == "dev" for k in gen_bench.KINDS if k.round == 1)
+    held = [k for k in gen_bench.KINDS if sp[k.name] == "heldout"]
     for cat in ("library_multi", "outside", "outside_plus", "null"):
-        assert {sp[k.name] for k in G.KINDS if k.category == cat and k.round == 2} == {
+        assert {sp[k.name] for k in gen_bench.KINDS if k.category == cat and k.round == 2} == {
             "dev",
             "heldout",
         }, cat
     assert {len(k.library) for k in held if k.category == "library_multi"} == {2, 3}
     assert {len(k.library) for k in held if k.category == "outside_plus"} == {1, 2}
     # no outside cause of the held-out set appears in development
-    dev_causes = {k.outside for k in G.KINDS if sp[k.name] == "dev"}
+    dev_causes = {k.outside for k in gen_bench.KINDS if sp[k.name] == "dev"}
     assert not dev_causes & {k.outside for k in held if k.outside}
-    new_outside = [k for k in G.KINDS if k.category == "outside" and k.round == 2]
+    new_outside = [k for k in gen_bench.KINDS if k.category == "outside" and k.round == 2]
     assert len(new_outside) >= 6
     assert all(k.noise != "white" for k in held if k.category == "null")
-    r1 = G.split_round1()
+    r1 = gen_bench.split_round1()
     assert sum(s == "heldout" for s in r1.values()) == 18  # round 1's, as it was
 
 
@@ -93,11 +93,11 @@ def test_split_is_fixed_and_covers_every_category() -> None:
 def test_records_load_in_the_measured_format(kind: str, tmp_path: Path) -> None:
     from fsarm_sim.records.measured import load_dataset
 
-    k = next(k for k in G.KINDS if k.name == kind)
-    rec = G.make_record(k, 3)  # index 3: a short record
-    ds = load_dataset(G.write_record(rec, tmp_path))
+    k = next(k for k in gen_bench.KINDS if k.name == kind)
+    rec = gen_bench.make_record(k, 3)  # index 3: a short record
+    ds = load_dataset(gen_bench.write_record(rec, tmp_path))
     assert ds.setup == "series_bench"
-    assert rec.truth["duration_s"] == G.SHORT_S
+    assert rec.truth["duration_s"] == gen_bench.SHORT_S
     tau = rec.columns["tau_s"]
     assert np.all(np.isfinite(tau)) and float(np.ptp(tau)) > 0
 
@@ -220,19 +220,19 @@ def test_the_search_names_a_period_in_an_angle_a_resonance_and_a_saturation(
 # ----------------------------------------------------------------------------- one record each
 
 
-def _diagnose(rec: G.Record, tmp_path: Path) -> dict:
+def _diagnose(rec: gen_bench.Record, tmp_path: Path) -> dict:
     from fsarm_sim.discrepancy import diagnose_record
     from fsarm_sim.discrepancy.report import result_dict
     from fsarm_sim.records.measured import load_dataset
 
-    return result_dict(diagnose_record(load_dataset(G.write_record(rec, tmp_path))))
+    return result_dict(diagnose_record(load_dataset(gen_bench.write_record(rec, tmp_path))))
 
 
 def test_a_friction_that_grows_over_the_record_is_a_stand_in_not_named(tmp_path: Path) -> None:
     """Coulomb friction whose level rises 19-fold over the record (grease warming: outside the
     library, whose friction is constant): a constant friction shrinks the gap on average, but its
     size disagrees between the record's parts - reported as a stand-in, the rest unexplained."""
-    rec = G.make_record(next(k for k in G.KINDS if k.name == "null_white"), 3)
+    rec = gen_bench.make_record(next(k for k in gen_bench.KINDS if k.name == "null_white"), 3)
     t, th = rec.columns["t"], rec.columns["theta_m"]
     v = np.gradient(th, t)
     f = 0.04 * float(np.ptp(rec.columns["tau_s"])) * (0.1 + 1.8 * t / t[-1])
@@ -246,7 +246,7 @@ def test_a_friction_that_grows_over_the_record_is_a_stand_in_not_named(tmp_path:
 
 def test_a_pink_noise_null_is_not_unexplained(tmp_path: Path) -> None:
     """1/f noise lifts the residual above the white-noise floor; no structure: not unexplained."""
-    rec = G.make_record(next(k for k in G.KINDS if k.name == "null_pink"), 3)
+    rec = gen_bench.make_record(next(k for k in gen_bench.KINDS if k.name == "null_pink"), 3)
     res = _diagnose(rec, tmp_path)
     assert res["named_effects"] == [] and res["stand_ins"] == []
     assert res["residual_over_noise"]["final"] > 1.3  # above the old sqrt 2 test's reach

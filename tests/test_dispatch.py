@@ -9,8 +9,7 @@ import pytest
 
 from fsarm_sim.engine.model import Effects, SimConfig
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.kernels import dispatch
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import dispatch, layout
 from fsarm_sim.paramblocks import Decl
 from fsarm_sim.plant import transmissions
 from fsarm_sim.plant.effects import registry
@@ -39,7 +38,7 @@ def _state(**values: float) -> tuple[float, ...]:
 
 
 def test_law_dispatch_sums_the_laws_that_are_on() -> None:
-    blocks = (L.LawBlock("a", 0, 1, 2, 4, 0), L.LawBlock("b", 4, 5, 6, 8, 2))
+    blocks = (layout.LawBlock("a", 0, 1, 2, 4, 0), layout.LawBlock("b", 4, 5, 6, 8, 2))
     laws = {"a": _fake_law(1.0), "b": _fake_law(10.0, n_states=2)}
     fn = dispatch.law_dispatch(blocks, laws)
     prm = np.array([0.0, -1.0, 2.0, 3.0, 0.0, 1.0, 5.0, 7.0])
@@ -54,7 +53,7 @@ def test_law_dispatch_sums_the_laws_that_are_on() -> None:
 
 
 def test_state_rate_dispatch_reaches_the_owner_of_an_act_slot() -> None:
-    blocks = (L.LawBlock("a", 0, 1, 2, 4, 0), L.LawBlock("b", 4, 5, 6, 8, 2))
+    blocks = (layout.LawBlock("a", 0, 1, 2, 4, 0), layout.LawBlock("b", 4, 5, 6, 8, 2))
     laws = {"a": _fake_law(1.0), "b": _fake_law(10.0, n_states=2)}
     owns = dispatch.law_owner_dispatch(blocks)
     rate = dispatch.law_rate_dispatch(blocks, laws)
@@ -70,13 +69,15 @@ def test_state_rate_dispatch_reaches_the_owner_of_an_act_slot() -> None:
 
 def test_every_registered_law_has_its_block_in_the_layout() -> None:
     laws = registry.arm_laws()
-    assert [b.name for b in L.ARM_LAW_BLOCKS] == [e.name for e in laws]
-    for b, effect in zip(L.ARM_LAW_BLOCKS, laws, strict=True):
+    assert [b.name for b in layout.ARM_LAW_BLOCKS] == [e.name for e in laws]
+    for b, effect in zip(layout.ARM_LAW_BLOCKS, laws, strict=True):
         assert effect.law is not None
         assert b.end - b.start == len(effect.law.KERNEL_PARAMS)
         assert b.n_states == len(effect.law.STATES)
-        assert L.LAYOUT.slots[b.on].block == L.LAYOUT.slots[b.act].block == f"law:{b.name}"
-        assert [s.decl.name for s in L.LAYOUT.slots[b.start : b.end]] == [
+        assert (
+            layout.LAYOUT.slots[b.on].block == layout.LAYOUT.slots[b.act].block == f"law:{b.name}"
+        )
+        assert [s.decl.name for s in layout.LAYOUT.slots[b.start : b.end]] == [
             d.name for d in effect.law.KERNEL_PARAMS
         ]
         # the registry's fit parameters of an arm law are its kernel parameters (the arm
@@ -92,13 +93,13 @@ def test_the_named_state_holds_what_the_kernels_compute() -> None:
     from fsarm_sim.engine.model import build_model, read_structure
     from fsarm_sim.kernels import physics
 
-    m = build_model(SimConfig(), np.zeros((2, L.REF_COLS)))
+    m = build_model(SimConfig(), np.zeros((2, layout.REF_COLS)))
     st = read_structure(m)
-    prm = m.numeric(L.PARAMS_NAME).data
+    prm = m.numeric(layout.PARAMS_NAME).data
     qpos = np.array([0.1, 0.2, 0.3, 4.0])[np.argsort(st.qadr)]
     qvel = np.array([1.0, 2.0, 3.0, 40.0])[np.argsort(st.dof)]
-    ud = np.zeros(L.N_USERDATA)
-    ud[L.U_OUT + 2] = 0.7
+    ud = np.zeros(layout.N_USERDATA)
+    ud[layout.U_OUT + 2] = 0.7
     twist, rate = physics.twist_and_rate(prm, qpos, qvel)
     s = physics.law_state(prm, qpos, qvel, ud, twist, rate, 0.2)
     assert len(s) == S_OWN

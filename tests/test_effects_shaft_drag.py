@@ -13,7 +13,7 @@ from fsarm_sim.discrepancy import arm_synth
 from fsarm_sim.engine import callbacks
 from fsarm_sim.engine.model import Effects, SimConfig, build_model
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 from fsarm_sim.plant.effects import shaft_drag
 from fsarm_sim.sim.simulation import run_scenario
 
@@ -37,7 +37,7 @@ def test_drag_is_coulomb_like_and_grows_with_bend_as_a_capstan() -> None:
 
 
 def test_on_the_arm_the_drag_lands_on_the_rotor_only() -> None:
-    ref = np.zeros((2, L.REF_COLS))
+    ref = np.zeros((2, layout.REF_COLS))
     with_drag = build_model(SimConfig(effects=Effects(laws=(("shaft_drag", DRAG),))), ref)
     without = build_model(SimConfig(), ref)
     rotor = mujoco.mj_name2id(without, mujoco.mjtObj.mjOBJ_JOINT, "j3_rotor")

@@ -7,8 +7,7 @@ import math
 import pytest
 
 from fsarm_sim.engine.model import build_model
-from fsarm_sim.kernels import layout as L
-from fsarm_sim.kernels import physics
+from fsarm_sim.kernels import layout, physics
 from fsarm_sim.plant import transmissions
 from fsarm_sim.studies.energy_check import conservative_config, free_arm_energy_drift
 
@@ -35,20 +34,20 @@ def test_without_the_coupling_torque_a_routed_bend_dependent_law_drifts() -> Non
 
 
 def free_arm_energy_drift_without_coupling(name: str) -> float:
-    import fsarm_sim.studies.energy_check as E
+    from fsarm_sim.studies import energy_check
 
-    original = E.build_model
+    original = energy_check.build_model
 
     def build_without(cfg, table):  # type: ignore[no-untyped-def]
         m = original(cfg, table)
-        m.numeric(L.PARAMS_NAME).data[L.P_EN_COUPLING] = 0.0
+        m.numeric(layout.PARAMS_NAME).data[layout.P_EN_COUPLING] = 0.0
         return m
 
-    E.build_model = build_without  # type: ignore[assignment]
+    energy_check.build_model = build_without  # type: ignore[assignment]
     try:
-        return E.free_arm_energy_drift(name).drift_j
+        return energy_check.free_arm_energy_drift(name).drift_j
     finally:
-        E.build_model = original  # type: ignore[assignment]
+        energy_check.build_model = original  # type: ignore[assignment]
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -56,10 +55,10 @@ def test_coupling_torque_is_minus_the_bend_derivative_of_the_stored_energy(name:
     cfg = conservative_config(name)
     import numpy as np
 
-    table = np.zeros((1, L.REF_COLS))
+    table = np.zeros((1, layout.REF_COLS))
     table[0, :3] = (0.0, 0.7, 0.3)
     m = build_model(cfg, table)
-    prm = m.numeric(L.PARAMS_NAME).data
+    prm = m.numeric(layout.PARAMS_NAME).data
     import mujoco
 
     d = mujoco.MjData(m)
@@ -105,25 +104,25 @@ def test_every_transmission_states_minus_dv_dbend(name: str) -> None:
 def _stuck_elements_drift(unwinding_ratio: float, timestep_s: float):  # type: ignore[no-untyped-def]
     import dataclasses
 
-    import fsarm_sim.studies.energy_check as E
     from fsarm_sim.plant.shaft import load_catalogue
+    from fsarm_sim.studies import energy_check
 
     sh = load_catalogue().shaft(series_hysteresis=True)
     assert sh.bend_friction_per_rad > 0.0
     stuck = dataclasses.replace(
         sh, slip_f=tuple(100.0 * f for f in sh.slip_f), slip_unwinding_ratio=unwinding_ratio
     )
-    original = E.conservative_config
+    original = energy_check.conservative_config
 
-    def with_stuck_elements(name: str, dt: float = E.DEFAULT_TIMESTEP_S):  # type: ignore[no-untyped-def]
+    def with_stuck_elements(name: str, dt: float = energy_check.DEFAULT_TIMESTEP_S):  # type: ignore[no-untyped-def]
         cfg = original(name, dt)
         return cfg.with_(shaft=stuck, effects=dataclasses.replace(cfg.effects, slip=True))
 
-    E.conservative_config = with_stuck_elements  # type: ignore[assignment]
+    energy_check.conservative_config = with_stuck_elements  # type: ignore[assignment]
     try:
-        return E.free_arm_energy_drift("flexible-shaft", timestep_s=timestep_s)
+        return energy_check.free_arm_energy_drift("flexible-shaft", timestep_s=timestep_s)
     finally:
-        E.conservative_config = original  # type: ignore[assignment]
+        energy_check.conservative_config = original  # type: ignore[assignment]
 
 
 def test_stuck_slip_elements_conserve_energy_whatever_the_bend() -> None:

@@ -7,38 +7,39 @@ import itertools
 import numpy as np
 import pytest
 
-from fsarm_sim.kernels import layout as L
-from fsarm_sim.kernels import physics
+from fsarm_sim.kernels import layout, physics
 from fsarm_sim.paramblocks import Decl, Layout, LayoutError
 from fsarm_sim.plant import transmissions
 
 
 def test_every_slot_is_declared_once_and_blocks_do_not_overlap() -> None:
-    slots = L.LAYOUT.slots
-    assert [s.index for s in slots] == list(range(L.N_PARAMS))
-    spans = sorted(L.LAYOUT.blocks().values())
+    slots = layout.LAYOUT.slots
+    assert [s.index for s in slots] == list(range(layout.N_PARAMS))
+    spans = sorted(layout.LAYOUT.blocks().values())
     for (_, a1), (b0, _) in itertools.pairwise(spans):
         assert a1 <= b0
-    assert spans[0][0] == 0 and spans[-1][1] == L.N_PARAMS
+    assert spans[0][0] == 0 and spans[-1][1] == layout.N_PARAMS
     for s in slots:
         assert s.decl.unit and s.decl.source, s  # every slot says what it holds
 
 
 def test_every_named_constant_points_into_its_declared_block() -> None:
-    named = {k: v for k, v in vars(L).items() if k.startswith("P_") and isinstance(v, int)}
+    named = {k: v for k, v in vars(layout).items() if k.startswith("P_") and isinstance(v, int)}
     assert len(set(named.values())) == len(named)  # no two names share a slot
     for v in named.values():
-        assert 0 <= v < L.N_PARAMS
-    lo, hi = L.LAYOUT.bounds("plant_transmission")
-    assert (L.P_TR, hi - lo) == (lo, L.N_TR)
+        assert 0 <= v < layout.N_PARAMS
+    lo, hi = layout.LAYOUT.bounds("plant_transmission")
+    assert (layout.P_TR, hi - lo) == (lo, layout.N_TR)
 
 
 def test_a_law_module_declares_its_own_block() -> None:
     from fsarm_sim.plant.effects import backlash, bending
 
-    lo, hi = L.LAYOUT.bounds("bending")
-    assert [s.decl.name for s in L.LAYOUT.slots[lo:hi]] == [d.name for d in bending.KERNEL_PARAMS]
-    assert L.LAYOUT.slots[L.P_BL_WIDTH].decl is backlash.KERNEL_PARAMS[0]
+    lo, hi = layout.LAYOUT.bounds("bending")
+    assert [s.decl.name for s in layout.LAYOUT.slots[lo:hi]] == [
+        d.name for d in bending.KERNEL_PARAMS
+    ]
+    assert layout.LAYOUT.slots[layout.P_BL_WIDTH].decl is backlash.KERNEL_PARAMS[0]
 
 
 def test_duplicate_declarations_are_refused() -> None:
@@ -54,7 +55,7 @@ def test_duplicate_declarations_are_refused() -> None:
 def test_every_transmission_id_reaches_its_own_module(name: str) -> None:
     """Integer dispatch in physics: the registry's id of each transmission runs that module."""
     tr = transmissions.get(name)
-    assert tr.kind == L.TRANSMISSION_MODULES.index(tr.module.__name__.rsplit(".", 1)[1])
+    assert tr.kind == layout.TRANSMISSION_MODULES.index(tr.module.__name__.rsplit(".", 1)[1])
     block = tr.block() if name != transmissions.DEFAULT else np.array(tr.block())
     act = np.zeros(8)
     for x in (-0.1, 0.05, 0.2):

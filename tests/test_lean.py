@@ -7,7 +7,7 @@ import pytest
 
 from fsarm_sim.engine.model import SimConfig, build_model
 from fsarm_sim.errors import FsarmError
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 from fsarm_sim.plant import transmissions
 from fsarm_sim.sim import scenarios
 from fsarm_sim.sim.simulation import run_scenario
@@ -16,7 +16,7 @@ STATE = ("q1", "q2", "q3", "qd1", "qd2", "qd3", "theta_m", "omega_m", "tau_shaft
 
 
 def test_the_twin_drops_visual_geoms_and_sensors_only() -> None:
-    ref = np.zeros((2, L.REF_COLS))
+    ref = np.zeros((2, layout.REF_COLS))
     full = build_model(SimConfig(payload_kg=5.0), ref)
     lean = build_model(SimConfig(payload_kg=5.0), ref, lean=True)
     assert lean.nsensor == 0 < full.nsensor
@@ -26,7 +26,7 @@ def test_the_twin_drops_visual_geoms_and_sensors_only() -> None:
     np.testing.assert_array_equal(lean.body_mass, full.body_mass)
     np.testing.assert_array_equal(lean.body_inertia, full.body_inertia)
     np.testing.assert_array_equal(
-        lean.numeric(L.PARAMS_NAME).data, full.numeric(L.PARAMS_NAME).data
+        lean.numeric(layout.PARAMS_NAME).data, full.numeric(layout.PARAMS_NAME).data
     )
 
 
@@ -58,7 +58,7 @@ def test_the_twin_switches_off_only_a_spring_stage_that_adds_nothing() -> None:
     from fsarm_sim.engine import lean as lean_mod
 
     spring = int(mujoco.mjtDisableBit.mjDSBL_SPRING)
-    ref = np.zeros((2, L.REF_COLS))
+    ref = np.zeros((2, layout.REF_COLS))
     full = build_model(SimConfig(), ref)
     twin = build_model(SimConfig(), ref, lean=True)
     assert twin.opt.disableflags & spring
@@ -101,7 +101,7 @@ def test_a_spring_written_into_the_twin_later_is_refused_not_ignored(field: str)
     from fsarm_sim.errors import ModelStructureError
     from fsarm_sim.sim.simulation import Simulation
 
-    ref = np.zeros((20, L.REF_COLS))
+    ref = np.zeros((20, layout.REF_COLS))
     sim = Simulation(SimConfig(), ref, lean=True)
     sim.run(0.005)  # fine before the write
     getattr(sim.model, field).flat[0] = 50.0

@@ -11,7 +11,7 @@ import pytest
 
 from fsarm_sim.engine.model import Gains, SimConfig, build_model, model_path, read_structure
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 from fsarm_sim.plant.shaft import load_catalogue
 
 from conftest import hold_table
@@ -62,13 +62,15 @@ def test_payload_is_applied_and_limited() -> None:
 def test_parameters_reach_the_model() -> None:
     cfg = SimConfig(gains=Gains(torque_bandwidth_rad_s=70.0))
     m = build_model(cfg, hold_table(0.1, 0.2, 0.3, n=5))
-    p = m.numeric(L.PARAMS_NAME).data
-    assert p[L.P_MAGIC] == L.MAGIC
-    assert p[L.P_TAU_BW] == 70.0
-    assert p[L.P_TR] == pytest.approx(cfg.shaft.k_pos)  # the shaft block: k_pos first
-    assert p[L.P_N_TICKS] == 5
+    p = m.numeric(layout.PARAMS_NAME).data
+    assert p[layout.P_MAGIC] == layout.MAGIC
+    assert p[layout.P_TAU_BW] == 70.0
+    assert p[layout.P_TR] == pytest.approx(cfg.shaft.k_pos)  # the shaft block: k_pos first
+    assert p[layout.P_N_TICKS] == 5
     # the kernels' userdata, then the run recorder's buffer (spec_sizes: the compiled sizes)
-    assert m.nuserdata == L.N_USERDATA + L.REC_ROWS_DEFAULT * L.rec_width(m.nq, m.nv, m.na)
+    assert m.nuserdata == layout.N_USERDATA + layout.REC_ROWS_DEFAULT * layout.rec_width(
+        m.nq, m.nv, m.na
+    )
 
 
 @pytest.mark.parametrize(
@@ -167,8 +169,8 @@ def test_built_models_share_nothing() -> None:
     want = _mjb(a)
     b = build_model(SimConfig(), table, lean=True)
     b.dof_damping[:] = 123.0
-    b.numeric(L.PARAMS_NAME).data[:] = -1.0
-    b.numeric(L.REF_NAME).data[:] = 7.0
+    b.numeric(layout.PARAMS_NAME).data[:] = -1.0
+    b.numeric(layout.REF_NAME).data[:] = 7.0
     b.actuator_actrange[:] = 0.25
     assert _mjb(a) == want
     assert _mjb(build_model(SimConfig(), table, lean=True)) == want
@@ -179,7 +181,7 @@ def test_long_tables_are_not_kept() -> None:
     from fsarm_sim.engine import model as model_mod
 
     model_mod.clear_model_cache()
-    n = model_mod.MODEL_CACHE_MAX_REF_NUMBERS // L.REF_COLS + 1
+    n = model_mod.MODEL_CACHE_MAX_REF_NUMBERS // layout.REF_COLS + 1
     build_model(SimConfig(), hold_table(0.0, 0.5, 0.3, n=n), lean=True)
     assert not model_mod._cache
 

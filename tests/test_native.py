@@ -18,7 +18,7 @@ import pytest
 from fsarm_sim.engine import callbacks, native, native_abi
 from fsarm_sim.engine.model import Effects, Gains, SimConfig
 from fsarm_sim.errors import InvalidParameterError, SimulationWarningError
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 from fsarm_sim.plant.shaft import load_catalogue
 from fsarm_sim.sim import batch, scenarios
 from fsarm_sim.sim.simulation import Simulation
@@ -159,10 +159,10 @@ FOREIGN_XML = """
         "",  # no custom fields at all
         '<numeric name="fsarm_params" data="1 2 3"/><numeric name="fsarm_ref" data="0"/>',
         # right size and names but no magic number
-        f'<numeric name="fsarm_params" size="{L.N_PARAMS}"/><numeric name="fsarm_ref" data="0"/>',
+        f'<numeric name="fsarm_params" size="{layout.N_PARAMS}"/><numeric name="fsarm_ref" data="0"/>',
         # size and magic number right, name wrong (the lookup tests the name after them)
         f'<numeric name="fsarm_ref" data="0"/>'
-        f'<numeric name="fsarm_param" size="{L.N_PARAMS}" data="{L.MAGIC}"/>',
+        f'<numeric name="fsarm_param" size="{layout.N_PARAMS}" data="{layout.MAGIC}"/>',
     ],
 )
 def test_foreign_models_are_left_alone(numeric: str) -> None:

@@ -10,8 +10,7 @@ import pytest
 
 from fsarm_sim.engine import callbacks
 from fsarm_sim.engine.model import Effects, Gains, SimConfig, build_model, read_structure
-from fsarm_sim.kernels import layout as L
-from fsarm_sim.kernels import physics
+from fsarm_sim.kernels import layout, physics
 from fsarm_sim.plant.effects import bend_friction
 from fsarm_sim.plant.shaft import ShaftParams, load_catalogue
 from fsarm_sim.sim.simulation import initial_state, raise_on_warning
@@ -44,7 +43,7 @@ def _free_arm(dt: float, *, shaft: ShaftParams | None = None, **fx: bool) -> tup
 def _energy_trace(
     m: mujoco.MjModel, d: mujoco.MjData, seconds: float
 ) -> tuple[np.ndarray, np.ndarray]:
-    prm = m.numeric(L.PARAMS_NAME).data
+    prm = m.numeric(layout.PARAMS_NAME).data
     st = read_structure(m)
     e, p1 = [], []
     full = np.zeros((m.nv, m.nv))
@@ -174,7 +173,7 @@ def test_the_passive_kernel_bends_joint_2_as_the_torque_from_the_state(width: fl
     of it."""
     cfg = SimConfig(effects=Effects(control=False, backlash_width_rad=width))
     m = build_model(cfg, hold_table(0.0, 0.6, 0.4))
-    prm = m.numeric(L.PARAMS_NAME).data
+    prm = m.numeric(layout.PARAMS_NAME).data
     d = mujoco.MjData(m)
     st = read_structure(m)
     initial_state(m, d, st)
@@ -182,12 +181,12 @@ def test_the_passive_kernel_bends_joint_2_as_the_torque_from_the_state(width: fl
     for twist in (0.004, -0.03, 0.2):  # inside the play (0.02 rad), beyond it, far beyond
         d.qpos[st.qadr[3]] = (twist + st.coef_s * d.qpos[st.qadr[2]]) / st.coef_m
         qfrc = np.zeros(m.nv)
-        ud = np.zeros(L.N_USERDATA)
+        ud = np.zeros(layout.N_USERDATA)
         physics.passive_forces(prm, d.qpos, d.qvel, d.act, qfrc, ud)
-        log = ud[L.U_LOG :]
+        log = ud[layout.U_LOG :]
         total, conduit = physics.bending_torques(prm, d.qpos, d.qvel, d.act)
-        assert log[L.L_TAU_BEND] == total
-        assert log[L.L_TAU_CONDUIT] == conduit
+        assert log[layout.L_TAU_BEND] == total
+        assert log[layout.L_TAU_CONDUIT] == conduit
         coupling = physics.bend_coupling_torque(prm, d.qpos, d.act)
         assert coupling == physics.bend_coupling_torque_at(
             prm, physics.transmitted_twist_angle(prm, d.qpos), d.qpos[st.qadr[1]], d.act

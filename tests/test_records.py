@@ -9,9 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from fsarm_sim.discrepancy import arm as A
+from fsarm_sim.discrepancy import arm, arm_synth, synth
 from fsarm_sim.discrepancy import arm_modelfile as MF
-from fsarm_sim.discrepancy import arm_synth, synth
 from fsarm_sim.engine.model import SimConfig
 from fsarm_sim.plant import transmissions
 from fsarm_sim.records import sidecar as rec
@@ -192,5 +191,5 @@ def test_run_record_is_diagnosed_as_it_is(
     assert cfg.controller_shaft == stated and cfg.shaft.slip_k == stated.slip_k
     if transmission == "flexible-shaft":  # the 0.2.0 sidecar of the same run reads the same
         (out / "fig14-sine.json").write_text(LEGACY_RUN.read_text())
-        run = A.arm_run(load_dataset(table))
+        run = arm.arm_run(load_dataset(table))
         assert run.flexible_shaft and run.gains == SimConfig().gains and run.timestep_s is None

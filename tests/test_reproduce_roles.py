@@ -20,16 +20,16 @@ from fsarm_sim.studies.reproduce.targets import claim_value
 # transmission's default block, the benches' settings. Run as: python -c SNAPSHOT ROLE
 SNAPSHOT = r"""
 import dataclasses, json, sys
-from fsarm_sim.studies.reproduce import claims as C
+from fsarm_sim.studies.reproduce import claims
 from fsarm_sim.studies.reproduce import claims_file
 
 ROLE = sys.argv[1]
 SCALE = 1.5
 FIELDS = {
-    C.Between: ("lo", "hi"),
-    C.AtLeast: ("threshold", "partly"),
-    C.AtMost: ("threshold", "partly"),
-    C.Trend: ("paper_change",),
+    claims.Between: ("lo", "hi"),
+    claims.AtLeast: ("threshold", "partly"),
+    claims.AtMost: ("threshold", "partly"),
+    claims.Trend: ("paper_change",),
 }
 
 
@@ -44,7 +44,7 @@ def moved(c):
 
 
 n = 0
-for paper in C.PAPERS:
+for paper in claims.PAPERS:
     old = claims_file.paper_claims(paper)
     new = tuple(moved(c) if c.role == ROLE else c for c in old)
     n += sum(a != b for a, b in zip(new, old))

@@ -20,8 +20,7 @@ from fsarm_sim.errors import (
     InvalidParameterError,
     RunHealthError,
 )
-from fsarm_sim.kernels import layout as L
-from fsarm_sim.kernels import physics
+from fsarm_sim.kernels import layout, physics
 from fsarm_sim.sim import run_memory, scenarios, simulation
 from fsarm_sim.sim.simulation import Simulation, check_clock, run_scenario
 
@@ -48,11 +47,11 @@ def test_data_time_drifts_but_the_clock_ticks_every_period() -> None:
     sim = _fig14(1.0, backend="python")
     d = sim.data
     prm = sim.params.copy()
-    prm[L.P_TIMESTEP] = h
-    prm[L.P_STEPS_PER_TICK] = per_tick
-    prm[L.P_CTRL_DT] = h * per_tick
-    ref = sim.model.numeric(L.REF_NAME).data.copy()
-    ud = np.zeros(L.N_USERDATA)
+    prm[layout.P_TIMESTEP] = h
+    prm[layout.P_STEPS_PER_TICK] = per_tick
+    prm[layout.P_CTRL_DT] = h * per_tick
+    ref = sim.model.numeric(layout.REF_NAME).data.copy()
+    ud = np.zeros(layout.N_USERDATA)
     ctrl = np.zeros(sim.model.nu)
     with callbacks.active("python"):
         mujoco.mj_forward(sim.model, d)  # bias and mass matrix of the start pose
@@ -61,14 +60,14 @@ def test_data_time_drifts_but_the_clock_ticks_every_period() -> None:
     n_steps = 20_000
     for _ in range(n_steps):
         physics.control(prm, ref, t, d.qpos, d.qvel, d.act, d.qfrc_bias, d.M, ud, ctrl)
-        ticks_started.append(ud[L.U_TICK])
+        ticks_started.append(ud[layout.U_TICK])
         t += h  # what mj_step does to data.time
     drift = t - (3540.0 + n_steps * h)
     assert abs(drift) > 1e-6 * per_tick * h  # the old rule's tolerance is long gone ...
     ticks = np.diff(np.array(ticks_started))
     assert ticks.sum() == n_steps / per_tick - 1  # ... yet one tick every 100 steps, no more
     assert set(np.flatnonzero(ticks) % per_tick) == {per_tick - 1}
-    assert ud[L.U_ACC + L.A_COUNT] == n_steps  # and every step counted in the metrics
+    assert ud[layout.U_ACC + layout.A_COUNT] == n_steps  # and every step counted in the metrics
 
 
 def test_an_hour_at_the_default_step_tracks_in_its_last_minute_as_in_its_first() -> None:
@@ -83,7 +82,7 @@ def test_an_hour_at_the_default_step_tracks_in_its_last_minute_as_in_its_first()
         rmse_second = _rmse_deg(cols, joint, second)
         assert rmse_last == pytest.approx(rmse_second, rel=0.05, abs=1e-4), joint
     assert sim.step_index() == round(HOUR_S / 1e-3)
-    assert sim.data.userdata[L.U_TICK] == round(HOUR_S / 1e-3)
+    assert sim.data.userdata[layout.U_TICK] == round(HOUR_S / 1e-3)
     assert math.degrees(sim.metrics()["rmse_rad"]["q3"]) < 0.5  # type: ignore[index]
 
 
@@ -98,7 +97,7 @@ def test_the_last_20_s_of_an_hour_at_10_us_track_as_its_first_20_s() -> None:
     late = _fig14(HOUR_S, cfg)
     late.start_at(HOUR_S - window_s)
     cols_last, _ = late.run(window_s, log_every_ticks=10)
-    assert late.data.userdata[L.U_TICK] == round(HOUR_S / 1e-3)
+    assert late.data.userdata[layout.U_TICK] == round(HOUR_S / 1e-3)
     for joint in ("q2", "q3"):
         a = _rmse_deg(cols_first, joint, np.ones(len(cols_first["t"]), bool))
         b = _rmse_deg(cols_last, joint, np.ones(len(cols_last["t"]), bool))
@@ -141,14 +140,14 @@ def test_a_diverging_run_ends_with_the_time_the_joint_and_the_state() -> None:
 
 def test_a_stopped_clock_is_reported() -> None:
     sim = _fig14(1.0, backend="python")
-    sim.params[L.P_STEPS_PER_TICK] = 1e9  # the controllers now never tick again
+    sim.params[layout.P_STEPS_PER_TICK] = 1e9  # the controllers now never tick again
     sim.step(600)
     with pytest.raises(RunHealthError, match=r"controllers stopped at t = 0.6000"):
         sim.health()
     sim = _fig14(1.0, backend="python")
-    sim.params[L.P_EN_CONTROL] = 0.0
+    sim.params[layout.P_EN_CONTROL] = 0.0
     sim.step(10)  # the clock is in the control kernel: it stands still
-    sim.params[L.P_EN_CONTROL] = 1.0
+    sim.params[layout.P_EN_CONTROL] = 1.0
     with pytest.raises(RunHealthError, match="control clock stopped"):
         sim.health()
 

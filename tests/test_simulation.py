@@ -16,7 +16,7 @@ from fsarm_sim.errors import (
     ScenarioNotFoundError,
     SimulationWarningError,
 )
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 from fsarm_sim.plant.shaft import load_catalogue
 from fsarm_sim.sim import scenarios
 from fsarm_sim.sim.simulation import Simulation, run_scenario
@@ -135,7 +135,7 @@ def test_interrupted_run_raises_unless_partial_is_wanted(monkeypatch: pytest.Mon
     sim = Simulation(SimConfig(), _fig14_table(5.0))
     with pytest.raises(KeyboardInterrupt):
         sim.run(5.0)
-    assert sim.data.userdata[L.U_REC_STRIDE] == 0.0  # the recorder was switched off on the way
+    assert sim.data.userdata[layout.U_REC_STRIDE] == 0.0  # the recorder was switched off on the way
 
 
 def _fig14_table(seconds: float) -> np.ndarray:
@@ -146,7 +146,7 @@ def _fig14_table(seconds: float) -> np.ndarray:
 def _record(cfg: SimConfig, table: np.ndarray) -> tuple[dict[str, np.ndarray], np.ndarray]:
     sim = Simulation(cfg, table, "native")
     cols, _ = sim.run(0.6)
-    return cols, sim.data.userdata[: L.N_USERDATA].copy()
+    return cols, sim.data.userdata[: layout.N_USERDATA].copy()
 
 
 def test_runs_in_a_row_equal_fresh_runs() -> None:
@@ -182,7 +182,7 @@ def test_live_simulations_share_no_model() -> None:
     b = Simulation(SimConfig(), table, "native")
     assert a.model is not b.model and a.data is not b.data
     a.run(0.3)
-    a.params[L.P_WN3] = 1.0
+    a.params[layout.P_WN3] = 1.0
     a.model.dof_damping[:] = 9.0
     cols, _ = b.run(0.6)
     want, _ = _record(SimConfig(), table)

@@ -17,14 +17,13 @@ import pytest
 from fsarm_sim.cli.transmissions import parse_params
 from fsarm_sim.engine.model import Effects, SimConfig, build_model, read_structure
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.kernels import layout as L
-from fsarm_sim.kernels import physics
+from fsarm_sim.kernels import layout, physics
 from fsarm_sim.plant import transmissions
 from fsarm_sim.plant.shaft import load_catalogue
 from fsarm_sim.plant.transmissions.base import N_STATES, TransmissionError
 from fsarm_sim.sim.simulation import initial_state, run_scenario
 
-from conftest import hold_table, run_fsarm
+from conftest import hold_table, joint3_gravity_balance, run_fsarm
 
 NAMES = transmissions.names()
 
@@ -123,11 +122,11 @@ def test_transmission_is_wired_into_the_kernels(name: str) -> None:
     """The arm's kernels apply exactly the module's torque, and the controller reads its law."""
     cfg = SimConfig(transmission=name, effects=Effects(control=False))
     m = build_model(cfg, hold_table(0.0, 0.6, 0.4))
-    prm = m.numeric(L.PARAMS_NAME).data
+    prm = m.numeric(layout.PARAMS_NAME).data
     st = read_structure(m)
     tr = cfg.transmission_model()
     block = cfg.transmission_blocks()[0]
-    assert prm[L.P_TRANS] == tr.kind
+    assert prm[layout.P_TRANS] == tr.kind
     d = mujoco.MjData(m)
     initial_state(m, d, st)
     rng = np.random.default_rng(1)
@@ -148,15 +147,8 @@ def test_every_transmission_starts_in_equilibrium_and_runs_fig14(name: str) -> N
     """Start: the transmission holds joint 3's gravity torque; then fig14-sine runs to the end,
     deterministic, and the native path reproduces the Python path bit for bit."""
     cfg = SimConfig(transmission=name)
-    m = build_model(cfg, hold_table(0.0, math.radians(45.0), 0.0))
-    d = mujoco.MjData(m)
-    st = read_structure(m)
-    initial_state(m, d, st)
-    tau = physics.shaft_torque(m.numeric(L.PARAMS_NAME).data, d.qpos, d.qvel, d.act)
-    mujoco.mj_kinematics(m, d)
-    mujoco.mj_comPos(m, d)
-    mujoco.mj_rne(m, d, 0, d.qfrc_bias)
-    assert tau * st.coef_s == pytest.approx(d.qfrc_bias[st.dof[2]], rel=1e-6, abs=1e-9)
+    held, gravity = joint3_gravity_balance(build_model(cfg, hold_table(0.0, math.radians(45), 0.0)))
+    assert held == pytest.approx(gravity, rel=1e-6, abs=1e-9)
     a = run_scenario("fig14-sine", cfg, duration_s=2.0, backend="python")
     b = run_scenario("fig14-sine", cfg, duration_s=2.0, backend="native")
     for key in ("q3", "theta_m", "tau_shaft", "tau_model"):
@@ -198,13 +190,13 @@ def test_magnetic_spring_output_friction_acts_on_joint_3() -> None:
     i_G2 * tau on q3, opposing its motion, on top of the spring torque."""
     cfg = SimConfig(transmission="magnetic-spring", effects=Effects(control=False))
     m = build_model(cfg, hold_table(0.0, 0.6, 0.4))
-    prm = m.numeric(L.PARAMS_NAME).data
+    prm = m.numeric(layout.PARAMS_NAME).data
     st = read_structure(m)
     d = mujoco.MjData(m)
     initial_state(m, d, st)
     d.qvel[st.dof[2]] = 0.3  # q3 turning: theta_s' = 3 rad/s, twist rate -3 rad/s
     qfrc = np.zeros(m.nv)
-    physics.passive_forces(prm, d.qpos, d.qvel, d.act, qfrc, np.zeros(L.N_USERDATA))
+    physics.passive_forces(prm, d.qpos, d.qvel, d.act, qfrc, np.zeros(layout.N_USERDATA))
     tau = physics.shaft_torque(prm, d.qpos, d.qvel, d.act)
     friction = qfrc[st.dof[2]] - st.coef_s * tau
     assert friction == pytest.approx(-st.coef_s * 0.05 * math.tanh(50.0 * 3.0), rel=1e-9)

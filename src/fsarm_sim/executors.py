@@ -53,11 +53,10 @@ from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from multiprocessing import get_all_start_methods, get_context
 from multiprocessing.context import BaseContext
-from typing import Any, Literal
+from typing import Any
 
 from fsarm_sim.errors import FsarmError, whole_number
 
-ExecutorName = Literal["local", "threads", "dask"]
 EXECUTORS: tuple[str, ...] = ("local", "threads", "dask")
 PROCESS_LOCK = threading.Lock()
 TaskFn = Callable[[Any], dict[str, Any]]

@@ -28,8 +28,7 @@ from typing import Any, TypeVar
 import numpy as np
 import numpy.typing as npt
 
-from fsarm_sim.discrepancy import candidate_structure, candidates, replay_inputs, synth
-from fsarm_sim.discrepancy import variants as V
+from fsarm_sim.discrepancy import candidate_structure, candidates, replay_inputs, synth, variants
 from fsarm_sim.discrepancy.bench_setup import BenchDiagnosis, diagnose
 from fsarm_sim.discrepancy.benchmodel import BenchModel, EffectInstance, stated_model
 from fsarm_sim.discrepancy.residuals import gap_excess
@@ -125,19 +124,20 @@ class Outcome:
 
 def _base_params(effect: str, variant: str, setup: str, amp: float, sign: float) -> dict[str, Any]:
     """Effect parameters at knob = 1 (scaled by the calibration)."""
-    if effect == V.COULOMB:
+    if effect == variants.COULOMB:
         return {"f_c_nm": 0.1}
-    if effect == V.VISCOUS:
+    if effect == variants.VISCOUS:
         return {"b_nms": 0.01}
-    if effect == V.BACKLASH:
+    if effect == variants.BACKLASH:
         return {"width_rad": 0.05 * amp, "center_rad": 0.1 * 0.05 * amp * sign}
-    if effect == V.DELAY:
+    if effect == variants.DELAY:
         return {"delay_s": 0.005 * sign}
-    if effect == V.OFFSET:
+    if effect == variants.OFFSET:
         return (
             {"offset_nm": 0.1 * sign} if variant == "output" else {"offset_rad": 0.02 * amp * sign}
         )
-    if effect == V.HYSTERESIS and variant == "maxwell_slip":  # catalogue's elements, deflections
+    # catalogue's elements, deflections
+    if effect == variants.HYSTERESIS and variant == "maxwell_slip":
         # scaled to the amplitude (shaft.toml: 0.1/12, 0.15/6, 0.25/3 rad at ~0.4 rad), and at
         # least twice the Coulomb boundary (an element that slips within it *is* Coulomb friction)
         b = candidate_structure.coulomb_delta_max(amp)
@@ -145,11 +145,12 @@ def _base_params(effect: str, variant: str, setup: str, amp: float, sign: float)
             "k_nm_per_rad": [12.0, 6.0, 3.0],
             "delta_rad": [max(0.02 * amp, 2 * b), max(0.06 * amp, 5 * b), max(0.2 * amp, 12 * b)],
         }
-    if effect == V.HYSTERESIS:  # catalogue conduit branches (fractions 0.35, 0.25; 0.15 s, 1.5 s)
+    # catalogue conduit branches (fractions 0.35, 0.25; 0.15 s, 1.5 s)
+    if effect == variants.HYSTERESIS:
         return {"k_nm_per_rad": [0.35, 0.25], "tau_s": [0.15, 1.5]}
-    if effect == V.NONLINEAR and variant == "masterflex08":
+    if effect == variants.NONLINEAR and variant == "masterflex08":
         return {"twist_scale": 865.0 / 450.0}
-    if effect == V.NONLINEAR:  # stiffening: cubic (sign > 0) or quadratic (sign < 0)
+    if effect == variants.NONLINEAR:  # stiffening: cubic (sign > 0) or quadratic (sign < 0)
         # (measured shafts stiffen: seed 001 Table 1, seed 000 Fig. 9; a softening polynomial
         # large enough to matter reaches negative stiffness - the masterflex08 case softens
         # beyond 60 deg the way a real curve does)
@@ -164,13 +165,13 @@ def _base_params(effect: str, variant: str, setup: str, amp: float, sign: float)
 def _scale(effect: str, variant: str, p: dict[str, Any], m: float) -> dict[str, Any]:
     q = dict(p)
     keys = {
-        V.COULOMB: ["f_c_nm"],
-        V.VISCOUS: ["b_nms"],
-        V.BACKLASH: ["width_rad", "center_rad"],
-        V.DELAY: ["delay_s"],
-        V.OFFSET: ["offset_nm", "offset_rad"],
-        V.HYSTERESIS: ["k_nm_per_rad"],
-        V.NONLINEAR: ["c2_nm", "c3_nm"],
+        variants.COULOMB: ["f_c_nm"],
+        variants.VISCOUS: ["b_nms"],
+        variants.BACKLASH: ["width_rad", "center_rad"],
+        variants.DELAY: ["delay_s"],
+        variants.OFFSET: ["offset_nm", "offset_rad"],
+        variants.HYSTERESIS: ["k_nm_per_rad"],
+        variants.NONLINEAR: ["c2_nm", "c3_nm"],
     }[effect]
     for k in keys:
         if k in q:
@@ -330,19 +331,20 @@ def build_truth(case: Case) -> tuple[BenchModel, float]:
 
 def _scalar(effect: str, e: EffectInstance) -> float | None:
     p = e.params
-    if effect == V.COULOMB:
+    if effect == variants.COULOMB:
         return float(p["f_c_nm"])
-    if effect == V.VISCOUS:
+    if effect == variants.VISCOUS:
         return float(p["b_nms"])
-    if effect == V.BACKLASH:
+    if effect == variants.BACKLASH:
         return float(p["width_rad"])
-    if effect == V.DELAY:
+    if effect == variants.DELAY:
         return float(p["delay_s"])
-    if effect == V.OFFSET:
+    if effect == variants.OFFSET:
         return float(p.get("offset_nm", p.get("offset_rad", 0.0)))
-    if effect == V.HYSTERESIS and e.variant == "maxwell_slip":  # total slip torque
+    if effect == variants.HYSTERESIS and e.variant == "maxwell_slip":  # total slip torque
         return float(sum(k * d for k, d in zip(p["k_nm_per_rad"], p["delta_rad"], strict=True)))
-    if effect == V.HYSTERESIS:  # sum of branch stiffnesses (the fast-rate stiffness increase)
+    # sum of branch stiffnesses (the fast-rate stiffness increase)
+    if effect == variants.HYSTERESIS:
         return float(sum(p["k_nm_per_rad"]))
     return None
 
@@ -354,7 +356,7 @@ def recovery(truth: BenchModel, fitted: BenchModel) -> dict[str, float]:
         fe = fitted.effect(te.name, te.variant)
         if fe is None:
             continue
-        if te.name == V.NONLINEAR:
+        if te.name == variants.NONLINEAR:
             if te.variant == "masterflex08" or "x_ref_rad" not in fe.params:
                 continue
             xr = fe.params["x_ref_rad"]
@@ -384,11 +386,11 @@ def single_effects(setup: str, inertia: bool) -> list[tuple[str, str]]:
     # one variant per effect is enough for hiding, except where the variant changes the physics
     keep = []
     for e, v in pairs:
-        if e == V.NONLINEAR and v == "poly_per_sign":
+        if e == variants.NONLINEAR and v == "poly_per_sign":
             continue
         keep.append((e, v))
     if setup == "series_bench" and not inertia:
-        keep.append((V.NONLINEAR, "masterflex08"))
+        keep.append((variants.NONLINEAR, "masterflex08"))
     return keep
 
 
@@ -441,13 +443,13 @@ def cases(full: bool = True, duration_s: float = 30.0) -> list[Case]:
                     )
                 )
     two = [
-        ("series_bench", False, [(V.COULOMB, "shaft"), (V.NONLINEAR, "poly")]),
-        ("series_bench", False, [(V.BACKLASH, "coupling"), (V.VISCOUS, "shaft")]),
-        ("series_bench", True, [(V.COULOMB, "load"), (V.DELAY, "input")]),
+        ("series_bench", False, [(variants.COULOMB, "shaft"), (variants.NONLINEAR, "poly")]),
+        ("series_bench", False, [(variants.BACKLASH, "coupling"), (variants.VISCOUS, "shaft")]),
+        ("series_bench", True, [(variants.COULOMB, "load"), (variants.DELAY, "input")]),
         (
             "parallel_bench",
             False,
-            [(V.HYSTERESIS, "viscoelastic"), (V.NONLINEAR, "poly")],
+            [(variants.HYSTERESIS, "viscoelastic"), (variants.NONLINEAR, "poly")],
         ),
     ]
     for setup, inertia, effs in two:
@@ -599,12 +601,12 @@ def confusion(outcomes: list[Outcome]) -> tuple[list[str], list[str], dict[tuple
 
 
 LOOK_ALIKE_TRUTHS = (
-    V.DELAY,
-    V.VISCOUS,
-    V.BACKLASH,
-    V.NONLINEAR,
-    V.COULOMB,
-    V.HYSTERESIS,
+    variants.DELAY,
+    variants.VISCOUS,
+    variants.BACKLASH,
+    variants.NONLINEAR,
+    variants.COULOMB,
+    variants.HYSTERESIS,
 )
 
 

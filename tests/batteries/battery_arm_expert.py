@@ -38,14 +38,12 @@ from typing import Any
 import numpy as np
 
 from batteries import battery_expert as BE
-from fsarm_sim.discrepancy import arm as A
-from fsarm_sim.discrepancy import arm_synth as S
-from fsarm_sim.discrepancy import core
+from fsarm_sim.discrepancy import arm, arm_synth, core
 from fsarm_sim.discrepancy.arm_model import ArmModel
 from fsarm_sim.plant import transmissions
 from fsarm_sim.records.measured import load_dataset
 
-FloatArray = S.FloatArray
+FloatArray = arm_synth.FloatArray
 
 NOISE_RAD = 1e-5
 STIFFNESS_SCALE = 1.05
@@ -150,7 +148,7 @@ def cases(duration_s: float = 8.0) -> list[ArmCase]:
     return out
 
 
-def disturbance(kind: str) -> S.Disturbance:
+def disturbance(kind: str) -> arm_synth.Disturbance:
     """What outside the library adds to the recording (module docstring)."""
 
     def add(t: FloatArray, ch: dict[str, FloatArray]) -> dict[str, FloatArray]:
@@ -168,7 +166,7 @@ def disturbance(kind: str) -> S.Disturbance:
 
 def truth_of(case: ArmCase) -> ArmModel:
     scale = STIFFNESS_SCALE if case.transmission == transmissions.DEFAULT else 1.0
-    return S.truth_model([EFFECTS[e] for e in case.effects], stiffness_scale=scale)
+    return arm_synth.truth_model([EFFECTS[e] for e in case.effects], stiffness_scale=scale)
 
 
 def truth_values(truth: ArmModel) -> dict[str, float]:
@@ -189,7 +187,7 @@ def run(case: ArmCase, joint: bool | None = None) -> ArmResult:
     """Synthesize, diagnose and score one case (``joint``: the core's joint search with its
     restart and pruning; None: :data:`.arm.JOINT_SEARCH`)."""
     truth = truth_of(case)
-    rec = S.ArmRecording(
+    rec = arm_synth.ArmRecording(
         duration_s=case.duration_s,
         noise_rad=NOISE_RAD,
         seed=case.seed,
@@ -200,12 +198,12 @@ def run(case: ArmCase, joint: bool | None = None) -> ArmResult:
     try:
         with tempfile.TemporaryDirectory() as tmp:
             path = Path(tmp) / "arm.csv"
-            S.write_arm_synthetic(path, truth, rec, disturbance=dist)
+            arm_synth.write_arm_synthetic(path, truth, rec, disturbance=dist)
             ds = load_dataset(path)
             t0 = time.perf_counter()
-            setup = A.ArmSetup(ds)
-            j = A.JOINT_SEARCH if joint is None else joint
-            diag = core.diagnose(setup, A.MAX_EFFECTS, started=t0, joint=j, restart=j)
+            setup = arm.ArmSetup(ds)
+            j = arm.JOINT_SEARCH if joint is None else joint
+            diag = core.diagnose(setup, arm.MAX_EFFECTS, started=t0, joint=j, restart=j)
             dt = time.perf_counter() - t0
     except Exception as exc:  # a battery reports failures, it does not stop at them
         return ArmResult(case, [], None, {}, error=f"{type(exc).__name__}: {exc}"[:160])

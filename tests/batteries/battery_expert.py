@@ -34,11 +34,19 @@ from typing import Any
 
 import numpy as np
 
-from batteries import battery as B
-from fsarm_sim.discrepancy import variants as V
+from batteries import battery
 from fsarm_sim.discrepancy.bench_setup import diagnose
 from fsarm_sim.discrepancy.benchmodel import BenchModel
 from fsarm_sim.discrepancy.synth import parallel_link_inertia
+from fsarm_sim.discrepancy.variants import (
+    BACKLASH,
+    COULOMB,
+    DELAY,
+    HYSTERESIS,
+    NONLINEAR,
+    OFFSET,
+    VISCOUS,
+)
 
 RATES = (500.0, 1000.0, 2000.0)
 PAIR_SIZE = 0.03
@@ -47,37 +55,37 @@ OOL_SIZE = 0.01  # out-of-library disturbance: RMS ~3x the noise floor
 NOISE = 0.003
 PAIR_EFFECTS = {
     "series_bench": (
-        (V.COULOMB, "shaft"),
-        (V.VISCOUS, "shaft"),
-        (V.BACKLASH, "coupling"),
-        (V.HYSTERESIS, "maxwell_slip"),
-        (V.NONLINEAR, "poly"),
-        (V.DELAY, "input"),
-        (V.OFFSET, "output"),
+        (COULOMB, "shaft"),
+        (VISCOUS, "shaft"),
+        (BACKLASH, "coupling"),
+        (HYSTERESIS, "maxwell_slip"),
+        (NONLINEAR, "poly"),
+        (DELAY, "input"),
+        (OFFSET, "output"),
     ),
     "parallel_bench": (
-        (V.COULOMB, "shaft"),
-        (V.VISCOUS, "shaft"),
-        (V.BACKLASH, "coupling"),
-        (V.HYSTERESIS, "viscoelastic"),
-        (V.NONLINEAR, "poly"),
-        (V.DELAY, "input"),
-        (V.OFFSET, "output"),
+        (COULOMB, "shaft"),
+        (VISCOUS, "shaft"),
+        (BACKLASH, "coupling"),
+        (HYSTERESIS, "viscoelastic"),
+        (NONLINEAR, "poly"),
+        (DELAY, "input"),
+        (OFFSET, "output"),
     ),
 }
 TRIPLES = (
-    ("series_bench", [(V.HYSTERESIS, "maxwell_slip"), (V.OFFSET, "output"), (V.DELAY, "input")]),
-    ("series_bench", [(V.COULOMB, "shaft"), (V.BACKLASH, "coupling"), (V.VISCOUS, "shaft")]),
-    ("series_bench", [(V.NONLINEAR, "poly"), (V.OFFSET, "output"), (V.VISCOUS, "shaft")]),
-    ("parallel_bench", [(V.HYSTERESIS, "viscoelastic"), (V.OFFSET, "output"), (V.DELAY, "input")]),
-    ("parallel_bench", [(V.COULOMB, "shaft"), (V.NONLINEAR, "poly"), (V.DELAY, "input")]),
+    ("series_bench", [(HYSTERESIS, "maxwell_slip"), (OFFSET, "output"), (DELAY, "input")]),
+    ("series_bench", [(COULOMB, "shaft"), (BACKLASH, "coupling"), (VISCOUS, "shaft")]),
+    ("series_bench", [(NONLINEAR, "poly"), (OFFSET, "output"), (VISCOUS, "shaft")]),
+    ("parallel_bench", [(HYSTERESIS, "viscoelastic"), (OFFSET, "output"), (DELAY, "input")]),
+    ("parallel_bench", [(COULOMB, "shaft"), (NONLINEAR, "poly"), (DELAY, "input")]),
 )
 TRAJ = ("multisine", "random", "triangle", "steps")
 
 
 @dataclass
 class Result:
-    case: B.Case
+    case: battery.Case
     group: str
     truth: BenchModel
     named: list[str]
@@ -97,8 +105,8 @@ class Result:
 
 def _case(
     name: str, setup: str, effects: list[tuple[str, str]], size: float | None, seed: int, **kw: Any
-) -> B.Case:
-    return B.Case(
+) -> battery.Case:
+    return battery.Case(
         name=name,
         setup=setup,
         inertia=False,
@@ -114,9 +122,9 @@ def _case(
     )
 
 
-def cases(duration_s: float = 30.0) -> list[tuple[str, B.Case]]:
+def cases(duration_s: float = 30.0) -> list[tuple[str, battery.Case]]:
     """(group, case) of the whole battery (module docstring)."""
-    out: list[tuple[str, B.Case]] = []
+    out: list[tuple[str, battery.Case]] = []
     seed = 1600
     tags = {"series_bench": "series_blocked", "parallel_bench": "parallel"}
     for setup, effs in PAIR_EFFECTS.items():
@@ -131,8 +139,8 @@ def cases(duration_s: float = 30.0) -> list[tuple[str, B.Case]]:
             ("triple", _case(nm, setup, list(effs3), PAIR_SIZE, seed, duration_s=duration_s))
         )
     for setup in PAIR_EFFECTS:
-        for kind in B.OUT_OF_LIBRARY:
-            for with_eff in (None, (V.COULOMB, "shaft")):
+        for kind in battery.OUT_OF_LIBRARY:
+            for with_eff in (None, (COULOMB, "shaft")):
                 seed += 1
                 hidden = [with_eff] if with_eff else []
                 nm = f"{tags[setup]}/ool:{kind}{'+' + with_eff[0] if with_eff else ''}"
@@ -172,21 +180,21 @@ def truth_values(truth: BenchModel) -> dict[str, float]:
     return out
 
 
-def extra_truth(truth: BenchModel, case: B.Case) -> dict[str, float]:
+def extra_truth(truth: BenchModel, case: battery.Case) -> dict[str, float]:
     """The true frequency / drift / ripple of a case's out-of-library disturbance."""
     if not case.extra:
         return {}
-    c = B.dataset(truth, replace(case, extra=None), 0.0).columns
+    c = battery.dataset(truth, replace(case, extra=None), 0.0).columns
     out = "tau_s" if truth.setup == "series_bench" else "m_b"
     twist = c["theta_m"] - c["theta_s"] if out == "tau_s" else c["phi_b"]
-    _, info = B.out_of_library(case.extra[0], case.extra[1], c[out], c["t"], twist, case.seed)
+    _, info = battery.out_of_library(case.extra[0], case.extra[1], c[out], c["t"], twist, case.seed)
     return info
 
 
-def run(group: str, case: B.Case) -> Result:
-    truth, _ = B.build_truth(case)
+def run(group: str, case: battery.Case) -> Result:
+    truth, _ = battery.build_truth(case)
     try:
-        ds = B.dataset(truth, case, case.noise)
+        ds = battery.dataset(truth, case, case.noise)
         t0, c0 = time.perf_counter(), time.process_time()
         diag = diagnose(ds)
         dt, dc = time.perf_counter() - t0, time.process_time() - c0
@@ -232,7 +240,7 @@ def signature_right(r: Result) -> bool | None:
     if kind == "line":
         return (
             any(
-                abs(ln["frequency_hz"] - B.LINE_HZ) < 0.5 and not ln["in_input"]
+                abs(ln["frequency_hz"] - battery.LINE_HZ) < 0.5 and not ln["in_input"]
                 for ln in sig.get("spectral_lines", [])[:1]
             )
             and sig.get("kind") == "spectral_line"

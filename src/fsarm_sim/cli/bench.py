@@ -140,11 +140,14 @@ def coefficient_change(name: str, rel: float, refit: float, catalogue: float) ->
     return f"{name}: catalogue 0, refit {refit:+.3g}"
 
 
-def _write_folder(out: Path, write: Any, what: str) -> None:
-    """``write(folder)`` into ``out``; a failed write goes to a rescue folder (named error)."""
+def _write_folder(out: Path | None, write: Any) -> None:
+    """``write(folder)`` (the table and figure) into ``out`` when given; a failed write goes to a
+    rescue folder (named error)."""
+    if out is None:
+        return
     err = make_console(stderr=True)
     writes = SafeWriter(lambda msg: err.print(f"warning: {msg}", markup=False))
-    where = writes.write(out, write, what, folder=True)
+    where = writes.write(out, write, "the table and figure (--out)", folder=True)
     if where is not None:
         console.print(f"table and figure in {where}", markup=False)
     writes.finish()
@@ -235,12 +238,7 @@ def bench_series_cmd(
             f"K_sn = {tr.k0_neg:.4g} {tr.slope_neg:+.4g}·|φ|  (N·m/rad, φ in rad)",
             markup=False,
         )
-    if out is not None:
-        _write_folder(
-            out,
-            lambda d: campaign_output.write_series_test(result, name, d),
-            "the table and figure (--out)",
-        )
+    _write_folder(out, lambda d: campaign_output.write_series_test(result, name, d))
 
 
 # the options of `bench_parallel_cmd`
@@ -291,12 +289,7 @@ def bench_parallel_cmd(
         f"static relief at 90° = {p.static_relief_nm(math.pi / 2):.3g} N·m",
         markup=False,
     )
-    if out is not None:
-        _write_folder(
-            out,
-            lambda d: campaign_output.write_parallel_test(result, name, d),
-            "the table and figure (--out)",
-        )
+    _write_folder(out, lambda d: campaign_output.write_parallel_test(result, name, d))
 
 
 def _chosen_shafts(cat: Any, shafts: str | None) -> list[Any]:

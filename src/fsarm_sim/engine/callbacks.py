@@ -25,8 +25,7 @@ from typing import Any, Literal
 import mujoco
 
 from fsarm_sim.errors import CallbackConflictError, InvalidParameterError
-from fsarm_sim.kernels import layout as L
-from fsarm_sim.kernels import physics
+from fsarm_sim.kernels import layout, physics
 
 Backend = Literal["python", "native"]
 # The compiled callbacks are the default everywhere (about 13x the Python path's speed, bit for bit
@@ -47,16 +46,16 @@ def _slices(m: mujoco.MjModel) -> _Cache:
     except KeyError:
         pass
     out: _Cache = None
-    i = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_NUMERIC, L.PARAMS_NAME)
-    j = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_NUMERIC, L.REF_NAME)
+    i = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_NUMERIC, layout.PARAMS_NAME)
+    j = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_NUMERIC, layout.REF_NAME)
     if (
         i >= 0
         and j >= 0
-        and m.numeric_size[i] == L.N_PARAMS
-        and m.numeric_data[m.numeric_adr[i]] == L.MAGIC
+        and m.numeric_size[i] == layout.N_PARAMS
+        and m.numeric_data[m.numeric_adr[i]] == layout.MAGIC
     ):
         a, b = int(m.numeric_adr[i]), int(m.numeric_adr[j])
-        out = (a, a + L.N_PARAMS, b, b + int(m.numeric_size[j]))
+        out = (a, a + layout.N_PARAMS, b, b + int(m.numeric_size[j]))
     if out is not None:  # never cache a miss: a model's parameters may be written after compiling
         _cache[m] = out
     return out

@@ -73,8 +73,7 @@ from fsarm_sim.engine.native_abi import (
     source_key,
     struct_offsets,
 )
-from fsarm_sim.kernels import layout as L
-from fsarm_sim.kernels import physics
+from fsarm_sim.kernels import layout, physics
 
 OFFSETS = struct_offsets()
 
@@ -101,8 +100,10 @@ D_QFRC_BIAS = OFFSETS["data"]["qfrc_bias"][0]
 D_M = OFFSETS["data"]["M"][0]
 D_USERDATA = OFFSETS["data"]["userdata"][0]
 D_CTRL = OFFSETS["data"]["ctrl"][0]
-PARAMS_NAME = tuple(L.PARAMS_NAME.encode() + b"\0")  # compared byte by byte, terminator included
-REF_NAME = tuple(L.REF_NAME.encode() + b"\0")
+PARAMS_NAME = tuple(
+    layout.PARAMS_NAME.encode() + b"\0"
+)  # compared byte by byte, terminator included
+REF_NAME = tuple(layout.REF_NAME.encode() + b"\0")
 
 
 # ------------------------------------------------------------------ make the kernels compilable
@@ -219,8 +220,8 @@ def _find(ma: int) -> tuple[int, int, int]:
     for i in range(n):
         if (
             p < 0
-            and size[i] == L.N_PARAMS
-            and data[adr[i]] == L.MAGIC
+            and size[i] == layout.N_PARAMS
+            and data[adr[i]] == layout.MAGIC
             and _name_is(names, name_adr[i], PARAMS_NAME)
         ):
             p = adr[i]
@@ -229,7 +230,7 @@ def _find(ma: int) -> tuple[int, int, int]:
             r_size = size[i]
         if p >= 0 and r >= 0:
             break
-    if p < 0 or r < 0 or _int(ma, M_NUSERDATA, M_NUSERDATA_SIZE) < L.N_USERDATA:
+    if p < 0 or r < 0 or _int(ma, M_NUSERDATA, M_NUSERDATA_SIZE) < layout.N_USERDATA:
         return -1, -1, 0
     return p, r, r_size
 
@@ -267,7 +268,7 @@ with _numba_cache_in(_CACHE_PATH or Path(tempfile.gettempdir())):
         nq = _int(ma, M_NQ, M_NQ_SIZE)
         nv = _int(ma, M_NV, M_NV_SIZE)
         na = _int(ma, M_NA, M_NA_SIZE)
-        prm = carray(_f64p(_ptr(ma, M_NUMERIC_DATA) + 8 * p), (L.N_PARAMS,))
+        prm = carray(_f64p(_ptr(ma, M_NUMERIC_DATA) + 8 * p), (layout.N_PARAMS,))
         userdata = _f64_array(da, D_USERDATA, _int(ma, M_NUSERDATA, M_NUSERDATA_SIZE))
         physics.passive_forces(
             prm,
@@ -288,7 +289,7 @@ with _numba_cache_in(_CACHE_PATH or Path(tempfile.gettempdir())):
         nq = _int(ma, M_NQ, M_NQ_SIZE)
         nv = _int(ma, M_NV, M_NV_SIZE)
         na = _int(ma, M_NA, M_NA_SIZE)
-        prm = carray(_f64p(_ptr(ma, M_NUMERIC_DATA) + 8 * p), (L.N_PARAMS,))
+        prm = carray(_f64p(_ptr(ma, M_NUMERIC_DATA) + 8 * p), (layout.N_PARAMS,))
         act_adr = _i32p(_ptr(ma, M_ACTUATOR_ACTADR))[actuator_id]
         return physics.state_rate(
             prm,
@@ -310,7 +311,7 @@ with _numba_cache_in(_CACHE_PATH or Path(tempfile.gettempdir())):
         nv = _int(ma, M_NV, M_NV_SIZE)
         base = _ptr(ma, M_NUMERIC_DATA)
         physics.control(
-            carray(_f64p(base + 8 * p), (L.N_PARAMS,)),
+            carray(_f64p(base + 8 * p), (layout.N_PARAMS,)),
             carray(_f64p(base + 8 * r), (r_size,)),
             _f64p(da + D_TIME)[0],
             _f64_array(da, D_QPOS, nq),

@@ -32,14 +32,21 @@ from typing import Any
 import mujoco
 
 from fsarm_sim.errors import FsarmError
-from fsarm_sim.kernels import dispatch, physics
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import dispatch, layout, physics
 
 CACHE_ENV = "FSARM_CACHE_DIR"  # overrides the cache directory (default: $XDG_CACHE_HOME/fsarm-sim)
 
 
 class NativeBackendError(FsarmError, RuntimeError):
     """The native backend cannot be built here (no C compiler, unknown MuJoCo struct layout)."""
+
+
+def run_compiler(command: list[str], what: str) -> None:
+    """Run the C compiler's ``command``; :class:`NativeBackendError` "``what`` failed" with the
+    end of its output when it fails."""
+    done = subprocess.run(command, capture_output=True, text=True, check=False)
+    if done.returncode != 0:
+        raise NativeBackendError(f"{what} failed:\n{done.stderr[-2000:]}")
 
 
 # ------------------------------------------------------------------ struct offsets
@@ -150,16 +157,10 @@ def _offsets_from_compiler(cc: str) -> dict[str, dict[str, list[int]]]:
     with tempfile.TemporaryDirectory(prefix="fsarm-offsets-") as tmp:
         c_file, exe = Path(tmp) / "probe.c", Path(tmp) / "probe"
         c_file.write_text(src)
-        build = subprocess.run(
+        run_compiler(
             [cc, "-std=c11", "-I", str(_include_dir()), str(c_file), "-o", str(exe)],
-            capture_output=True,
-            text=True,
-            check=False,
+            f"compiling the MuJoCo struct-offset probe with '{cc}'",
         )
-        if build.returncode != 0:
-            raise NativeBackendError(
-                f"compiling the MuJoCo struct-offset probe with '{cc}' failed:\n{build.stderr[-2000:]}"
-            )
         out = subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout
     parsed: dict[str, dict[str, list[int]]] = json.loads(out)
     return parsed
@@ -278,7 +279,7 @@ def _verify_offsets(offsets: dict[str, dict[str, list[int]]]) -> None:
 def kernel_modules() -> list[ModuleType]:
     """physics, the generated dispatch, every effects, controllers and transmissions module
     (what the callbacks run)."""
-    mods: list[ModuleType] = [physics, L, dispatch]
+    mods: list[ModuleType] = [physics, layout, dispatch]
     for pkg_name in (
         "fsarm_sim.plant.effects",
         "fsarm_sim.controllers",

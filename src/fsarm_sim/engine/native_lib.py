@@ -39,7 +39,13 @@ from typing import Any
 
 import mujoco
 
-from fsarm_sim.engine.native_abi import NativeBackendError, cache_dir, source_key, struct_offsets
+from fsarm_sim.engine.native_abi import (
+    NativeBackendError,
+    cache_dir,
+    run_compiler,
+    source_key,
+    struct_offsets,
+)
 
 ENV = "FSARM_PREBUILT"  # "0": never load or build the library (the Numba path then runs)
 LIB_NAME = "libfsarm_callbacks.so"
@@ -204,16 +210,10 @@ def build() -> Path:
         stubs = Path(tmp) / "stubs.c"
         stubs.write_text(_STUBS_C)
         out = Path(tmp) / LIB_NAME
-        link = subprocess.run(
+        run_compiler(
             [cc, "-shared", "-fPIC", "-O2", "-o", str(out), *objects, str(stubs), "-lm"],
-            capture_output=True,
-            text=True,
-            check=False,
+            "linking the callbacks library",
         )
-        if link.returncode != 0:
-            raise NativeBackendError(
-                f"linking the callbacks library failed:\n{link.stderr[-2000:]}"
-            )
         meta = Path(tmp) / "symbols.json"
         meta.write_text(json.dumps(symbols))
         os.replace(out, d / LIB_NAME)

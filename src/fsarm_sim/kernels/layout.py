@@ -31,10 +31,6 @@ REF_COLS = 9
 # registry (fsarm_sim.plant.transmissions.MODULES); tests/test_layout.py checks that every id reaches
 # its own module's kernels. N_TR is the interface's block size.
 TRANSMISSION_MODULES = tuple(transmissions.MODULES)
-TR_FLEXIBLE_SHAFT = transmissions.KIND["flexible_shaft"]
-TR_RTCA = transmissions.KIND["rtca"]
-TR_QA_JOINT = transmissions.KIND["qa_joint"]
-TR_MAGNETIC_SPRING = transmissions.KIND["magnetic_spring"]
 TR_TENDON_SHEATH = transmissions.KIND["tendon_sheath"]
 
 # --- the parameter vector, block by block (offsets computed here, in this order) ---

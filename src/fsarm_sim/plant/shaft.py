@@ -251,53 +251,47 @@ def _positive(value: Any, dotted: str, source: str) -> float:
     return v
 
 
-def parse_catalogue(data: dict[str, Any], source: str) -> Catalogue:
-    """Validate a parsed coefficient table; every problem is a CoefficientFileError.
+def _floats_at(
+    data: dict[str, Any], dotted: str, n: int, source: str, *, positive: bool = False
+) -> tuple[float, ...]:
+    """The ``n`` numbers at the required key ``dotted``."""
+    return _floats(_get(data, dotted, source), n, dotted, source, positive=positive)
 
-    Strict: unknown sections/keys, wrong types and undeclared units are errors (module docstring).
-    """
-    if not isinstance(data, dict):
-        raise CoefficientFileError(f"{source}: must be a TOML table, got {_type_name(data)}")
-    _check_keys(data, "", source)
-    meta = data.get("meta", {})
-    for key in ("name", "description", "source"):
-        if key in meta:
-            _string(meta[key], f"meta.{key}", source)
-    _check_units(meta.get("units"), source)
-    p_pos = _floats(_get(data, "series.positive.p", source), 7, "series.positive.p", source)
-    p_neg = _floats(_get(data, "series.negative.p", source), 7, "series.negative.p", source)
-    q_bend = _floats(_get(data, "bending.q", source), 5, "bending.q", source)
+
+def _float_at(table: dict[str, Any], key: str, dotted: str, source: str) -> float:
+    """The number >= 0 at the optional ``key`` of ``table`` (``dotted``: its full name), 0 when
+    absent."""
+    return _float(table.get(key, 0.0), dotted, source, minimum=0.0)
+
+
+def _bending(data: dict[str, Any], source: str) -> dict[str, Any]:
+    """``[bending]``: eq. 4's coefficients, the stiffening and the conduit's two branches."""
+    q_bend = _floats_at(data, "bending.q", 5, source)
     beta = _float(
         _get(data, "bending.stiffening_per_rad2", source),
         "bending.stiffening_per_rad2",
         source,
         minimum=0.0,
     )
-    frac = _floats(
-        _get(data, "bending.conduit.branch_stiffness_fraction", source),
-        2,
-        "bending.conduit.branch_stiffness_fraction",
-        source,
-        positive=True,
-    )
-    tau = _floats(
-        _get(data, "bending.conduit.branch_time_constant_s", source),
-        2,
-        "bending.conduit.branch_time_constant_s",
-        source,
-        positive=True,
-    )
+    frac = _floats_at(data, "bending.conduit.branch_stiffness_fraction", 2, source, positive=True)
+    tau = _floats_at(data, "bending.conduit.branch_time_constant_s", 2, source, positive=True)
     if min(tau) <= 0.0:
         raise CoefficientFileError(
             f"{source}: 'bending.conduit.branch_time_constant_s' must be > 0, got {tau}"
         )
-    d_rng = _floats(
-        _get(data, "validity.diameter_mm", source), 2, "validity.diameter_mm", source, positive=True
-    )
-    l_rng = _floats(
-        _get(data, "validity.length_mm", source), 2, "validity.length_mm", source, positive=True
-    )
-    b_rng = _floats(_get(data, "validity.bend_rad", source), 2, "validity.bend_rad", source)
+    return {
+        "q_bend": q_bend,
+        "beta": beta,
+        "conduit_fraction": (frac[0], frac[1]),
+        "conduit_tau": (tau[0], tau[1]),
+    }
+
+
+def _validity(data: dict[str, Any], source: str) -> dict[str, Any]:
+    """``[validity]``: the ranges of diameter, length and bend the fit covers."""
+    d_rng = _floats_at(data, "validity.diameter_mm", 2, source, positive=True)
+    l_rng = _floats_at(data, "validity.length_mm", 2, source, positive=True)
+    b_rng = _floats_at(data, "validity.bend_rad", 2, source)
     for name, rng in (
         ("validity.diameter_mm", d_rng),
         ("validity.length_mm", l_rng),
@@ -307,14 +301,15 @@ def parse_catalogue(data: dict[str, Any], source: str) -> Catalogue:
             raise CoefficientFileError(
                 f"{source}: '{name}' must be [low, high] with low < high, got {list(rng)}"
             )
-    rating = _float(
-        _get(data, "rating.coefficient_nm_per_mm3", source),
-        "rating.coefficient_nm_per_mm3",
-        source,
-        minimum=0.0,
-    )
-    dyn = data.get("series", {}).get("dynamic", {})
-    slip = data.get("series", {}).get("maxwell_slip", {})
+    return {
+        "diameter_range": (d_rng[0], d_rng[1]),
+        "length_range": (l_rng[0], l_rng[1]),
+        "bend_range": (b_rng[0], b_rng[1]),
+    }
+
+
+def _maxwell_slip(slip: dict[str, Any], source: str) -> dict[str, Any]:
+    """``[series.maxwell_slip]``: the slip elements (all zero when absent)."""
     slip_k = _floats(
         slip.get("stiffness_fraction", [0.0, 0.0, 0.0]),
         3,
@@ -351,21 +346,30 @@ def parse_catalogue(data: dict[str, Any], source: str) -> Catalogue:
             f"{source}: 'series.maxwell_slip.unwinding_ratio' must be > 0 (unwinding-side slip "
             f"torque / winding-side), got {unwinding:g}"
         )
-    ref_len = _length_law(data.get("series", {}), p_pos, p_neg, source)
-    app_p = _floats(
-        slip.get("apparent_stiffness_pos", [0.0, 0.0]),
-        2,
-        "series.maxwell_slip.apparent_stiffness_pos",
-        source,
+    return {
+        "slip_enabled": slip_enabled,
+        "slip_k_fraction": (slip_k[0], slip_k[1], slip_k[2]),
+        "slip_f_fraction": (slip_f[0], slip_f[1], slip_f[2]),
+        "slip_unwinding_ratio": unwinding,
+    }
+
+
+def _apparent_stiffness(slip: dict[str, Any], source: str) -> tuple[float, float, float, float]:
+    """``series.maxwell_slip.apparent_stiffness_pos/neg``: two numbers each (zero when absent)."""
+    pos, neg = (
+        _floats(
+            slip.get(f"apparent_stiffness_{side}", [0.0, 0.0]),
+            2,
+            f"series.maxwell_slip.apparent_stiffness_{side}",
+            source,
+        )
+        for side in ("pos", "neg")
     )
-    app_n = _floats(
-        slip.get("apparent_stiffness_neg", [0.0, 0.0]),
-        2,
-        "series.maxwell_slip.apparent_stiffness_neg",
-        source,
-    )
-    test_amp, test_period = _eq2_test(data.get("bending", {}), source)
-    uncertainty = _uncertainty(data.get("uncertainty", {}), source)
+    return (pos[0], pos[1], neg[0], neg[1])
+
+
+def _catalogue_shafts(data: dict[str, Any], source: str) -> tuple[CatalogueShaft, ...]:
+    """``[[shafts]]``: the named shafts, each with a diameter and a length > 0."""
     shafts: list[CatalogueShaft] = []
     for i, entry in enumerate(data.get("shafts", [])):
         name = _string(entry.get("name", f"shaft{i}"), f"shafts[{i}].name", source)
@@ -382,43 +386,53 @@ def parse_catalogue(data: dict[str, Any], source: str) -> Catalogue:
                 length_mm=_positive(entry["length_mm"], f"shafts[{i}].length_mm", source),
             )
         )
+    return tuple(shafts)
+
+
+def parse_catalogue(data: dict[str, Any], source: str) -> Catalogue:
+    """Validate a parsed coefficient table; every problem is a CoefficientFileError.
+
+    Strict: unknown sections/keys, wrong types and undeclared units are errors (module docstring).
+    """
+    if not isinstance(data, dict):
+        raise CoefficientFileError(f"{source}: must be a TOML table, got {_type_name(data)}")
+    _check_keys(data, "", source)
+    meta = data.get("meta", {})
+    for key in ("name", "description", "source"):
+        if key in meta:
+            _string(meta[key], f"meta.{key}", source)
+    _check_units(meta.get("units"), source)
+    p_pos = _floats_at(data, "series.positive.p", 7, source)
+    p_neg = _floats_at(data, "series.negative.p", 7, source)
+    kw: dict[str, Any] = {**_bending(data, source), **_validity(data, source)}
+    kw["rating_coefficient"] = _float(
+        _get(data, "rating.coefficient_nm_per_mm3", source),
+        "rating.coefficient_nm_per_mm3",
+        source,
+        minimum=0.0,
+    )
+    series = data.get("series", {})
+    dyn = series.get("dynamic", {})
+    slip = series.get("maxwell_slip", {})
+    kw.update(_maxwell_slip(slip, source))
+    kw["series_reference_length_mm"] = _length_law(series, p_pos, p_neg, source)
+    kw["slip_apparent_fraction"] = _apparent_stiffness(slip, source)
+    kw["eq2_test_amplitude_rad"], kw["eq2_test_period_s"] = _eq2_test(
+        data.get("bending", {}), source
+    )
+    kw["uncertainty"] = _uncertainty(data.get("uncertainty", {}), source)
+    kw["shafts"] = _catalogue_shafts(data, source)
     return Catalogue(
         source=source,
         p_pos=p_pos,
         p_neg=p_neg,
-        q_bend=q_bend,
-        beta=beta,
-        conduit_fraction=(frac[0], frac[1]),
-        conduit_tau=(tau[0], tau[1]),
-        diameter_range=(d_rng[0], d_rng[1]),
-        length_range=(l_rng[0], l_rng[1]),
-        bend_range=(b_rng[0], b_rng[1]),
-        rating_coefficient=rating,
-        inertia_kgm2=_float(
-            dyn.get("inertia_kgm2", 0.0), "series.dynamic.inertia_kgm2", source, minimum=0.0
+        inertia_kgm2=_float_at(dyn, "inertia_kgm2", "series.dynamic.inertia_kgm2", source),
+        damping_pos=_float_at(dyn, "damping_pos_nms", "series.dynamic.damping_pos_nms", source),
+        damping_neg=_float_at(dyn, "damping_neg_nms", "series.dynamic.damping_neg_nms", source),
+        bend_friction_per_rad=_float_at(
+            slip, "bend_friction_per_rad", "series.maxwell_slip.bend_friction_per_rad", source
         ),
-        damping_pos=_float(
-            dyn.get("damping_pos_nms", 0.0), "series.dynamic.damping_pos_nms", source, minimum=0.0
-        ),
-        damping_neg=_float(
-            dyn.get("damping_neg_nms", 0.0), "series.dynamic.damping_neg_nms", source, minimum=0.0
-        ),
-        slip_enabled=slip_enabled,
-        slip_k_fraction=(slip_k[0], slip_k[1], slip_k[2]),
-        slip_f_fraction=(slip_f[0], slip_f[1], slip_f[2]),
-        slip_unwinding_ratio=unwinding,
-        bend_friction_per_rad=_float(
-            slip.get("bend_friction_per_rad", 0.0),
-            "series.maxwell_slip.bend_friction_per_rad",
-            source,
-            minimum=0.0,
-        ),
-        shafts=tuple(shafts),
-        series_reference_length_mm=ref_len,
-        slip_apparent_fraction=(app_p[0], app_p[1], app_n[0], app_n[1]),
-        eq2_test_amplitude_rad=test_amp,
-        eq2_test_period_s=test_period,
-        uncertainty=uncertainty,
+        **kw,
     )
 
 

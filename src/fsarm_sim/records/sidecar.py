@@ -35,8 +35,6 @@ import dataclasses
 import json
 import math
 import os
-import types
-import typing
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -46,6 +44,7 @@ from fsarm_sim.errors import FsarmError
 from fsarm_sim.paths import bounded_json, checked_path, regular_file
 from fsarm_sim.plant.effects import registry
 from fsarm_sim.plant.shaft import ShaftParams
+from fsarm_sim.records import typed
 
 SCHEMA = "fsarm-record/1"  # value of the ``schema`` key this version writes
 WRITER_RUN = "fsarm run"
@@ -277,10 +276,6 @@ class Sidecar:
             out += RUN_COLUMNS
         return tuple(dict.fromkeys(out))
 
-    @property
-    def transmission_name(self) -> str | None:
-        return None if self.transmission is None else self.transmission.name
-
 
 def read_sidecar(path: str | Path) -> tuple[Sidecar, dict[str, Any]]:
     """(typed record, raw JSON object) of a sidecar file; named errors for a missing file,
@@ -404,95 +399,25 @@ def _to_json(x: Any) -> Any:
     return _plain(x)
 
 
-def _tname(tp: Any) -> str:
-    if tp is float:
-        return "a number"
-    if tp is bool:
-        return "true or false"
-    if tp is str:
-        return "a string"
-    if dataclasses.is_dataclass(tp):
-        return "an object"
-    origin = typing.get_origin(tp)
-    if origin in (typing.Union, types.UnionType):
-        return " or ".join(_tname(a) for a in typing.get_args(tp) if a is not type(None))
-    if origin is dict:
-        return "an object"
-    if origin is tuple:
-        item = typing.get_args(tp)[0]
-        return "a list of " + {float: "numbers", str: "strings"}.get(item, _tname(item))
-    return "any JSON value"
-
-
 def _bad(where: str, key: str, tp: Any, v: Any) -> SidecarTypeError:
-    return SidecarTypeError(f"{where}: '{key}' must be {_tname(tp)}, got {v!r}")
-
-
-def _value(tp: Any, v: Any, where: str, key: str) -> Any:
-    """``v`` converted to the annotation ``tp`` or :class:`SidecarTypeError`."""
-    if tp is Any:
-        return v
-    origin = typing.get_origin(tp)
-    if origin in (typing.Union, types.UnionType):
-        args = typing.get_args(tp)
-        if v is None and type(None) in args:
-            return None
-        arms = [a for a in args if a is not type(None)]
-        if len(arms) == 1:  # X | None: X's own (more precise) error
-            return _value(arms[0], v, where, key)
-        for a in arms:
-            try:
-                return _value(a, v, where, key)
-            except SidecarTypeError:
-                continue
-        raise _bad(where, key, tp, v)
-    if tp is float:
-        if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
-            raise _bad(where, key, tp, v)
-        return float(v)
-    if tp is bool:
-        if not isinstance(v, bool):
-            raise _bad(where, key, tp, v)
-        return v
-    if tp is str:
-        if not isinstance(v, str):
-            raise _bad(where, key, tp, v)
-        return v
-    if origin is tuple:
-        item = typing.get_args(tp)[0]
-        if not isinstance(v, list | tuple):
-            raise _bad(where, key, tp, v)
-        return tuple(_value(item, a, where, f"{key}[{i}]") for i, a in enumerate(v))
-    if origin is dict:
-        item = typing.get_args(tp)[1]
-        if not isinstance(v, Mapping):
-            raise _bad(where, key, tp, v)
-        return {str(k): _value(item, a, where, f"{key}.{k}") for k, a in v.items()}
-    if isinstance(tp, type) and dataclasses.is_dataclass(tp):
-        if not isinstance(v, Mapping):
-            raise _bad(where, key, tp, v)
-        return _parse(tp, v, where, key + ".")
-    raise TypeError(f"records: no parser for {tp!r}")  # a schema bug, not a data error
+    return SidecarTypeError(f"{where}: '{key}' must be {typed.describe(tp)}, got {v!r}")
 
 
 def _parse(cls: type[_T], data: Mapping[str, Any], where: str, prefix: str) -> _T:
-    hints = typing.get_type_hints(cls)
-    fields = {f.name: f for f in dataclasses.fields(cls)}  # type: ignore[arg-type]
-    unknown = [k for k in data if k not in fields]
-    if unknown:
+    """``cls`` read from ``data`` by the shared typed reader, its errors as the sidecar's."""
+    try:
+        return cls(**typed.typed_kwargs(cls, data, prefix=prefix))
+    except typed.UnknownKeys as e:
+        inner = e.prefix[:-1]
         raise SidecarKeyError(
-            f"{where}: unknown key {', '.join(repr(prefix + str(k)) for k in unknown)}; "
-            f"allowed{' in ' + repr(prefix[:-1]) if prefix else ''}: {', '.join(fields)}"
-            + ("" if prefix else " (free text belongs in 'notes')")
-        )
-    kw: dict[str, Any] = {}
-    for name, f in fields.items():
-        if name not in data:
-            if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
-                raise SidecarError(f"{where}: the sidecar needs '{prefix}{name}'")
-            continue
-        kw[name] = _value(hints[name], data[name], where, prefix + name)
-    return cls(**kw)
+            f"{where}: unknown key {', '.join(repr(e.prefix + k) for k in e.keys)}; "
+            f"allowed{' in ' + repr(inner) if inner else ''}: {', '.join(e.allowed)}"
+            + ("" if inner else " (free text belongs in 'notes')")
+        ) from None
+    except typed.MissingKey as e:
+        raise SidecarError(f"{where}: the sidecar needs '{e.key}'") from None
+    except typed.Mismatch as e:
+        raise _bad(where, e.key, e.hint, e.value) from None
 
 
 def _typed_keys(entry: Mapping[str, Any] | None, owner: type, what: str, where: str) -> None:

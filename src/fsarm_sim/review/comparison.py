@@ -97,6 +97,67 @@ class Tagged:
     result: RunResult
 
 
+def _tagged_panels(tag: str, k: int) -> list[recording.Panel]:
+    """The arm panels of configuration ``k`` (tagged ``tag``): its own entities, labels and
+    shade; references and limits are the same for every configuration, shown with the first."""
+    return [
+        recording.Panel(
+            f"{p.name}/{entity_name(tag)}",
+            p.title,
+            tuple(
+                replace(
+                    s,
+                    label=f"{s.label} · {tag}",
+                    color=_shade(s.color, k),
+                    width=RUN_STYLES[k][1],
+                )
+                for s in p.series
+                if k == 0 or not (s.column.endswith("_ref") or "limit" in s.column)
+            ),
+        )
+        for p in recording.ARM_PANELS
+    ]
+
+
+def _loop_views(
+    rec: rr.RecordingStream,
+    all_cols: Sequence[tuple[Tagged, recording.Columns, Any]],
+    scenario: str,
+) -> list[recording.LoopView]:
+    """Log each informative loop plot of the configurations (with the catalogue's law where it
+    is the flexible shaft's); return their views."""
+    views = []
+    for lp in ARM_LOOPS:
+        members = [(r, c, rows) for r, c, rows in all_cols if loop_is_informative(lp, c)]
+        if not members:
+            continue
+        traces = [
+            (Trace(entity_name(r.tag), r.tag, CONFIG_COLORS[k], lp.y), c, rows)
+            for k, (r, c, rows) in enumerate(members)
+        ]
+        model: list[LoopCurve] = []
+        seen: list[Any] = []
+        for r, c, _ in members:
+            sh = r.result.config.shaft
+            law = (sh.k_pos, sh.s_pos, sh.k_neg, sh.s_neg, sh.kb, sh.beta)  # eq. 8 / eq. 4
+            if r.result.config.transmission == "flexible-shaft" and law not in seen:
+                seen.append(law)
+                model += shaft_model_curves(
+                    lp, c, sh, tag="catalogue" if len(members) == 1 else f"{r.tag} catalogue"
+                )
+        if len(seen) == 1:  # one law for all: one curve, named plainly
+            model = shaft_model_curves(lp, members[0][1], members[0][0].result.config.shaft)
+        image = loop_image(
+            lp,
+            [(tr, c) for tr, c, _ in traces],
+            model,
+            subtitle=f"{scenario}: {' vs '.join(r.tag for r, _, _ in members)}",
+        )
+        log_loop_panel(rec, lp, traces, image)
+        views.append(recording.LoopView(lp.entity, lp.title, image.width, image.height))
+    return views
+
+
 def log_runs(
     rec: rr.RecordingStream,
     runs: Sequence[Tagged],
@@ -134,57 +195,13 @@ def log_runs(
         rows = recording.decimate(cols["t"], rate_hz)
         all_cols.append((r, cols, rows))
         # references and limits are the same for every configuration: shown once
-        panels = [
-            recording.Panel(
-                f"{p.name}/{entity_name(r.tag)}",
-                p.title,
-                tuple(
-                    replace(
-                        s,
-                        label=f"{s.label} · {r.tag}",
-                        color=_shade(s.color, k),
-                        width=RUN_STYLES[k][1],
-                    )
-                    for s in p.series
-                    if k == 0 or not (s.column.endswith("_ref") or "limit" in s.column)
-                ),
-            )
-            for p in recording.ARM_PANELS
-        ]
+        panels = _tagged_panels(r.tag, k)
         recording.log_scalar_panels(rec, cols, panels, rows)
         for base, tagged in zip(recording.ARM_PANELS, panels, strict=True):
             curves.setdefault(base.name, []).extend(recording.panel_curves(tagged, cols))
         for p in recording.informative_panels(cols, recording.ARM_PANELS):
             panels_shown.setdefault(p.name, p)
-    views = []
-    for lp in ARM_LOOPS:
-        members = [(r, c, rows) for r, c, rows in all_cols if loop_is_informative(lp, c)]
-        if not members:
-            continue
-        traces = [
-            (Trace(entity_name(r.tag), r.tag, CONFIG_COLORS[k], lp.y), c, rows)
-            for k, (r, c, rows) in enumerate(members)
-        ]
-        model: list[LoopCurve] = []
-        seen: list[Any] = []
-        for r, c, _ in members:
-            sh = r.result.config.shaft
-            law = (sh.k_pos, sh.s_pos, sh.k_neg, sh.s_neg, sh.kb, sh.beta)  # eq. 8 / eq. 4
-            if r.result.config.transmission == "flexible-shaft" and law not in seen:
-                seen.append(law)
-                model += shaft_model_curves(
-                    lp, c, sh, tag="catalogue" if len(members) == 1 else f"{r.tag} catalogue"
-                )
-        if len(seen) == 1:  # one law for all: one curve, named plainly
-            model = shaft_model_curves(lp, members[0][1], members[0][0].result.config.shaft)
-        image = loop_image(
-            lp,
-            [(tr, c) for tr, c, _ in traces],
-            model,
-            subtitle=f"{first.scenario}: {' vs '.join(r.tag for r, _, _ in members)}",
-        )
-        log_loop_panel(rec, lp, traces, image)
-        views.append(recording.LoopView(lp.entity, lp.title, image.width, image.height))
+    views = _loop_views(rec, all_cols, first.scenario)
     ordered = [p for p in recording.ARM_PANELS if p.name in panels_shown]
     return recording.blueprint(ordered, views, curves=curves)
 

@@ -109,6 +109,62 @@ def frame(values: Sequence[Array], margin: float = MARGIN) -> tuple[float, float
     return lo - margin * span, hi + margin * span
 
 
+def _legend_handles(drawn: list[Line2D], overlay: Sequence[LegendEntry]) -> list[Line2D]:
+    """The legend's entries: the overlay's traces first, then the drawn curves, then markers."""
+    handles: list[Line2D] = []
+    for e in sorted(overlay, key=lambda e: e.marker is not None):
+        handles.append(
+            Line2D(
+                [],
+                [],
+                linestyle=cast(Any, e.style),
+                color=e.color,
+                lw=e.width,
+                marker=e.marker,
+                markersize=8,
+                label=e.label,
+            )
+        )
+    n_lines = sum(e.marker is None for e in overlay)
+    handles[n_lines:n_lines] = drawn
+    return handles
+
+
+def _image(
+    fig: Figure,
+    canvas: FigureCanvasAgg,
+    ax: Any,
+    xr: tuple[float, float],
+    yr: tuple[float, float],
+    title: str,
+) -> LoopImage:
+    """The drawn figure as PNG bytes with its affine map data -> pixel."""
+    canvas.draw()
+    # data -> display (pixels from the bottom-left corner), then flip to image rows
+    (u0, d0), (u1, d1) = ax.transData.transform([(xr[0], yr[0]), (xr[1], yr[1])])
+    height = int(canvas.get_width_height()[1])
+    width = int(canvas.get_width_height()[0])
+    bx = (u1 - u0) / (xr[1] - xr[0])
+    by = -(d1 - d0) / (yr[1] - yr[0])
+    ax_ = u0 - bx * xr[0]
+    ay_ = (height - d0) - by * yr[0]
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=DPI)
+    if not all(math.isfinite(v) for v in (bx, by, ax_, ay_)):
+        raise InvalidParameterError(f"loop '{title}': the data map is not finite")
+    return LoopImage(
+        png=buf.getvalue(),
+        width=width,
+        height=height,
+        x_range=xr,
+        y_range=yr,
+        ax=float(ax_),
+        bx=float(bx),
+        ay=float(ay_),
+        by=float(by),
+    )
+
+
 def render_loop(
     curves: Sequence[LoopCurve],
     *,
@@ -155,22 +211,7 @@ def render_loop(
         )
         if c.in_legend:
             drawn.append(line)
-    handles: list[Line2D] = []  # the overlay's traces first, then the drawn curves, then markers
-    for e in sorted(overlay, key=lambda e: e.marker is not None):
-        handles.append(
-            Line2D(
-                [],
-                [],
-                linestyle=cast(Any, e.style),
-                color=e.color,
-                lw=e.width,
-                marker=e.marker,
-                markersize=8,
-                label=e.label,
-            )
-        )
-    n_lines = sum(e.marker is None for e in overlay)
-    handles[n_lines:n_lines] = drawn
+    handles = _legend_handles(drawn, overlay)
     ax.tick_params(labelsize=12)
     ax.set_xlabel(xlabel, fontsize=13)
     ax.set_ylabel(ylabel, fontsize=13)
@@ -198,27 +239,4 @@ def render_loop(
             fontsize=11,
             bbox={"facecolor": "white", "alpha": 0.8, "edgecolor": "none"},
         )
-    canvas.draw()
-    # data -> display (pixels from the bottom-left corner), then flip to image rows
-    (u0, d0), (u1, d1) = ax.transData.transform([(xr[0], yr[0]), (xr[1], yr[1])])
-    height = int(canvas.get_width_height()[1])
-    width = int(canvas.get_width_height()[0])
-    bx = (u1 - u0) / (xr[1] - xr[0])
-    by = -(d1 - d0) / (yr[1] - yr[0])
-    ax_ = u0 - bx * xr[0]
-    ay_ = (height - d0) - by * yr[0]
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=DPI)
-    if not all(math.isfinite(v) for v in (bx, by, ax_, ay_)):
-        raise InvalidParameterError(f"loop '{title}': the data map is not finite")
-    return LoopImage(
-        png=buf.getvalue(),
-        width=width,
-        height=height,
-        x_range=xr,
-        y_range=yr,
-        ax=float(ax_),
-        bx=float(bx),
-        ay=float(ay_),
-        by=float(by),
-    )
+    return _image(fig, canvas, ax, xr, yr, title)

@@ -80,28 +80,21 @@ def _deg(column: str, label: str, color: tuple[int, int, int]) -> Series:
     return Series(column, label, RAD2DEG, color)
 
 
+def _joint(j: int) -> Panel:
+    """Joint ``j``'s angle and its reference, shown when the joint moves."""
+    return Panel(
+        f"joint{j}",
+        f"joint {j} [deg]",
+        (_deg(f"q{j}_ref", f"q{j} ref", GREY), _deg(f"q{j}", f"q{j}", BLUE)),
+        informative=lambda c: j in moving_joints(c),
+        group="tracking",
+    )
+
+
 ARM_PANELS: tuple[Panel, ...] = (
-    Panel(
-        "joint1",
-        "joint 1 [deg]",
-        (_deg("q1_ref", "q1 ref", GREY), _deg("q1", "q1", BLUE)),
-        informative=lambda c: 1 in moving_joints(c),
-        group="tracking",
-    ),
-    Panel(
-        "joint2",
-        "joint 2 [deg]",
-        (_deg("q2_ref", "q2 ref", GREY), _deg("q2", "q2", BLUE)),
-        informative=lambda c: 2 in moving_joints(c),
-        group="tracking",
-    ),
-    Panel(
-        "joint3",
-        "joint 3 [deg]",
-        (_deg("q3_ref", "q3 ref", GREY), _deg("q3", "q3", BLUE)),
-        informative=lambda c: 3 in moving_joints(c),
-        group="tracking",
-    ),
+    _joint(1),
+    _joint(2),
+    _joint(3),
     Panel(
         "errors",
         "tracking error q - q_ref [deg]",

@@ -17,7 +17,7 @@ import numpy.typing as npt
 from fsarm_sim.errors import (
     InvalidParameterError,
 )
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 
 Array = npt.NDArray[np.float64]
 
@@ -108,7 +108,7 @@ def check_run_size(
     n_ticks = duration_s / ctrl_dt_s + 1.0
     rows = n_ticks / max(log_every_ticks, 1) if log_every_ticks > 0 else 0.0
     # reference table (the model holds it twice while compiling) + recorded rows + columns
-    need = 8.0 * (3.0 * n_ticks * L.REF_COLS + rows * (n_cols + 40))
+    need = 8.0 * (3.0 * n_ticks * layout.REF_COLS + rows * (n_cols + 40))
     if need <= SMALL_RUN_BYTES:
         return  # fits anywhere: no need to ask the kernel (a sweep point asks ~0.15 ms)
     have = MEMORY_SHARE * available_memory_bytes()

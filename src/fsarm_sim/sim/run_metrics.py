@@ -15,7 +15,7 @@ from fsarm_sim.engine.model import (
 from fsarm_sim.errors import (
     InvalidParameterError,
 )
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 
 Array = npt.NDArray[np.float64]
 
@@ -34,27 +34,27 @@ def motor_energy_j(cols: dict[str, Array], st: ArmStructure | None) -> float:
 def kernel_metrics(acc: Array) -> dict[str, float | dict[str, float]]:
     """Tracking and effort metrics from the control kernel's per-step accumulators
     (``layout.A_*``): every physics step counts, whatever the logging options."""
-    n = float(acc[L.A_COUNT])
+    n = float(acc[layout.A_COUNT])
     if n < 1.0:
         raise InvalidParameterError(
             "no physics step was taken with the controllers on, so there are no metrics"
         )
     joints = ("q1", "q2", "q3")
-    rmse = {j: math.sqrt(float(acc[L.A_SQ_ERR + i]) / n) for i, j in enumerate(joints)}
-    max_err = {j: float(acc[L.A_MAX_ERR + i]) for i, j in enumerate(joints)}
+    rmse = {j: math.sqrt(float(acc[layout.A_SQ_ERR + i]) / n) for i, j in enumerate(joints)}
+    max_err = {j: float(acc[layout.A_MAX_ERR + i]) for i, j in enumerate(joints)}
     return {
         "rmse_rad": rmse,
         "rmse_deg": {k: math.degrees(v) for k, v in rmse.items()},
         "max_abs_err_rad": max_err,
         "max_abs_err_deg": {k: math.degrees(v) for k, v in max_err.items()},
-        "tau_estimate_rmse_nm": math.sqrt(float(acc[L.A_SQ_TAU_EST]) / n),
-        "tau_estimate_max_abs_err_nm": float(acc[L.A_MAX_TAU_EST]),
-        "peak_motor_torque_nm": float(acc[L.A_PEAK_MOTOR_TORQUE]),
-        "peak_motor_speed_rad_s": float(acc[L.A_PEAK_ROTOR_SPEED]),
-        "peak_shaft_torque_nm": float(acc[L.A_PEAK_SHAFT_TORQUE]),
-        "peak_twist_rad": float(acc[L.A_PEAK_TWIST]),
-        "peak_tau2_nm": float(acc[L.A_PEAK_TAU2]),
-        "motor_energy_j": float(acc[L.A_MOTOR_WORK]),
+        "tau_estimate_rmse_nm": math.sqrt(float(acc[layout.A_SQ_TAU_EST]) / n),
+        "tau_estimate_max_abs_err_nm": float(acc[layout.A_MAX_TAU_EST]),
+        "peak_motor_torque_nm": float(acc[layout.A_PEAK_MOTOR_TORQUE]),
+        "peak_motor_speed_rad_s": float(acc[layout.A_PEAK_ROTOR_SPEED]),
+        "peak_shaft_torque_nm": float(acc[layout.A_PEAK_SHAFT_TORQUE]),
+        "peak_twist_rad": float(acc[layout.A_PEAK_TWIST]),
+        "peak_tau2_nm": float(acc[layout.A_PEAK_TAU2]),
+        "motor_energy_j": float(acc[layout.A_MOTOR_WORK]),
         "metric_samples": n,
     }
 

@@ -16,7 +16,7 @@ from fsarm_sim.errors import (
     CallbackBypassError,
     SimulationWarningError,
 )
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 from fsarm_sim.plant import transmissions
 from fsarm_sim.plant.effects import registry
 from fsarm_sim.sim.run_memory import MADV_POPULATE_WRITE as MADV_POPULATE_WRITE
@@ -38,10 +38,10 @@ def clock_gap_steps(
     it is 0 (RK4) or 1; before the first step ``U_STEP_T`` holds the start time
     (``initial_state``, ``Simulation.start_at``). ``params``: the model's ``fsarm_params`` if
     the caller holds them (None: looked up by name)."""
-    prm = model.numeric(L.PARAMS_NAME).data if params is None else params
-    if prm[L.P_EN_CONTROL] < 0.5:
+    prm = model.numeric(layout.PARAMS_NAME).data if params is None else params
+    if prm[layout.P_EN_CONTROL] < 0.5:
         return None
-    return (float(data.time) - float(data.userdata[L.U_STEP_T])) / float(model.opt.timestep)
+    return (float(data.time) - float(data.userdata[layout.U_STEP_T])) / float(model.opt.timestep)
 
 
 def check_clock(model: mujoco.MjModel, data: mujoco.MjData) -> None:
@@ -81,8 +81,8 @@ def initial_state(model: mujoco.MjModel, data: mujoco.MjData, st: ArmStructure) 
     The shaft is pre-twisted to carry joint 3's gravity torque, the conduit branches are relaxed,
     and the speed-loop integrator already holds the motor torque that twist needs (bumpless start).
     """
-    prm = model.numeric(L.PARAMS_NAME).data
-    ref = model.numeric(L.REF_NAME).data
+    prm = model.numeric(layout.PARAMS_NAME).data
+    ref = model.numeric(layout.REF_NAME).data
     mujoco.mj_resetData(model, data)
     for j in range(3):
         data.qpos[st.qadr[j]] = ref[j]
@@ -95,39 +95,39 @@ def initial_state(model: mujoco.MjModel, data: mujoco.MjData, st: ArmStructure) 
     bend = data.qpos[st.qadr[1]]
     twist = static_twist(prm, tau_shaft, bend)
     data.qpos[st.qadr[3]] = (st.coef_s * data.qpos[st.qadr[2]] + twist) / st.coef_m
-    tr = transmissions.by_kind(prm[L.P_TRANS])
-    block = prm[L.P_TR : L.P_TR + L.N_TR]
+    tr = transmissions.by_kind(prm[layout.P_TRANS])
+    block = prm[layout.P_TR : layout.P_TR + layout.N_TR]
     # the transmission's states at the twist its law sees (the backlash play taken up is not)
-    elastic = tr.twist_for_torque(block, tau_shaft, bend) if prm[L.P_EN_SERIES] >= 0.5 else 0.0
+    elastic = tr.twist_for_torque(block, tau_shaft, bend) if prm[layout.P_EN_SERIES] >= 0.5 else 0.0
     for i, v in enumerate(tr.initial_states(block, elastic, bend)):
         data.act[st.act_slip + i] = v
     data.act[st.act_branch[0]] = bend
     data.act[st.act_branch[1]] = bend
-    if prm[L.P_SPD_KI] > 0.0:
-        data.userdata[L.U_MEM + L.M_SPD_I] = st.coef_m * tau_shaft / prm[L.P_SPD_KI]
-    if prm[L.P_CTRL_KIND] == L.CTRL_HYSTERESIS:
+    if prm[layout.P_SPD_KI] > 0.0:
+        data.userdata[layout.U_MEM + layout.M_SPD_I] = st.coef_m * tau_shaft / prm[layout.P_SPD_KI]
+    if prm[layout.P_CTRL_KIND] == layout.CTRL_HYSTERESIS:
         # the controller's hysteresis model starts loaded like the shaft: a static start holds
         # joint 3's gravity torque, which the controller's model of the arm knows
-        hm = prm[L.P_HM : L.P_HM + L.N_HM]
+        hm = prm[layout.P_HM : layout.P_HM + layout.N_HM]
         z = initial_elements(twist, bend, tau_shaft, *(float(v) for v in hm))
-        data.userdata[L.U_MEM + L.M_SLIP : L.U_MEM + L.M_SLIP + 3] = z
-    for b in L.ARM_LAW_BLOCKS:  # the registry laws' own states start at their declared values
+        data.userdata[layout.U_MEM + layout.M_SLIP : layout.U_MEM + layout.M_SLIP + 3] = z
+    for b in layout.ARM_LAW_BLOCKS:  # the registry laws' own states start at their declared values
         if prm[b.on] > 0.5 and prm[b.act] >= 0.0:
             law = registry.get(b.name).law
             assert law is not None
             for i, d in enumerate(law.STATES):
                 data.act[int(prm[b.act]) + i] = d.default
-    data.userdata[L.U_TICK] = 0.0
+    data.userdata[layout.U_TICK] = 0.0
     data.time = 0.0
 
 
 def static_twist(prm: Array, tau_shaft: float, bend: float) -> float:
     """Twist at which joint 3's transmission holds ``tau_shaft`` statically (0: no spring)."""
-    if prm[L.P_EN_SERIES] < 0.5:
+    if prm[layout.P_EN_SERIES] < 0.5:
         return 0.0
-    tr = transmissions.by_kind(prm[L.P_TRANS])
-    twist = tr.twist_for_torque(prm[L.P_TR : L.P_TR + L.N_TR], tau_shaft, bend)
-    if prm[L.P_BL_WIDTH] > 0.0:  # the play must be taken up first, on the loaded flank
-        c, w = prm[L.P_BL_CENTER], prm[L.P_BL_WIDTH]
+    tr = transmissions.by_kind(prm[layout.P_TRANS])
+    twist = tr.twist_for_torque(prm[layout.P_TR : layout.P_TR + layout.N_TR], tau_shaft, bend)
+    if prm[layout.P_BL_WIDTH] > 0.0:  # the play must be taken up first, on the loaded flank
+        c, w = prm[layout.P_BL_CENTER], prm[layout.P_BL_WIDTH]
         twist += c + (0.5 * w if twist > 0.0 else -0.5 * w if twist < 0.0 else 0.0)
     return twist

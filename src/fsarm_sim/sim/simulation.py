@@ -26,7 +26,7 @@ from fsarm_sim.errors import (
     real_number,
     whole_number,
 )
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 from fsarm_sim.sim import scenarios
 from fsarm_sim.sim.run_memory import MADV_POPULATE_WRITE as MADV_POPULATE_WRITE
 from fsarm_sim.sim.run_memory import MAX_STEPS as MAX_STEPS
@@ -123,7 +123,7 @@ class Simulation:
         self.states: dict[str, Array] = {}  # internal states at the rows of the last run()
         self._views_of: mujoco.MjModel | None = None
         self._prm: Array = np.empty(0)
-        self._ref: Array = np.empty((0, L.REF_COLS))
+        self._ref: Array = np.empty((0, layout.REF_COLS))
         self._stiffness: tuple[Array, ...] = ()
         initial_state(self.model, self.data, self.structure)
 
@@ -134,8 +134,8 @@ class Simulation:
         :func:`.lean.check_springs_off` are kept with them."""
         m = self.model
         if self._views_of is not m:
-            self._prm = m.numeric(L.PARAMS_NAME).data
-            self._ref = m.numeric(L.REF_NAME).data.reshape(-1, L.REF_COLS)
+            self._prm = m.numeric(layout.PARAMS_NAME).data
+            self._ref = m.numeric(layout.REF_NAME).data.reshape(-1, layout.REF_COLS)
             self._stiffness = stiffness_views(m)
             self._views_of = m
         return self._prm, self._ref
@@ -159,29 +159,29 @@ class Simulation:
     def start_at(self, time_s: float) -> None:
         """Start the run's clock at ``time_s`` instead of 0 (the first control tick is then the
         reference row of that time); only before the first step."""
-        if self.data.userdata[L.U_STEP] > 0.0:
+        if self.data.userdata[layout.U_STEP] > 0.0:
             raise InvalidParameterError("start_at() is only allowed before the first step")
         if not math.isfinite(time_s) or time_s < 0.0:
             raise InvalidParameterError(
                 f"start time must be a finite number >= 0 s, got {time_s!r}"
             )
         self.data.time = float(time_s)
-        self.data.userdata[L.U_STEP_T] = float(time_s)
+        self.data.userdata[layout.U_STEP_T] = float(time_s)
 
     def step_index(self) -> int:
         """Index of the physics step that starts at the current state, by the control clock's
         own count (``data.time`` alone drifts by rounding over long runs)."""
         d = self.data
         ud = d.userdata
-        h = float(self._views()[0][L.P_TIMESTEP])
-        if ud[L.U_STEP] < 1.0:
+        h = float(self._views()[0][layout.P_TIMESTEP])
+        if ud[layout.U_STEP] < 1.0:
             return round(float(d.time) / h)
-        return int(ud[L.U_STEP]) - 1 + round((float(d.time) - float(ud[L.U_STEP_T])) / h)
+        return int(ud[layout.U_STEP]) - 1 + round((float(d.time) - float(ud[layout.U_STEP_T])) / h)
 
     def metrics(self) -> dict[str, float | dict[str, float]]:
         """Tracking and effort metrics accumulated by the control kernel on every physics step
         since the start (independent of logging): see ``layout.A_*``."""
-        return kernel_metrics(self.data.userdata[L.U_ACC : L.U_ACC + L.N_ACC])
+        return kernel_metrics(self.data.userdata[layout.U_ACC : layout.U_ACC + layout.N_ACC])
 
     def health(self) -> None:
         """Raise :class:`RunHealthError` if the state is not finite, the control clock stopped,
@@ -203,11 +203,11 @@ class Simulation:
             return
         ud = d.userdata
         h = float(m.opt.timestep)
-        tick = float(ud[L.U_TICK])
-        if ud[L.U_STEP] < 1.0 or steps > 1.5:
+        tick = float(ud[layout.U_TICK])
+        if ud[layout.U_STEP] < 1.0 or steps > 1.5:
             raise RunHealthError(
                 f"control clock stopped at t = {t:.6f} s: it last saw a step at "
-                f"t = {ud[L.U_STEP_T]:.6f} s (timestep {h:g} s), so the controllers' "
+                f"t = {ud[layout.U_STEP_T]:.6f} s (timestep {h:g} s), so the controllers' "
                 "outputs are frozen"
             )
         ctrl_dt = self.config.gains.ctrl_dt_s
@@ -232,8 +232,49 @@ class Simulation:
                     f"{math.degrees(DIVERGENCE_LIMIT_RAD):.0f} deg; q{j + 1} = "
                     f"{math.degrees(q):.2f} deg, reference {math.degrees(row[j]):.2f} deg, "
                     f"speed {math.degrees(d.qvel[st.dof[j]]):.1f} deg/s, joint-3 motor torque "
-                    f"{ud[L.U_OUT + 2]:.3g} N·m)"
+                    f"{ud[layout.U_OUT + 2]:.3g} N·m)"
                 )
+
+    def _check_before_run(self, duration_s: float, log_every_ticks: int) -> None:
+        """The model's timestep as built, the run's size, the clock and the springs."""
+        m, d = self.model, self.data
+        if m.opt.timestep != self.params[layout.P_TIMESTEP]:
+            raise InvalidParameterError(
+                f"model.opt.timestep was changed to {m.opt.timestep:g} s after the model was built "
+                f"for {self.params[layout.P_TIMESTEP]:g} s; set SimConfig.timestep_s instead"
+            )
+        check_run_size(
+            duration_s,
+            m.opt.timestep,
+            self.config.gains.ctrl_dt_s,
+            int(log_every_ticks),
+            m.nq + m.nv + m.na + layout.N_USERDATA_LOGGED,
+        )
+        check_clock(m, d)
+        self._check_springs()
+
+    def _arm_recorder(self, stride: float, cap: int) -> None:
+        """Set the control kernel's recorder: a row every ``stride`` steps (0: off) from now."""
+        ud = self.data.userdata
+        ud[layout.U_REC_STRIDE] = stride
+        ud[layout.U_REC_NEXT] = self._step0
+        ud[layout.U_REC_LAST] = -1.0
+        ud[layout.U_REC_ROWS] = 0.0
+        ud[layout.U_REC_CAP] = cap
+        ud[layout.U_REC_LOST] = 0.0
+
+    def _recorded_columns(self, rec: Array) -> dict[str, Array]:
+        """The columns of the rows drained into ``rec`` (and ``self.states`` from them)."""
+        r = self._rows
+        nq, nv, na = self.model.nq, self.model.nv, self.model.na
+        self.states = self._states(rec[:r, 1 + nq + nv : 1 + nq + nv + na])
+        return self._columns(
+            rec[:r, 0],
+            rec[:r, 1 : 1 + nq],
+            rec[:r, 1 + nq : 1 + nq + nv],
+            rec[:r, 1 + nq + nv : 1 + nq + nv + na],
+            rec[:r, 1 + nq + nv + na :],
+        )
 
     def run(
         self, duration_s: float, log_every_ticks: int = 1, *, keep_partial: bool = False
@@ -256,31 +297,18 @@ class Simulation:
             log_every_ticks, "log_every_ticks (0: no logging)", 0, MAX_LOG_EVERY
         )
         m, d = self.model, self.data
-        if m.opt.timestep != self.params[L.P_TIMESTEP]:
-            raise InvalidParameterError(
-                f"model.opt.timestep was changed to {m.opt.timestep:g} s after the model was built "
-                f"for {self.params[L.P_TIMESTEP]:g} s; set SimConfig.timestep_s instead"
-            )
-        check_run_size(
-            duration_s,
-            m.opt.timestep,
-            self.config.gains.ctrl_dt_s,
-            int(log_every_ticks),
-            m.nq + m.nv + m.na + L.N_USERDATA_LOGGED,
-        )
-        check_clock(m, d)
-        self._check_springs()
+        self._check_before_run(duration_s, log_every_ticks)
         steps_per_tick = round(self.config.gains.ctrl_dt_s / m.opt.timestep)
         n_steps = round(duration_s / m.opt.timestep)
         stride = steps_per_tick * log_every_ticks if log_every_ticks > 0 else n_steps + 1
         n_rec = n_steps // stride + 1 if log_every_ticks > 0 else 0
         self._stride = stride
-        width = L.rec_width(m.nq, m.nv, m.na)
-        cap = (m.nuserdata - L.N_USERDATA) // width
+        width = layout.rec_width(m.nq, m.nv, m.na)
+        cap = (m.nuserdata - layout.N_USERDATA) // width
         if n_rec and cap < 1:
             raise ModelStructureError(
                 f"the model has no recording buffer (nuserdata {m.nuserdata} < "
-                f"{L.N_USERDATA + width}): build it with engine.model.build_model"
+                f"{layout.N_USERDATA + width}): build it with engine.model.build_model"
             )
         rec = resident_empty((n_rec, width))  # its page faults out of the timed loop
         self._step0 = self.step_index()
@@ -288,12 +316,7 @@ class Simulation:
         self._rows = 0
         failure: RunFailedError | None = None
         ud = d.userdata
-        ud[L.U_REC_STRIDE] = stride if n_rec else 0.0
-        ud[L.U_REC_NEXT] = self._step0
-        ud[L.U_REC_LAST] = -1.0
-        ud[L.U_REC_ROWS] = 0.0
-        ud[L.U_REC_CAP] = cap
-        ud[L.U_REC_LOST] = 0.0
+        self._arm_recorder(stride if n_rec else 0.0, cap)
         with callbacks.active(self.backend):
             start = _time.perf_counter()
             try:
@@ -303,24 +326,15 @@ class Simulation:
             except RunFailedError as exc:
                 failure = exc
             finally:
-                ud[L.U_REC_STRIDE] = 0.0  # recording off outside run()
+                ud[layout.U_REC_STRIDE] = 0.0  # recording off outside run()
             wall = _time.perf_counter() - start
         if self.interrupted and not keep_partial:
             raise KeyboardInterrupt
-        if ud[L.U_REC_LOST] > 0.0:
+        if ud[layout.U_REC_LOST] > 0.0:
             raise ModelStructureError(
-                f"the run recorder lost {int(ud[L.U_REC_LOST])} rows (a full buffer): a bug"
+                f"the run recorder lost {int(ud[layout.U_REC_LOST])} rows (a full buffer): a bug"
             )
-        r = self._rows
-        nq, nv, na = m.nq, m.nv, m.na
-        self.states = self._states(rec[:r, 1 + nq + nv : 1 + nq + nv + na])
-        cols = self._columns(
-            rec[:r, 0],
-            rec[:r, 1 : 1 + nq],
-            rec[:r, 1 + nq : 1 + nq + nv],
-            rec[:r, 1 + nq + nv : 1 + nq + nv + na],
-            rec[:r, 1 + nq + nv + na :],
-        )
+        cols = self._recorded_columns(rec)
         try:
             if failure is not None:
                 raise failure
@@ -342,7 +356,11 @@ class Simulation:
         m, d = self.model, self.data
         ud = d.userdata
         width = rec.shape[1]
-        buf = ud[L.U_REC_BUF : L.U_REC_BUF + cap * width].reshape(cap, width) if n_rec else rec
+        buf = (
+            ud[layout.U_REC_BUF : layout.U_REC_BUF + cap * width].reshape(cap, width)
+            if n_rec
+            else rec
+        )
         step = 0
         per_tick = round(self.config.gains.ctrl_dt_s / m.opt.timestep)
         hooks = self.hooks
@@ -381,15 +399,15 @@ class Simulation:
     def _drain(self, rec: Array, buf: Array) -> None:
         """Move the recorder's rows into ``rec`` (after ``self._rows``)."""
         ud = self.data.userdata
-        rows = int(ud[L.U_REC_ROWS])
+        rows = int(ud[layout.U_REC_ROWS])
         if rows == 0:
             return
         r = self._rows
         n = min(rows, rec.shape[0] - r)
         rec[r : r + n] = buf[:n]
         self._rows = r + n
-        ud[L.U_REC_ROWS] = 0.0
-        ud[L.U_REC_LAST] = -1.0
+        ud[layout.U_REC_ROWS] = 0.0
+        ud[layout.U_REC_LAST] = -1.0
 
     def _columns(
         self, t: Array, qpos: Array, qvel: Array, act: Array, ud: Array
@@ -403,7 +421,7 @@ class Simulation:
         ref = ref[np.clip(steps // per_tick, 0, ref.shape[0] - 1)]  # each row's reference, once
         theta_m = st.coef_m * qpos[:, st.qadr[3]]
         theta_s = st.coef_s * qpos[:, st.qadr[2]]
-        log = ud[:, L.U_LOG :]
+        log = ud[:, layout.U_LOG :]
         cols: dict[str, Array] = {"t": t}
         for j in range(3):
             cols[f"q{j + 1}"] = qpos[:, st.qadr[j]]
@@ -421,20 +439,20 @@ class Simulation:
             twist=theta_m - theta_s,
             phi_b=qpos[:, st.qadr[1]],
             omega_m=st.coef_m * qvel[:, st.dof[3]],
-            omega_d=log[:, L.L_OMEGA_D],
+            omega_d=log[:, layout.L_OMEGA_D],
             # computed by the passive kernel at the row's state (never recomputed here)
-            tau_shaft=log[:, L.L_TAU_SHAFT],
-            tau_model=log[:, L.L_TAU_MODEL],
-            tau_d_shaft=log[:, L.L_TAU_D_SHAFT],
-            tau_d_joint3=log[:, L.L_TAU_D_JOINT],
-            tau_bend=log[:, L.L_TAU_BEND],
-            tau_conduit=log[:, L.L_TAU_CONDUIT],
-            pid_p=log[:, L.L_PID_P],
-            pid_i=log[:, L.L_PID_I],
-            pid_d=log[:, L.L_PID_D],
-            tau1=ud[:, L.U_OUT],
-            tau2=ud[:, L.U_OUT + 1],
-            tau_motor=ud[:, L.U_OUT + 2],
+            tau_shaft=log[:, layout.L_TAU_SHAFT],
+            tau_model=log[:, layout.L_TAU_MODEL],
+            tau_d_shaft=log[:, layout.L_TAU_D_SHAFT],
+            tau_d_joint3=log[:, layout.L_TAU_D_JOINT],
+            tau_bend=log[:, layout.L_TAU_BEND],
+            tau_conduit=log[:, layout.L_TAU_CONDUIT],
+            pid_p=log[:, layout.L_PID_P],
+            pid_i=log[:, layout.L_PID_I],
+            pid_d=log[:, layout.L_PID_D],
+            tau1=ud[:, layout.U_OUT],
+            tau2=ud[:, layout.U_OUT + 1],
+            tau_motor=ud[:, layout.U_OUT + 2],
         )
         for effect, state in law_state_names(self.config.effects):  # the laws' own states
             a = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_ACTUATOR, f"{effect}.{state}")
@@ -512,7 +530,7 @@ def run_scenario(
             raise KeyboardInterrupt  # nothing worth keeping yet
         duration = sim.step_index() * float(sim.model.opt.timestep)
     metrics = compute_metrics(
-        cols, duration, wall, sim.structure, cfg.rating_nm(), acc=sim.data.userdata[L.U_ACC :]
+        cols, duration, wall, sim.structure, cfg.rating_nm(), acc=sim.data.userdata[layout.U_ACC :]
     )
     return RunResult(
         scenario=sc.name,

@@ -186,6 +186,17 @@ class SeriesBench:
         cols.update(diag)
         return cols
 
+    def _scheduled_torque_gains(self, g: TorqueLoopGains, twist: float) -> tuple[float, float]:
+        """The torque PI's (kp, ki) scheduled on the series stiffness at ``twist`` (eq. 3)."""
+        sh = self.shaft
+        stiffness = series_stiffness.stiffness_nm_per_rad(
+            twist, self.bend_rad, sh.k_pos, sh.s_pos, sh.k_neg, sh.s_neg
+        )
+        kp, ki, _ = scheduled_gains(
+            g.torque_bandwidth_rad_s, g.torque_integral_rad_s, 0.0, stiffness
+        )
+        return kp, ki
+
     def run_torque_control(
         self,
         tau_d: Any,
@@ -209,16 +220,10 @@ class SeriesBench:
         td = series_input("tau_d", tau_d, tt.size)
         h_max = checked_max_timestep(max_timestep_s)
         s0 = finite_number("theta_s0", theta_s0)
-        st, prm, m, sh = self.structure, self.params, self.model, self.shaft
+        st, prm, m = self.structure, self.params, self.model
         dt = g.ctrl_dt_s
-        n = math.floor(float(tt[-1] - tt[0]) / dt + 1e-9) + 1
-        if n < 2:
-            raise InvalidParameterError(
-                f"t spans {tt[-1] - tt[0]:g} s, less than one control period {dt:g} s"
-            )
-        if n > MAX_SAMPLES:
-            raise InvalidParameterError(f"at most {MAX_SAMPLES} control ticks per run, got {n}")
-        ticks = tt[0] + dt * np.arange(n)
+        ticks = _control_ticks(tt, dt)
+        n = ticks.size
         tau_ref = np.interp(ticks, tt, td)
         d = self._new_data(s0)
         off = self._offset(s0)
@@ -246,12 +251,7 @@ class SeriesBench:
                 cols["theta_s"][k] = st.coef_s * d.qpos[st.load_qadr] if st.load_qadr >= 0 else s0
                 if energy is not None:
                     energy[k] = kinetic_energy(m, d) + physics.shaft_potential(prm, d.qpos, d.act)
-                stiffness = series_stiffness.stiffness_nm_per_rad(
-                    twist, self.bend_rad, sh.k_pos, sh.s_pos, sh.k_neg, sh.s_neg
-                )
-                kp, ki, _ = scheduled_gains(
-                    g.torque_bandwidth_rad_s, g.torque_integral_rad_s, 0.0, stiffness
-                )
+                kp, ki = self._scheduled_torque_gains(g, twist)
                 omega_ff = (
                     st.coef_s * d.qvel[st.load_dof] if g.speed_ff and st.load_dof >= 0 else 0.0
                 )
@@ -272,18 +272,23 @@ class SeriesBench:
                     raise_on_warning(d)
                     steps = 0
         raise_on_warning(d)
-        out = {
-            "t": ticks,
-            "theta_m": cols["theta_m"],
-            "theta_s": cols["theta_s"],
-            "phi_b": np.full(n, self.bend_rad),
-            "tau_s": cols["tau_s"],
-            "tau_d": tau_ref,
-            "tau_motor": cols["tau_motor"],
-        }
-        if energy is not None:
-            out["energy_j"] = energy
-        return out
+        out = {"t": ticks, "theta_m": cols["theta_m"], "theta_s": cols["theta_s"]}
+        out |= {"phi_b": np.full(n, self.bend_rad), "tau_s": cols["tau_s"], "tau_d": tau_ref}
+        out["tau_motor"] = cols["tau_motor"]
+        return out if energy is None else {**out, "energy_j": energy}
+
+
+def _control_ticks(tt: Array, dt: float) -> Array:
+    """The control ticks ``t[0] + k dt`` up to ``t[-1]``: at least two, at most MAX_SAMPLES."""
+    n = math.floor(float(tt[-1] - tt[0]) / dt + 1e-9) + 1
+    if n < 2:
+        raise InvalidParameterError(
+            f"t spans {tt[-1] - tt[0]:g} s, less than one control period {dt:g} s"
+        )
+    if n > MAX_SAMPLES:
+        raise InvalidParameterError(f"at most {MAX_SAMPLES} control ticks per run, got {n}")
+    ticks: Array = tt[0] + dt * np.arange(n)
+    return ticks
 
 
 def _default_shaft(shaft: ShaftParams | None) -> ShaftParams:

@@ -70,6 +70,20 @@ def _catalogue_text(path: str | Path | None) -> str | None:
         return Path(path).read_text("utf-8")
 
 
+def _task(
+    test: str, shaft: CatalogueShaft, s: BenchSettings, catalogue_toml: str | None, loop: bool
+) -> tuple[dict[str, Any], dict[str, Any]]:
+    """A bench task's keys before its own (the test, the shaft) and after them (the settings,
+    the catalogue, the loop figure)."""
+    head = {
+        "test": test,
+        "name": shaft.name,
+        "diameter_mm": shaft.diameter_mm,
+        "length_mm": shaft.length_mm,
+    }
+    return head, {"settings": asdict(s), "catalogue_toml": catalogue_toml, "loop": loop}
+
+
 def series_tasks(
     shaft: CatalogueShaft,
     bends_deg: Sequence[float],
@@ -77,37 +91,15 @@ def series_tasks(
     catalogue_toml: str | None,
     loop: bool,
 ) -> list[dict[str, Any]]:
-    return [
-        {
-            "test": "series",
-            "name": shaft.name,
-            "diameter_mm": shaft.diameter_mm,
-            "length_mm": shaft.length_mm,
-            "bend_deg": float(b),
-            "settings": asdict(s),
-            "catalogue_toml": catalogue_toml,
-            "loop": loop,
-        }
-        for b in bends_deg
-    ]
+    head, tail = _task("series", shaft, s, catalogue_toml, loop)
+    return [{**head, "bend_deg": float(b), **tail} for b in bends_deg]
 
 
 def parallel_tasks(
     shaft: CatalogueShaft, s: BenchSettings, catalogue_toml: str | None, loop: bool
 ) -> list[dict[str, Any]]:
-    return [
-        {
-            "test": "parallel",
-            "name": shaft.name,
-            "diameter_mm": shaft.diameter_mm,
-            "length_mm": shaft.length_mm,
-            "torsion": torsion,
-            "settings": asdict(s),
-            "catalogue_toml": catalogue_toml,
-            "loop": loop,
-        }
-        for torsion in (False, True)
-    ]
+    head, tail = _task("parallel", shaft, s, catalogue_toml, loop)
+    return [{**head, "torsion": torsion, **tail} for torsion in (False, True)]
 
 
 def run_bench_tasks(

@@ -75,6 +75,76 @@ def _gains(base: Gains, controller: str, model: tuple[float, ...]) -> Gains:
     )
 
 
+def _run_tracking_cases(
+    row: ControllerRow,
+    cfg: SimConfig,
+    duration_s: float | None,
+    backend: Backend,
+    progress: Callable[[str], None] | None,
+) -> None:
+    """The tracking cases of one controller on one shaft into ``row`` (a failed run into its
+    ``failures``)."""
+    label, c = row.shaft, row.controller
+    for case, scenario, payload, hold in TRACKING_CASES:
+        if progress:
+            progress(f"{label} {c}: {case}")
+        try:
+            if hold is None:
+                m = run_scenario(
+                    scenario,
+                    cfg,
+                    duration_s=duration_s,
+                    payload_kg=payload,
+                    backend=backend,
+                ).metrics
+                rmse, mx = m["rmse_deg"], m["max_abs_err_deg"]
+                assert isinstance(rmse, dict) and isinstance(mx, dict)
+                q3, q3_max = float(rmse["q3"]), float(mx["q3"])
+            else:
+                flat = tracking(
+                    cfg,
+                    scenario,
+                    duration_s=duration_s,
+                    payload_kg=payload,
+                    bend_rad=math.radians(hold),
+                    backend=backend,
+                )
+                q3, q3_max = flat["q3_rmse_deg"], flat["q3_max_abs_err_deg"]
+        except RunFailedError as exc:
+            row.failures.append(f"{case}: {exc}")
+            continue
+        row.q3_rmse_deg[case] = q3
+        row.q3_max_deg[case] = q3_max
+        if case == "fig14":
+            row.tau_estimate_rmse_nm = float(m["tau_estimate_rmse_nm"])  # type: ignore[arg-type]
+            row.motor_work_j = float(m["motor_energy_j"])  # type: ignore[arg-type]
+        if case == "fig14-15kg":
+            row.tau_estimate_rmse_15kg_nm = float(m["tau_estimate_rmse_nm"])  # type: ignore[arg-type]
+
+
+def _run_frequency_cases(
+    row: ControllerRow,
+    cfg: SimConfig,
+    bends_deg: Sequence[float],
+    backend: Backend,
+    progress: Callable[[str], None] | None,
+) -> None:
+    """The torque bandwidth and output impedance at each bend into ``row``."""
+    label, c = row.shaft, row.controller
+    for b in bends_deg:
+        if progress:
+            progress(f"{label} {c}: bandwidth and impedance at {b:g} deg")
+        key = f"{b:g}"
+        try:
+            bw = torque_bandwidth(cfg, math.radians(b), backend=backend)
+            z = output_impedance(cfg, math.radians(b), backend=backend)
+        except RunFailedError as exc:
+            row.failures.append(f"bend {key}: {exc}")
+            continue
+        row.bandwidth_hz[key] = float(bw.bandwidth_hz)
+        row.impedance_nm_per_rad[key] = float(z.low_freq_nm_per_rad)
+
+
 def compare(
     shafts: Sequence[ShaftParams],
     controllers: Sequence[str] = DEFAULT_CONTROLLERS,
@@ -109,53 +179,8 @@ def compare(
             row = ControllerRow(controller=c, shaft=label)
             cfg = SimConfig(shaft=shaft, gains=_gains(base, c, model))
             cfg.validate()
-            for case, scenario, payload, hold in TRACKING_CASES:
-                if progress:
-                    progress(f"{label} {c}: {case}")
-                try:
-                    if hold is None:
-                        m = run_scenario(
-                            scenario,
-                            cfg,
-                            duration_s=duration_s,
-                            payload_kg=payload,
-                            backend=backend,
-                        ).metrics
-                        rmse, mx = m["rmse_deg"], m["max_abs_err_deg"]
-                        assert isinstance(rmse, dict) and isinstance(mx, dict)
-                        q3, q3_max = float(rmse["q3"]), float(mx["q3"])
-                    else:
-                        flat = tracking(
-                            cfg,
-                            scenario,
-                            duration_s=duration_s,
-                            payload_kg=payload,
-                            bend_rad=math.radians(hold),
-                            backend=backend,
-                        )
-                        q3, q3_max = flat["q3_rmse_deg"], flat["q3_max_abs_err_deg"]
-                except RunFailedError as exc:
-                    row.failures.append(f"{case}: {exc}")
-                    continue
-                row.q3_rmse_deg[case] = q3
-                row.q3_max_deg[case] = q3_max
-                if case == "fig14":
-                    row.tau_estimate_rmse_nm = float(m["tau_estimate_rmse_nm"])  # type: ignore[arg-type]
-                    row.motor_work_j = float(m["motor_energy_j"])  # type: ignore[arg-type]
-                if case == "fig14-15kg":
-                    row.tau_estimate_rmse_15kg_nm = float(m["tau_estimate_rmse_nm"])  # type: ignore[arg-type]
+            _run_tracking_cases(row, cfg, duration_s, backend, progress)
             if frequency:
-                for b in bends_deg:
-                    if progress:
-                        progress(f"{label} {c}: bandwidth and impedance at {b:g} deg")
-                    key = f"{b:g}"
-                    try:
-                        bw = torque_bandwidth(cfg, math.radians(b), backend=backend)
-                        z = output_impedance(cfg, math.radians(b), backend=backend)
-                    except RunFailedError as exc:
-                        row.failures.append(f"bend {key}: {exc}")
-                        continue
-                    row.bandwidth_hz[key] = float(bw.bandwidth_hz)
-                    row.impedance_nm_per_rad[key] = float(z.low_freq_nm_per_rad)
+                _run_frequency_cases(row, cfg, bends_deg, backend, progress)
             rows.append(row)
     return rows

@@ -5,6 +5,7 @@ with its unit, source and band."""
 from __future__ import annotations
 
 import base64
+import functools
 import html
 import math
 from collections.abc import Mapping
@@ -28,6 +29,54 @@ def _band_of(sheet: Mapping[str, Any], head: str, bends: list[float]) -> tuple[l
     return lo, hi
 
 
+def _panel(
+    sheet: Mapping[str, Any],
+    ax: Any,
+    heads: list[tuple[str, str, list[float]]],
+    title: str,
+    unit: str,
+) -> None:
+    """One panel of the figure: each head's series vs bend, its band shaded where given."""
+    for head, label, xs in heads:
+        ys = series_of(sheet, head, xs)
+        if all(not math.isfinite(y) for y in ys):
+            continue
+        style = "x--" if "(sim)" in label else "o-"  # simulated: dashed over the catalogue
+        (line,) = ax.plot(xs, ys, style, label=label)
+        lo, hi = _band_of(sheet, head, xs)
+        if any(math.isfinite(v) for v in lo):
+            ax.fill_between(xs, lo, hi, color=line.get_color(), alpha=0.2)
+    ax.set_title(title, fontsize=9)
+    ax.set_xlabel("bend angle [deg]", fontsize=8)
+    ax.set_ylabel(unit, fontsize=8)
+    ax.grid(alpha=0.3)
+    ax.tick_params(labelsize=7)
+    if ax.lines:
+        ax.legend(fontsize=7)
+
+
+def _tracking_bars(ax: Any, sheet: Mapping[str, Any]) -> None:
+    """The last panel: q3's tracking RMSE per run (with its band as error bars when given)."""
+    runs = [k for k in sheet["numbers"] if k.startswith("track.") and k.endswith(".q3_rmse_deg")]
+    if runs:
+        labels = [k.split(".")[1] + "\n" + k.split(".")[2] for k in runs]
+        vals = [sheet["numbers"][k]["value"] for k in runs]
+        bands = [sheet["numbers"][k].get("band") for k in runs]
+        err = None
+        if all(b is not None for b in bands):
+            err = [
+                [max(v - b["p05"], 0.0) for v, b in zip(vals, bands, strict=True)],
+                [max(b["p95"] - v, 0.0) for v, b in zip(vals, bands, strict=True)],
+            ]
+        ax.bar(range(len(vals)), vals, yerr=err, capsize=4)
+        ax.set_xticks(range(len(vals)), labels, fontsize=7)
+        ax.set_ylabel("deg", fontsize=8)
+        ax.set_title("q3 tracking RMSE (default controller)", fontsize=9)
+        ax.tick_params(labelsize=7)
+    else:
+        ax.axis("off")
+
+
 def figure(sheet: Mapping[str, Any], pdf: Path, png: Path) -> None:
     """The one-page figure: six panels vs bend / per run, the band shaded where given."""
     import matplotlib
@@ -44,25 +93,7 @@ def figure(sheet: Mapping[str, Any], pdf: Path, png: Path) -> None:
         f"(rating {sheet['numbers']['rating_nm']['value']:.2f} N*m)\n{s['catalogue']}",
         fontsize=10,
     )
-
-    def panel(ax: Any, heads: list[tuple[str, str, list[float]]], title: str, unit: str) -> None:
-        for head, label, xs in heads:
-            ys = series_of(sheet, head, xs)
-            if all(not math.isfinite(y) for y in ys):
-                continue
-            style = "x--" if "(sim)" in label else "o-"  # simulated: dashed over the catalogue
-            (line,) = ax.plot(xs, ys, style, label=label)
-            lo, hi = _band_of(sheet, head, xs)
-            if any(math.isfinite(v) for v in lo):
-                ax.fill_between(xs, lo, hi, color=line.get_color(), alpha=0.2)
-        ax.set_title(title, fontsize=9)
-        ax.set_xlabel("bend angle [deg]", fontsize=8)
-        ax.set_ylabel(unit, fontsize=8)
-        ax.grid(alpha=0.3)
-        ax.tick_params(labelsize=7)
-        if ax.lines:
-            ax.legend(fontsize=7)
-
+    panel = functools.partial(_panel, sheet)
     panel(
         axes[0, 0],
         [
@@ -104,25 +135,7 @@ def figure(sheet: Mapping[str, Any], pdf: Path, png: Path) -> None:
         "output impedance (zero-torque command)",
         "N*m/rad",
     )
-    ax = axes[2, 1]
-    runs = [k for k in sheet["numbers"] if k.startswith("track.") and k.endswith(".q3_rmse_deg")]
-    if runs:
-        labels = [k.split(".")[1] + "\n" + k.split(".")[2] for k in runs]
-        vals = [sheet["numbers"][k]["value"] for k in runs]
-        bands = [sheet["numbers"][k].get("band") for k in runs]
-        err = None
-        if all(b is not None for b in bands):
-            err = [
-                [max(v - b["p05"], 0.0) for v, b in zip(vals, bands, strict=True)],
-                [max(b["p95"] - v, 0.0) for v, b in zip(vals, bands, strict=True)],
-            ]
-        ax.bar(range(len(vals)), vals, yerr=err, capsize=4)
-        ax.set_xticks(range(len(vals)), labels, fontsize=7)
-        ax.set_ylabel("deg", fontsize=8)
-        ax.set_title("q3 tracking RMSE (default controller)", fontsize=9)
-        ax.tick_params(labelsize=7)
-    else:
-        ax.axis("off")
+    _tracking_bars(axes[2, 1], sheet)
     fig.tight_layout(rect=(0, 0, 1, 0.95))
     fig.savefig(pdf)
     fig.savefig(png, dpi=90)

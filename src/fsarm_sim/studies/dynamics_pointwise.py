@@ -15,8 +15,7 @@ import numpy.typing as npt
 from fsarm_sim.engine import callbacks
 from fsarm_sim.engine.model import ArmStructure, SimConfig, build_model, read_structure
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
-from fsarm_sim.kernels import layout as L
-from fsarm_sim.kernels import physics
+from fsarm_sim.kernels import layout, physics
 from fsarm_sim.sim.simulation import raise_on_warning
 from fsarm_sim.studies import pinocchio_model as pm
 
@@ -87,11 +86,11 @@ class Pair:
 
     @property
     def params(self) -> FloatArray:
-        return self.mj.numeric(L.PARAMS_NAME).data
+        return self.mj.numeric(layout.PARAMS_NAME).data
 
     @property
     def reference(self) -> FloatArray:
-        return self.mj.numeric(L.REF_NAME).data
+        return self.mj.numeric(layout.REF_NAME).data
 
     @property
     def state_act(self) -> tuple[int, ...]:
@@ -129,7 +128,7 @@ def make_pair(config: SimConfig, ref_table: FloatArray, label: str = "") -> Pair
 
 def hold_table(n_ticks: int = 2) -> FloatArray:
     """A reference table that holds the home pose (for checks that never run the controller)."""
-    return np.zeros((n_ticks, L.REF_COLS))
+    return np.zeros((n_ticks, layout.REF_COLS))
 
 
 def open_loop(config: SimConfig) -> SimConfig:
@@ -188,7 +187,7 @@ def set_state(pair: Pair, s: State) -> None:
     d.qvel[:] = s.qvel
     d.act[:] = s.act
     d.ctrl[:] = s.ctrl
-    d.time = 0.5 * float(pair.params[L.P_CTRL_DT])  # between control ticks
+    d.time = 0.5 * float(pair.params[layout.P_CTRL_DT])  # between control ticks
     with callbacks.active("python"):
         mujoco.mj_forward(pair.mj, d)
     raise_on_warning(d)
@@ -224,7 +223,7 @@ def actuator_forces(m: mujoco.MjModel, ctrl: FloatArray, act: FloatArray) -> Flo
 def applied_forces(pair: Pair, s: State) -> FloatArray:
     """Everything but bias and inertia: shaft constitutive forces - damping + motors."""
     tau = np.zeros(pair.mj.nv)
-    physics.passive_forces(pair.params, s.qpos, s.qvel, s.act, tau, np.zeros(L.N_USERDATA))
+    physics.passive_forces(pair.params, s.qpos, s.qvel, s.act, tau, np.zeros(layout.N_USERDATA))
     tau -= pair.arm.damping * s.qvel
     tau += actuator_forces(pair.mj, s.ctrl, s.act)
     return tau
@@ -291,8 +290,8 @@ def controller_input_error(pair: Pair, s: State) -> float:
     mass_pin = pm.mass_matrix(pair.arm, s.qpos)
     worst = 0.0
     for p_dof, p_madr, dof in zip(
-        (L.P_DOF_Q1, L.P_DOF_Q2, L.P_DOF_Q3),
-        (L.P_MADR_Q1, L.P_MADR_Q2, L.P_MADR_Q3),
+        (layout.P_DOF_Q1, layout.P_DOF_Q2, layout.P_DOF_Q3),
+        (layout.P_MADR_Q1, layout.P_MADR_Q2, layout.P_MADR_Q3),
         pair.st.dof[:3],
         strict=True,
     ):

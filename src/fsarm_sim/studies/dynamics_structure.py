@@ -12,7 +12,7 @@ import numpy as np
 
 from fsarm_sim.engine import callbacks
 from fsarm_sim.errors import ModelStructureError
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 from fsarm_sim.sim.simulation import raise_on_warning
 from fsarm_sim.studies import pinocchio_model as pm
 from fsarm_sim.studies.dynamics_pointwise import CheckResult, FloatArray, Pair, random_state
@@ -215,7 +215,7 @@ def passive_at(pair: Pair, x: FloatArray) -> FloatArray:
     d.qpos[st.qadr[3]] = st.i_g1 * x[3]
     for adr in st.act_branch:
         d.act[adr] = x[1]  # relaxed conduit branches: the static (eq. 4) stiffness
-    d.time = 0.5 * float(pair.params[L.P_CTRL_DT])
+    d.time = 0.5 * float(pair.params[layout.P_CTRL_DT])
     with callbacks.active("python"):
         mujoco.mj_forward(m, d)
     raise_on_warning(d)

@@ -14,8 +14,7 @@ import numpy as np
 from fsarm_sim.engine import callbacks
 from fsarm_sim.engine.model import SimConfig, build_model, read_structure
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
-from fsarm_sim.kernels import layout as L
-from fsarm_sim.kernels import physics
+from fsarm_sim.kernels import layout, physics
 from fsarm_sim.sim import scenarios
 from fsarm_sim.sim.simulation import initial_state, raise_on_warning
 from fsarm_sim.studies import pinocchio_model as pm
@@ -71,7 +70,7 @@ def state_rates(
     """d/dt (qpos, qvel, act) on Pinocchio: ABA with the shaft forces, damping and motor forces."""
     prm, m = pair.params, pair.mj
     tau = np.zeros(m.nv)
-    ud = np.zeros(L.N_USERDATA)
+    ud = np.zeros(layout.N_USERDATA)
     physics.passive_forces(prm, x.qpos, x.qvel, x.act, tau, ud)
     tau += tau_ctrl - pair.arm.damping * x.qvel
     act_dot = np.zeros(m.na)
@@ -103,7 +102,7 @@ def control_forces(
         mem,
         mem_out,
         out,
-        np.zeros(L.N_LOG),
+        np.zeros(layout.N_LOG),
     )
     ctrl = np.zeros(m.nu)
     ctrl[list(st.ctrl)] = out
@@ -137,7 +136,7 @@ def _clamp_act(m: mujoco.MjModel, act: FloatArray) -> FloatArray:
 
 
 def substeps(pair: Pair, dt: float) -> int:
-    ctrl_dt = float(pair.params[L.P_CTRL_DT])
+    ctrl_dt = float(pair.params[layout.P_CTRL_DT])
     n = round(ctrl_dt / dt)
     if n < 1 or abs(n * dt - ctrl_dt) > 1e-9 * ctrl_dt:
         raise InvalidParameterError(
@@ -150,7 +149,7 @@ def start_state(pair: Pair) -> tuple[ArmState, FloatArray]:
     """simulation.initial_state on the MuJoCo side, copied: (state, controller memory)."""
     d = mujoco.MjData(pair.mj)
     initial_state(pair.mj, d, pair.st)
-    mem = np.array(d.userdata[L.U_MEM : L.U_MEM + L.N_MEM])
+    mem = np.array(d.userdata[layout.U_MEM : layout.U_MEM + layout.N_MEM])
     return ArmState(d.qpos.copy(), d.qvel.copy(), d.act.copy()), mem
 
 

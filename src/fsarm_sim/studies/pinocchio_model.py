@@ -45,7 +45,6 @@ FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
 
 JOINT_NAMES = ("q1", "q2", "q3", "j3_rotor")  # MuJoCo DOF order of the arm (fsarm.xml)
-TWIST_TENDON = "shaft_twist"
 
 
 @dataclass(frozen=True)

@@ -80,7 +80,7 @@ def banded_claims(claims: Sequence[Any]) -> list[Any]:
 
 
 def _run(name: str, config: Any, quick: bool, backend: Backend) -> Any:
-    from fsarm_sim.kernels import layout as L
+    from fsarm_sim.kernels import layout
     from fsarm_sim.sim.simulation import Simulation, run_scenario
 
     duration = QUICK_S if quick else None
@@ -98,7 +98,7 @@ def _run(name: str, config: Any, quick: bool, backend: Backend) -> Any:
             backend=backend,
         )
     assert name == "relief"
-    table = np.zeros((round(RELIEF_HOLD_S / config.gains.ctrl_dt_s) + 1, L.REF_COLS))
+    table = np.zeros((round(RELIEF_HOLD_S / config.gains.ctrl_dt_s) + 1, layout.REF_COLS))
     table[:, 1] = math.pi / 2.0
     tau2 = {}
     for label, fx in (

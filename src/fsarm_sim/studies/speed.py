@@ -329,6 +329,35 @@ def _batch(
     )
 
 
+def _per_step_fields(times: dict[str, list[float]]) -> dict[str, float]:
+    """The report's per-step times (median and best, us) and their ratios to raw MuJoCo's."""
+
+    def ratio(path: str, base: str = "raw") -> float:
+        return statistics.median(n / r for n, r in zip(times[path], times[base], strict=True))
+
+    out: dict[str, float] = {}
+    for path in ("raw", "python", "native", "lean", "raw_untimed"):
+        out[f"{path}_us"] = statistics.median(times[path]) * 1e6
+        out[f"{path}_us_best"] = min(times[path]) * 1e6
+    out |= {
+        "native_over_raw": ratio("native"),
+        "python_over_raw": ratio("python"),
+        "lean_over_raw": ratio("lean"),
+        "lean_over_raw_untimed": ratio("lean", "raw_untimed"),
+    }
+    return out
+
+
+def _batch_size(max_workers: int | None, batch_runs: int | None) -> tuple[int, int, int]:
+    """(cores, workers, runs) of the batch part: all cores and 4 runs a worker by default."""
+    cores = batch.available_cores()
+    n_workers = cores if max_workers is None else max_workers
+    check_workers(n_workers, "max_workers (--max-workers)")
+    n_runs = 4 * n_workers if batch_runs is None else batch_runs
+    whole_number(n_runs, "batch_runs", 1, MAX_BATCH_RUNS)
+    return cores, n_workers, n_runs
+
+
 def measure_speed(
     reps: int = 15,
     block_steps: int = 200,
@@ -354,18 +383,10 @@ def measure_speed(
     for name, d in (("rtf_duration_s", rtf_duration_s), ("batch_duration_s", batch_duration_s)):
         if not 0.0 < real_number(d, name) <= MAX_RUN_S:
             raise InvalidParameterError(f"{name} must be > 0 and <= {MAX_RUN_S:g} s, got {d!r}")
-    cores = batch.available_cores()
-    n_workers = cores if max_workers is None else max_workers
-    check_workers(n_workers, "max_workers (--max-workers)")
-    n_runs = 4 * n_workers if batch_runs is None else batch_runs
-    whole_number(n_runs, "batch_runs", 1, MAX_BATCH_RUNS)
+    cores, n_workers, n_runs = _batch_size(max_workers, batch_runs)
     from fsarm_sim.engine import native
 
     times, nefc, timestep = _per_step(reps, block_steps)
-    ratio_native = [n / r for n, r in zip(times["native"], times["raw"], strict=True)]
-    ratio_python = [p / r for p, r in zip(times["python"], times["raw"], strict=True)]
-    ratio_lean = [n / r for n, r in zip(times["lean"], times["raw"], strict=True)]
-    ratio_untimed = [n / r for n, r in zip(times["lean"], times["raw_untimed"], strict=True)]
     walls = _realtime(rtf_reps, rtf_duration_s)
     walls_logged = _realtime(rtf_reps, rtf_duration_s, log_every_ticks=1)
     proc, phases, source = _process(process_reps, rtf_duration_s)
@@ -384,14 +405,7 @@ def measure_speed(
     return SpeedReport(
         reps=reps,
         block_steps=block_steps,
-        raw_us=statistics.median(times["raw"]) * 1e6,
-        python_us=statistics.median(times["python"]) * 1e6,
-        native_us=statistics.median(times["native"]) * 1e6,
-        raw_us_best=min(times["raw"]) * 1e6,
-        python_us_best=min(times["python"]) * 1e6,
-        native_us_best=min(times["native"]) * 1e6,
-        native_over_raw=statistics.median(ratio_native),
-        python_over_raw=statistics.median(ratio_python),
+        **_per_step_fields(times),
         raw_nefc=nefc,
         timestep_s=timestep,
         rtf_duration_s=rtf_duration_s,
@@ -407,12 +421,6 @@ def measure_speed(
         compile_cache_hits=native.COMPILE_INFO.cache_hits,
         compile_callbacks=len(native.CFUNCS),
         machine_note=_load_note(cores),
-        lean_us=statistics.median(times["lean"]) * 1e6,
-        lean_us_best=min(times["lean"]) * 1e6,
-        lean_over_raw=statistics.median(ratio_lean),
-        raw_untimed_us=statistics.median(times["raw_untimed"]) * 1e6,
-        raw_untimed_us_best=min(times["raw_untimed"]) * 1e6,
-        lean_over_raw_untimed=statistics.median(ratio_untimed),
         rtf_logged=rtf_duration_s / statistics.median(walls_logged),
         rtf_logged_best=rtf_duration_s / min(walls_logged),
         process_s=statistics.median(proc),
@@ -464,11 +472,13 @@ def sweep_point_ms(r: SpeedReport) -> tuple[float, float]:
     return point, 1000.0 * r.sweep_duration_s / r.rtf_native
 
 
-def format_report(r: SpeedReport) -> str:
-    def goal(ok: bool) -> str:
-        return "met" if ok else "NOT met"
+def _goal(ok: bool) -> str:
+    return "met" if ok else "NOT met"
 
-    lines = [
+
+def _step_lines(r: SpeedReport) -> list[str]:
+    """Compile time, time per step, real-time factors and the whole process."""
+    return [
         f"fsarm speed benchmark ({r.machine_note}); medians of {r.reps} repetitions",
         f"native callbacks: import {r.compile_s:.2f} s "
         + (
@@ -486,19 +496,19 @@ def format_report(r: SpeedReport) -> str:
         f"   python/raw = {r.python_over_raw:6.2f}",
         f"  native callbacks            {r.native_us:8.3f} us {r.native_us_best:8.3f} us"
         f"   native/raw = {r.native_over_raw:6.3f}"
-        f"   goal <= {GOAL_NATIVE_OVER_RAW}: {goal(r.native_over_raw <= GOAL_NATIVE_OVER_RAW)}",
+        f"   goal <= {GOAL_NATIVE_OVER_RAW}: {_goal(r.native_over_raw <= GOAL_NATIVE_OVER_RAW)}",
         f"  native, lean twin (default)  {r.lean_us:8.3f} us {r.lean_us_best:8.3f} us"
         f"   lean/raw = {r.lean_over_raw:6.3f}"
-        f"   goal <= {GOAL_LEAN_OVER_RAW}: {goal(r.lean_over_raw <= GOAL_LEAN_OVER_RAW)}",
+        f"   goal <= {GOAL_LEAN_OVER_RAW}: {_goal(r.lean_over_raw <= GOAL_LEAN_OVER_RAW)}",
         f"real-time factor, {r.rtf_duration_s:g} s {SCENARIO}, native (the default run):",
         f"  full logging (default)  {r.rtf_logged:6.0f}x (best {r.rtf_logged_best:.0f}x)"
-        f"   goal >= {GOAL_REALTIME_FACTOR:g}x: {goal(r.rtf_logged >= GOAL_REALTIME_FACTOR)}",
+        f"   goal >= {GOAL_REALTIME_FACTOR:g}x: {_goal(r.rtf_logged >= GOAL_REALTIME_FACTOR)}",
         f"  no logging              {r.rtf_native:6.0f}x (best {r.rtf_native_best:.0f}x)",
         f"  (ceiling set by raw MuJoCo's best step alone, full model: "
         f"{r.timestep_s / (r.raw_us_best * 1e-6):.0f}x with its stage timers, "
         f"{r.timestep_s / (r.raw_untimed_us_best * 1e-6):.0f}x without)",
         f"whole process `fsarm run {SCENARIO} --duration {r.rtf_duration_s:g} --out DIR`: "
-        f"{r.process_s:.2f} s   goal <= {GOAL_PROCESS_S:g} s: {goal(r.process_s <= GOAL_PROCESS_S)}",
+        f"{r.process_s:.2f} s   goal <= {GOAL_PROCESS_S:g} s: {_goal(r.process_s <= GOAL_PROCESS_S)}",
         f"  phases in a fresh interpreter (native callbacks from the {r.kernel_source}): "
         + ", ".join(f"{k} {v:.3f} s" for k, v in r.process_phases.items())
         + (
@@ -508,49 +518,60 @@ def format_report(r: SpeedReport) -> str:
             else ""
         ),
     ]
-    if r.sweep_points:
-        single = r.rtf_logged
+
+
+def _sweep_lines(r: SpeedReport) -> list[str]:
+    """The sweep's throughput per worker count and its goals (none without a sweep)."""
+    if not r.sweep_points:
+        return []
+    lines: list[str] = []
+    single = r.rtf_logged
+    lines.append(
+        f"sweep: {r.sweep_points} tracking points x {r.sweep_duration_s:g} s (run_sweep; "
+        f"--executor local: process workers started by {r.sweep_start_method or '?'}; CPU: "
+        "of the sweep's process and workers):"
+    )
+    for rtf, scaling, cpus, how, many in (
+        (r.sweep_rtf_per_core, r.sweep_scaling, r.sweep_cpu_s, "--executor local", "processes"),
+        (
+            r.sweep_default_rtf_per_core,
+            r.sweep_default_scaling,
+            r.sweep_default_cpu_s,
+            "the default, --executor auto",
+            "threads",
+        ),
+    ):
+        for w, v in rtf.items():
+            lines.append(
+                f"  {w} worker{'s' if w > 1 else ' '}  {v:6.0f}x real time per core"
+                f" ({v / single:.2f} of the single run), scaling {scaling[w]:.2f}x,"
+                f" CPU {cpus.get(w, math.nan):.2f} s  ({how}: {many if w > 1 else 'inline'})"
+            )
+    if 1 in r.sweep_rtf_per_core:
+        point_ms, step_ms = sweep_point_ms(r)
         lines.append(
-            f"sweep: {r.sweep_points} tracking points x {r.sweep_duration_s:g} s (run_sweep; "
-            f"--executor local: process workers started by {r.sweep_start_method or '?'}; CPU: "
-            "of the sweep's process and workers):"
+            f"  per point (inline): {point_ms:.1f} ms, of which stepping ~{step_ms:.1f} ms "
+            f"(at the no-logging run's rate); the rest, {point_ms - step_ms:.1f} ms, builds "
+            "the model, computes the metrics and stores the point"
         )
-        for rtf, scaling, cpus, how, many in (
-            (r.sweep_rtf_per_core, r.sweep_scaling, r.sweep_cpu_s, "--executor local", "processes"),
-            (
-                r.sweep_default_rtf_per_core,
-                r.sweep_default_scaling,
-                r.sweep_default_cpu_s,
-                "the default, --executor auto",
-                "threads",
-            ),
-        ):
-            for w, v in rtf.items():
-                lines.append(
-                    f"  {w} worker{'s' if w > 1 else ' '}  {v:6.0f}x real time per core"
-                    f" ({v / single:.2f} of the single run), scaling {scaling[w]:.2f}x,"
-                    f" CPU {cpus.get(w, math.nan):.2f} s  ({how}: {many if w > 1 else 'inline'})"
-                )
-        if 1 in r.sweep_rtf_per_core:
-            point_ms, step_ms = sweep_point_ms(r)
-            lines.append(
-                f"  per point (inline): {point_ms:.1f} ms, of which stepping ~{step_ms:.1f} ms "
-                f"(at the no-logging run's rate); the rest, {point_ms - step_ms:.1f} ms, builds "
-                "the model, computes the metrics and stores the point"
+        per = r.sweep_rtf_per_core[1] / single
+        default2 = r.sweep_default_scaling.get(2, 0.0)  # sweep.pick_executor: threads
+        lines.append(
+            f"  goal per core >= {GOAL_SWEEP_PER_CORE} x single run: "
+            f"{_goal(per >= GOAL_SWEEP_PER_CORE)}"
+            + (
+                f"; goal 2 workers >= {GOAL_SCALING_2_CORES}x (the default executor): "
+                f"{_goal(default2 >= GOAL_SCALING_2_CORES)}"
+                if 2 in r.sweep_default_scaling
+                else ""
             )
-            per = r.sweep_rtf_per_core[1] / single
-            default2 = r.sweep_default_scaling.get(2, 0.0)  # sweep.pick_executor: threads
-            lines.append(
-                f"  goal per core >= {GOAL_SWEEP_PER_CORE} x single run: "
-                f"{goal(per >= GOAL_SWEEP_PER_CORE)}"
-                + (
-                    f"; goal 2 workers >= {GOAL_SCALING_2_CORES}x (the default executor): "
-                    f"{goal(default2 >= GOAL_SCALING_2_CORES)}"
-                    if 2 in r.sweep_default_scaling
-                    else ""
-                )
-            )
-    lines += [
+        )
+    return lines
+
+
+def _batch_lines(r: SpeedReport) -> list[str]:
+    """The batch's throughput per worker count and its goal."""
+    lines = [
         f"batch: {r.batch_runs} runs x {r.batch_duration_s:g} s, different shafts (D/L), "
         "mujoco.rollout in worker threads:",
     ]
@@ -565,6 +586,10 @@ def format_report(r: SpeedReport) -> str:
     if 2 in r.batch_scaling:
         lines.append(
             f"  goal 2 workers >= {GOAL_SCALING_2_CORES}x one: "
-            f"{goal(r.batch_scaling[2] >= GOAL_SCALING_2_CORES)}"
+            f"{_goal(r.batch_scaling[2] >= GOAL_SCALING_2_CORES)}"
         )
-    return "\n".join(lines)
+    return lines
+
+
+def format_report(r: SpeedReport) -> str:
+    return "\n".join([*_step_lines(r), *_sweep_lines(r), *_batch_lines(r)])

@@ -109,20 +109,18 @@ def build_spec(
     for key, raw in dict(data.get("fixed", {})).items():
         f[key] = scalar_value(field_info(key), raw)
     seen: set[str] = set()
-    for item in grid:
-        key, raw = parse_assignment(item)
-        if key in seen:
-            raise SweepSpecError(f"field {key!r} is given twice on the command line")
-        seen.add(key)
-        g[key] = parse_values(field_info(key), raw)
-        f.pop(key, None)
-    for item in fixed:
-        key, raw = parse_assignment(item)
-        if key in seen:
-            raise SweepSpecError(f"field {key!r} is given twice on the command line")
-        seen.add(key)
-        f[key] = scalar_value(field_info(key), raw)
-        g.pop(key, None)
+    for items, swept in ((grid, True), (fixed, False)):
+        for item in items:
+            key, raw = parse_assignment(item)
+            if key in seen:
+                raise SweepSpecError(f"field {key!r} is given twice on the command line")
+            seen.add(key)
+            if swept:
+                g[key] = parse_values(field_info(key), raw)
+                f.pop(key, None)
+            else:
+                f[key] = scalar_value(field_info(key), raw)
+                g.pop(key, None)
     both = set(g) & set(f)
     if both:
         raise SweepSpecError(f"fields {sorted(both)} are both swept and fixed")
@@ -171,22 +169,10 @@ def spec_catalogue(spec: SweepSpec) -> tuple[Catalogue, str | None, str]:
     return _catalogue(spec)
 
 
-def validate(spec: SweepSpec) -> None:
-    """Every check that can fail before the first simulation (raises SweepSpecError)."""
+def _validate_bench_tables(spec: SweepSpec) -> None:
+    """``[bench]`` (BenchSettings fields) and ``[bandwidth]`` (known keys, values > 0)."""
     from fsarm_sim.studies.campaign import BenchSettings, CampaignError
 
-    if spec.n_points > MAX_POINTS:
-        raise SweepSpecError(
-            f"the sweep has {spec.n_points} points, more than the {MAX_POINTS} allowed in one spec"
-        )
-    if spec.backend not in ("python", "native"):
-        raise SweepSpecError(f"backend must be 'python' or 'native', got {spec.backend!r}")
-    known = fields()
-    for key in list(spec.grid) + list(spec.fixed):
-        if key not in known:
-            raise SweepSpecError(
-                f"unknown sweep field {key!r}; allowed: {', '.join(sorted(known))}"
-            )
     try:
         BenchSettings(**spec.bench).validate()
     except TypeError as exc:
@@ -201,12 +187,10 @@ def validate(spec: SweepSpec) -> None:
     for k, v in spec.bandwidth.items():
         if parse_number(f"bandwidth.{k}", v) <= 0.0 and k != "q3_deg":
             raise SweepSpecError(f"bandwidth.{k} must be > 0, got {v!r}")
-    try:
-        cat, _, _ = _catalogue(spec)
-    except FsarmError as exc:
-        raise SweepSpecError(f"shaft file: {exc}") from exc
-    values = {k: spec.grid.get(k, (spec.fixed.get(k, known[k].default),)) for k in known}
-    # ranges per field
+
+
+def _validate_ranges(values: Mapping[str, Any], known: Mapping[str, Any]) -> None:
+    """Every number of the grid within its field's range."""
     for key, vals in values.items():
         info = known[key]
         for v in vals:
@@ -220,6 +204,46 @@ def validate(spec: SweepSpec) -> None:
                 raise SweepSpecError(
                     f"{key} = {v:g} is above its maximum {info.maximum:g} {info.unit}"
                 )
+
+
+def _validate_bend_on_arm(spec: SweepSpec, values: Mapping[str, Any]) -> None:
+    """A bend angle can be imposed on the arm only for scenarios that hold joint 2."""
+    from fsarm_sim.studies.arm_metrics import scenario_holds_joint2
+
+    bend_given = "bend_deg" in spec.grid or "bend_deg" in spec.fixed
+    for s in values["scenario"]:
+        sc = scenarios.get(s)
+        for dur in values["duration_s"]:
+            duration = sc.duration_s if dur is None else dur
+            if bend_given and not scenario_holds_joint2(s, duration):
+                raise SweepSpecError(
+                    f"scenario {s!r} moves joint 2, so bend_deg cannot be imposed on the arm; "
+                    "sweep bend_deg only with scenarios that hold joint 2 (fig14-sine, "
+                    "step-q3), or leave 'tracking' out of the outputs"
+                )
+
+
+def validate(spec: SweepSpec) -> None:
+    """Every check that can fail before the first simulation (raises SweepSpecError)."""
+    if spec.n_points > MAX_POINTS:
+        raise SweepSpecError(
+            f"the sweep has {spec.n_points} points, more than the {MAX_POINTS} allowed in one spec"
+        )
+    if spec.backend not in ("python", "native"):
+        raise SweepSpecError(f"backend must be 'python' or 'native', got {spec.backend!r}")
+    known = fields()
+    for key in list(spec.grid) + list(spec.fixed):
+        if key not in known:
+            raise SweepSpecError(
+                f"unknown sweep field {key!r}; allowed: {', '.join(sorted(known))}"
+            )
+    _validate_bench_tables(spec)
+    try:
+        cat, _, _ = _catalogue(spec)
+    except FsarmError as exc:
+        raise SweepSpecError(f"shaft file: {exc}") from exc
+    values = {k: spec.grid.get(k, (spec.fixed.get(k, known[k].default),)) for k in known}
+    _validate_ranges(values, known)
     for b in values["bend_deg"]:
         try:  # the same check as the arm runs' (model.build_model) and the bench's
             cat.check_bend(math.radians(b), f"bend_deg = {b:g}")
@@ -239,21 +263,8 @@ def validate(spec: SweepSpec) -> None:
             cat.shaft(d, ell, extrapolate=spec.extrapolate)
         except ShaftRangeError as exc:
             raise SweepSpecError(f"shaft D = {d:g} mm, L = {ell:g} mm: {exc}") from exc
-    # a bend angle can be imposed on the arm only for scenarios that hold joint 2
     if "tracking" in spec.outputs:
-        from fsarm_sim.studies.arm_metrics import scenario_holds_joint2
-
-        bend_given = "bend_deg" in spec.grid or "bend_deg" in spec.fixed
-        for s in values["scenario"]:
-            sc = scenarios.get(s)
-            for dur in values["duration_s"]:
-                duration = sc.duration_s if dur is None else dur
-                if bend_given and not scenario_holds_joint2(s, duration):
-                    raise SweepSpecError(
-                        f"scenario {s!r} moves joint 2, so bend_deg cannot be imposed on the arm; "
-                        "sweep bend_deg only with scenarios that hold joint 2 (fig14-sine, "
-                        "step-q3), or leave 'tracking' out of the outputs"
-                    )
+        _validate_bend_on_arm(spec, values)
     for point in points(spec, validate_only=True):
         try:
             _gains(point).validate()
@@ -322,10 +333,39 @@ def points(spec: SweepSpec, *, validate_only: bool = False) -> list[dict[str, An
 # evaluating one point (runs in a worker)
 
 
+def _bench_fits(cat: Catalogue, p: Mapping[str, Any], backend: str) -> dict[str, Any]:
+    """A point's stiffnesses fitted on the simulated benches (series: eq. 8 per sign; parallel:
+    eq. 2)."""
+    from fsarm_sim.studies.campaign import BenchSettings, fit_series, series_test
+
+    d, ell, bend = p["diameter_mm"], p["length_mm"], math.radians(p["bend_deg"])
+    s = BenchSettings(**{**p["bench"], "backend": backend})
+    sf = fit_series(
+        series_test(
+            cat.shaft(d, ell, extrapolate=p["extrapolate"], series_hysteresis=s.series_hysteresis),
+            bend,
+            s,
+        ),
+        p["bend_deg"],
+    )
+    bench_json = json.dumps({**p["bench"], "backend": backend}, sort_keys=True)
+    pf = _parallel_fit(cat, d, ell, p["extrapolate"], bench_json)
+    return {
+        "k_sp": sf.k_pos,
+        "k_sn": sf.k_neg,
+        "series_rmse_p": sf.rmse_pos,
+        "series_rmse_n": sf.rmse_neg,
+        "kb": pf.kb_linear,
+        "kb_rmse": pf.rmse_linear,
+        "kb_cubic": pf.kb_cubic,
+        "bend_loop_energy_j": pf.loop_energy_j,
+        "stiffness_source": "simulated bench fit (series: eq. 8 per sign; parallel: eq. 2)",
+    }
+
+
 def evaluate_point(task: Mapping[str, Any]) -> dict[str, Any]:
     """All requested outputs of one point. ``task = {"point": ..., "catalogue_toml": ...}``."""
     from fsarm_sim.studies import arm_metrics
-    from fsarm_sim.studies.campaign import BenchSettings, fit_series, series_test
 
     p = task["point"]
     text = task.get("catalogue_toml")
@@ -350,30 +390,7 @@ def evaluate_point(task: Mapping[str, Any]) -> dict[str, Any]:
     }
     outputs = p["outputs"]
     if "bench" in outputs:
-        s = BenchSettings(**{**p["bench"], "backend": backend})
-        sf = fit_series(
-            series_test(
-                cat.shaft(
-                    d, ell, extrapolate=p["extrapolate"], series_hysteresis=s.series_hysteresis
-                ),
-                bend,
-                s,
-            ),
-            p["bend_deg"],
-        )
-        bench_json = json.dumps({**p["bench"], "backend": backend}, sort_keys=True)
-        pf = _parallel_fit(cat, d, ell, p["extrapolate"], bench_json)
-        out.update(
-            k_sp=sf.k_pos,
-            k_sn=sf.k_neg,
-            series_rmse_p=sf.rmse_pos,
-            series_rmse_n=sf.rmse_neg,
-            kb=pf.kb_linear,
-            kb_rmse=pf.rmse_linear,
-            kb_cubic=pf.kb_cubic,
-            bend_loop_energy_j=pf.loop_energy_j,
-            stiffness_source="simulated bench fit (series: eq. 8 per sign; parallel: eq. 2)",
-        )
+        out.update(_bench_fits(cat, p, backend))
     else:
         out.update(
             k_sp=out["k_sp_catalogue"],
@@ -471,6 +488,17 @@ def pick_executor(spec: SweepSpec, executor: str = AUTO, workers: int | None = N
     return "local"
 
 
+def _count_earlier_failures(
+    report: SweepReport, stored_errors: Mapping[str, str], pts: list[dict[str, Any]]
+) -> None:
+    """The points of the sweep stored as failed by an earlier run (not rerun) into ``report``."""
+    for p in pts:
+        err = stored_errors.get(point_key(p))
+        if err is not None:
+            report.failed_before += 1
+            report.errors.append(f"{canonical_json(p)}: {err} (stored by an earlier run)")
+
+
 def run_sweep(
     spec: SweepSpec,
     store_path: str | Path,
@@ -498,21 +526,9 @@ def run_sweep(
         report = SweepReport(
             spec.name, len(pts), len(pts) - len(todo), 0, 0, 0.0, executor=executor
         )
-        stored_errors = store.errors()
-        for p in pts:
-            err = stored_errors.get(point_key(p))
-            if err is not None:
-                report.failed_before += 1
-                report.errors.append(f"{canonical_json(p)}: {err} (stored by an earlier run)")
-        tasks = [
-            {
-                "point": p,
-                "catalogue_toml": text,
-                "catalogue_source": cat.source,
-                "backend": spec.backend,
-            }
-            for p in todo
-        ]
+        _count_earlier_failures(report, store.errors(), pts)
+        common = {"catalogue_toml": text, "catalogue_source": cat.source, "backend": spec.backend}
+        tasks = [{"point": p, **common} for p in todo]
         bar = _progress(progress)
         start = time.perf_counter()
 

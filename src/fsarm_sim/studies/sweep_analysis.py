@@ -42,6 +42,35 @@ class SweepAnalysis:
     files: list[Path] = field(default_factory=list)
 
 
+def _write_points(df: Any, out: Path, res: SweepAnalysis) -> None:
+    """The points as ``points.csv`` and ``points.parquet``."""
+    csv_path = out / "points.csv"
+    df.to_csv(csv_path, index=False)
+    res.files.append(csv_path)
+    try:
+        pq = out / "points.parquet"
+        df.to_parquet(pq, index=False)
+        res.files.append(pq)
+    except (ImportError, ValueError) as exc:  # pragma: no cover - pyarrow is a dependency
+        res.skipped.append(f"parquet export: {exc}")
+
+
+def _stored_catalogue(
+    df: Any, cat_texts: dict[str, str | None], res: SweepAnalysis
+) -> Catalogue | None:
+    """The one catalogue the points were computed with (None when several or not stored)."""
+    cats = df["catalogue_sha256"].unique()
+    if len(cats) != 1:
+        res.skipped.append("points come from several catalogues: no comparison with one")
+        return None
+    text = cat_texts.get(str(cats[0]))
+    if text == "default":
+        return load_catalogue()
+    if text:
+        return parse_catalogue(tomllib.loads(text), "stored shaft file")
+    return None
+
+
 def analyze(store_path: str | Path, out_dir: str | Path, sweep: str | None = None) -> SweepAnalysis:
     """Re-fit eq. 3 (per sign) and eq. 4 to the stored stiffnesses; write tables and plots."""
     from fsarm_sim.studies.campaign import (
@@ -65,25 +94,8 @@ def analyze(store_path: str | Path, out_dir: str | Path, sweep: str | None = Non
     if len(df) == 0:
         res.skipped.append("no finished points in the store")
         return res
-    csv_path = out / "points.csv"
-    df.to_csv(csv_path, index=False)
-    res.files.append(csv_path)
-    try:
-        pq = out / "points.parquet"
-        df.to_parquet(pq, index=False)
-        res.files.append(pq)
-    except (ImportError, ValueError) as exc:  # pragma: no cover - pyarrow is a dependency
-        res.skipped.append(f"parquet export: {exc}")
-    cats = df["catalogue_sha256"].unique()
-    catalogue = None
-    if len(cats) == 1:
-        text = cat_texts.get(str(cats[0]))
-        if text == "default":
-            catalogue = load_catalogue()
-        elif text:
-            catalogue = parse_catalogue(tomllib.loads(text), "stored shaft file")
-    else:
-        res.skipped.append("points come from several catalogues: no comparison with one")
+    _write_points(df, out, res)
+    catalogue = _stored_catalogue(df, cat_texts, res)
     src = df["stiffness_source"].iloc[0] if "stiffness_source" in df else ""
     series = df.drop_duplicates(subset=["diameter_mm", "length_mm", "bend_deg"])
     for side, col in (("positive", "k_sp"), ("negative", "k_sn")):

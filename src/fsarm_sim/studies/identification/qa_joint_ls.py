@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -40,7 +41,6 @@ FloatArray = npt.NDArray[np.float64]
 B_EXP_PER_RAD = 15.0  # seed 002 eq. 12-13, 16, 19
 MAX_DEFLECTION_RAD = 1.0  # the law is used for |phi| <= sigma <= 15 deg; beyond 1 rad: units?
 MAX_CONDITION = 1e6  # of the column-normalised data matrix (real sweeps: 1-10)
-PARAM_NAMES = ("a_s", "b_s", "a_f", "b_f")
 
 
 class IdentificationError(FsarmError, ValueError):
@@ -159,6 +159,73 @@ def _directions(
     return out
 
 
+def _check_options(
+    b_exp: float,
+    min_speed_rad_s: float,
+    reversal_band_rad: float,
+    link_inertia_kgm2: float,
+    min_samples: int,
+    min_per_direction: int,
+) -> None:
+    """The fit's settings: finite and >= 0, b_exp > 0, enough samples asked for."""
+    for name, v in (
+        ("b_exp", b_exp),
+        ("min_speed_rad_s", min_speed_rad_s),
+        ("reversal_band_rad", reversal_band_rad),
+        ("link_inertia_kgm2", link_inertia_kgm2),
+    ):
+        if not math.isfinite(v) or v < 0.0:
+            raise IdentificationError(f"{name} must be a finite number >= 0, got {v!r}")
+    if b_exp == 0.0:
+        raise IdentificationError("b_exp must be > 0 (seed 002: 15 1/rad)")
+    if min_samples < 5 or min_per_direction < 1:
+        raise IdentificationError("min_samples must be >= 5 and min_per_direction >= 1")
+
+
+def _least_squares(
+    m: FloatArray, yu: FloatArray
+) -> tuple[npt.NDArray[np.floating[Any]], FloatArray, FloatArray, float, float]:
+    """Eq. 17-18 solved: (parameters, their standard errors, residuals, R², the scaled data
+    matrix's condition number); :class:`IllConditionedDataError` when the columns are nearly
+    parallel."""
+    norms = np.linalg.norm(m, axis=0)
+    cond = float(np.linalg.cond(m / norms))
+    if not math.isfinite(cond) or cond > MAX_CONDITION:
+        raise IllConditionedDataError(
+            f"data matrix condition number {cond:.3g} (> {MAX_CONDITION:g}): the deflection must "
+            f"sweep a range on both sides (the exponential columns are nearly parallel)"
+        )
+    p, *_ = np.linalg.lstsq(m, yu, rcond=None)
+    resid = yu - m @ p
+    dof = max(len(yu) - 4, 1)
+    s2 = float(resid @ resid) / dof
+    cov = s2 * np.linalg.inv(m.T @ m)
+    ss_tot = float(np.sum((yu - yu.mean()) ** 2))
+    r2 = 1.0 - float(resid @ resid) / ss_tot if ss_tot > 0.0 else 0.0
+    se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    return p, se, resid, r2, cond
+
+
+def _check_motion(
+    s: FloatArray, min_speed_rad_s: float, min_samples: int, min_per_direction: int
+) -> tuple[int, int]:
+    """(samples loading, unloading) of the directions ``s``; named errors when either side or the
+    whole has too few."""
+    n_pos, n_neg = int(np.sum(s > 0.0)), int(np.sum(s < 0.0))
+    if n_pos < min_per_direction or n_neg < min_per_direction:
+        raise NoMotionError(
+            f"need motion in both directions to separate friction from stiffness: "
+            f"{n_pos} samples with phi' > 0 and {n_neg} with phi' < 0 (at least "
+            f"{min_per_direction} each, |phi'| >= {min_speed_rad_s:g} rad/s)"
+        )
+    if n_pos + n_neg < min_samples:
+        raise TooFewSamplesError(
+            f"{n_pos + n_neg} moving samples; the fit needs at least {min_samples} "
+            f"(lower min_speed_rad_s/reversal_band_rad or record longer)"
+        )
+    return n_pos, n_neg
+
+
 def identify(
     time_s: npt.ArrayLike,
     torque_nm: npt.ArrayLike,
@@ -192,18 +259,9 @@ def identify(
         sig = _as_1d("sigma_rad", sig_arr)
         arrays["sigma_rad"] = sig
     n = _check_lengths(arrays)
-    for name, v in (
-        ("b_exp", b_exp),
-        ("min_speed_rad_s", min_speed_rad_s),
-        ("reversal_band_rad", reversal_band_rad),
-        ("link_inertia_kgm2", link_inertia_kgm2),
-    ):
-        if not math.isfinite(v) or v < 0.0:
-            raise IdentificationError(f"{name} must be a finite number >= 0, got {v!r}")
-    if b_exp == 0.0:
-        raise IdentificationError("b_exp must be > 0 (seed 002: 15 1/rad)")
-    if min_samples < 5 or min_per_direction < 1:
-        raise IdentificationError("min_samples must be >= 5 and min_per_direction >= 1")
+    _check_options(
+        b_exp, min_speed_rad_s, reversal_band_rad, link_inertia_kgm2, min_samples, min_per_direction
+    )
     if n < max(min_samples, 3):
         raise TooFewSamplesError(f"{n} samples given; the fit needs at least {min_samples}")
     if not np.all(np.isfinite(sig)) or np.any(sig <= 0.0) or np.any(sig > MAX_DEFLECTION_RAD):
@@ -221,39 +279,12 @@ def identify(
             raise IdentificationError("link_inertia_kgm2 needs link_rad (eq. 15: M q'')")
         q = _as_1d("link_rad", link_rad)
         y = y + link_inertia_kgm2 * np.gradient(np.gradient(q, t), t)
-    rate = np.gradient(phi, t)
-    s = _directions(phi, rate, min_speed_rad_s, reversal_band_rad)
-    n_pos, n_neg = int(np.sum(s > 0.0)), int(np.sum(s < 0.0))
-    if n_pos < min_per_direction or n_neg < min_per_direction:
-        raise NoMotionError(
-            f"need motion in both directions to separate friction from stiffness: "
-            f"{n_pos} samples with phi' > 0 and {n_neg} with phi' < 0 (at least "
-            f"{min_per_direction} each, |phi'| >= {min_speed_rad_s:g} rad/s)"
-        )
+    s = _directions(phi, np.gradient(phi, t), min_speed_rad_s, reversal_band_rad)
+    n_pos, n_neg = _check_motion(s, min_speed_rad_s, min_samples, min_per_direction)
     used = s != 0.0
     n_used = n_pos + n_neg
-    if n_used < min_samples:
-        raise TooFewSamplesError(
-            f"{n_used} moving samples; the fit needs at least {min_samples} "
-            f"(lower min_speed_rad_s/reversal_band_rad or record longer)"
-        )
     m = data_matrix(phi[used], sig[used], s[used], b_exp)
-    yu = y[used]
-    norms = np.linalg.norm(m, axis=0)
-    cond = float(np.linalg.cond(m / norms))
-    if not math.isfinite(cond) or cond > MAX_CONDITION:
-        raise IllConditionedDataError(
-            f"data matrix condition number {cond:.3g} (> {MAX_CONDITION:g}): the deflection must "
-            f"sweep a range on both sides (the exponential columns are nearly parallel)"
-        )
-    p, *_ = np.linalg.lstsq(m, yu, rcond=None)
-    resid = yu - m @ p
-    dof = max(n_used - 4, 1)
-    s2 = float(resid @ resid) / dof
-    cov = s2 * np.linalg.inv(m.T @ m)
-    ss_tot = float(np.sum((yu - yu.mean()) ** 2))
-    r2 = 1.0 - float(resid @ resid) / ss_tot if ss_tot > 0.0 else 0.0
-    se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    p, se, resid, r2, cond = _least_squares(m, y[used])
     return QaJointFit(
         a_s_nm=float(p[0]),
         b_s_nm=float(p[1]),

@@ -30,16 +30,13 @@ file, the claim and the key, and saying what is allowed. Every claim read is val
 
 from __future__ import annotations
 
-import dataclasses
-import functools
-import math
 import tomllib
-import types
 import typing
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from fsarm_sim.records import typed
 from fsarm_sim.studies.reproduce.claims import PAPERS, Claim, ClaimError, Tolerance
 
 # the tolerance classes by name: a claim's ``[claim.tolerance]`` names one as its ``kind``
@@ -53,60 +50,6 @@ class ClaimsFileError(ClaimError):
     """A claims file that cannot be read: names the file, the claim, the key and what is allowed."""
 
 
-def _describe(hint: Any) -> str:
-    """A type hint in the file's words."""
-    if hint is float:
-        return "a finite number"
-    if hint is int:
-        return "an integer"
-    if hint is bool:
-        return "true or false"
-    if hint is str:
-        return "a string"
-    origin = typing.get_origin(hint)
-    if origin is typing.Literal:
-        return "one of " + ", ".join(repr(a) for a in typing.get_args(hint))
-    if origin is tuple:
-        return "a list of strings"
-    if origin in (types.UnionType, typing.Union):
-        inner = [a for a in typing.get_args(hint) if a is not type(None)]
-        return " or ".join(_describe(a) for a in inner)
-    raise TypeError(f"no file form for the type {hint!r}")  # a new field type: teach _convert it
-
-
-def _convert(value: Any, hint: Any) -> tuple[bool, Any]:
-    """(ok, value as the field holds it) for a TOML value and a field's type hint."""
-    if hint is float:
-        ok = isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
-        return ok, float(value) if ok else None
-    if hint is int:
-        return isinstance(value, int) and not isinstance(value, bool), value
-    if hint is bool:
-        return isinstance(value, bool), value
-    if hint is str:
-        return isinstance(value, str), value
-    origin = typing.get_origin(hint)
-    if origin is typing.Literal:
-        return value in typing.get_args(hint), value
-    if origin is tuple:
-        ok = isinstance(value, list) and all(isinstance(v, str) for v in value)
-        return ok, tuple(value) if ok else None
-    if origin in (types.UnionType, typing.Union):
-        for arg in typing.get_args(hint):
-            if arg is type(None):
-                continue
-            ok, converted = _convert(value, arg)
-            if ok:
-                return ok, converted
-        return False, None
-    raise TypeError(f"no file form for the type {hint!r}")
-
-
-@functools.cache
-def _hints(cls: type) -> dict[str, Any]:
-    return typing.get_type_hints(cls)
-
-
 def _fields(
     cls: type, where: str, table: Any, skip: tuple[str, ...] = (), extra: tuple[str, ...] = ()
 ) -> dict[str, Any]:
@@ -114,26 +57,22 @@ def _fields(
     not taken from the table; ``extra``: keys of the table read by the caller)."""
     if not isinstance(table, dict):
         raise ClaimsFileError(f"{where}: must be a table, got {table!r}")
-    hints = _hints(cls)
-    fields = {f.name: f for f in dataclasses.fields(cls) if f.name not in skip}
-    unknown = sorted(set(table) - set(fields) - set(extra))
-    if unknown:
-        allowed = ", ".join((*fields, *extra))
-        raise ClaimsFileError(f"{where}: unknown key {unknown[0]!r}; allowed: {allowed}")
-    out: dict[str, Any] = {}
-    for name, f in fields.items():
-        no_default = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
-        if name not in table:
-            if no_default or (cls is Claim and name in REQUIRED_CLAIM_KEYS):
-                raise ClaimsFileError(f"{where}: missing key {name!r} ({_describe(hints[name])})")
-            continue
-        ok, value = _convert(table[name], hints[name])
-        if not ok:
-            raise ClaimsFileError(
-                f"{where}: key {name!r} must be {_describe(hints[name])}, got {table[name]!r}"
-            )
-        out[name] = value
-    return out
+    required = REQUIRED_CLAIM_KEYS if cls is Claim else ()
+    try:
+        return typed.typed_kwargs(cls, table, skip=skip, extra=extra, required=required)
+    except typed.UnknownKeys as e:
+        allowed = ", ".join(e.allowed)
+        raise ClaimsFileError(
+            f"{where}: unknown key {sorted(e.keys)[0]!r}; allowed: {allowed}"
+        ) from None
+    except typed.MissingKey as e:
+        raise ClaimsFileError(
+            f"{where}: missing key {e.key!r} ({typed.describe(e.hint)})"
+        ) from None
+    except typed.Mismatch as e:
+        raise ClaimsFileError(
+            f"{where}: key {e.key!r} must be {typed.describe(e.hint)}, got {e.value!r}"
+        ) from None
 
 
 def _tolerance(where: str, table: Any) -> Tolerance:
