@@ -1,4 +1,4 @@
-"""The shared typed-table reader (records.typed): conversion, nesting and its three errors."""
+"""The shared typed-table reader (fsarm_sim.typed_tables): conversion, nesting and its three errors."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from typing import Literal
 
 import pytest
 
-from fsarm_sim.records import typed
+from fsarm_sim import typed_tables
 
 
 @dataclass(frozen=True)
@@ -25,7 +25,7 @@ class Outer:
 
 
 def test_values_are_converted_and_nested_tables_read() -> None:
-    kw = typed.typed_kwargs(Outer, {"name": "x", "tags": ["p", "q"], "inner": {"d_mm": 9}})
+    kw = typed_tables.typed_kwargs(Outer, {"name": "x", "tags": ["p", "q"], "inner": {"d_mm": 9}})
     assert kw == {"name": "x", "tags": ("p", "q"), "inner": Inner(9.0)}
     assert isinstance(kw["inner"].d_mm, float)
 
@@ -33,21 +33,21 @@ def test_values_are_converted_and_nested_tables_read() -> None:
 @pytest.mark.parametrize(
     ("table", "error", "key"),
     [
-        ({"name": "x", "colour": 1}, typed.UnknownKeys, None),
-        ({"kind": "a"}, typed.MissingKey, "name"),
-        ({"name": 3}, typed.Mismatch, "name"),
-        ({"name": "x", "n": True}, typed.Mismatch, "n"),  # a bool is not an integer
-        ({"name": "x", "kind": "c"}, typed.Mismatch, "kind"),
-        ({"name": "x", "tags": ["p", 1]}, typed.Mismatch, "tags[1]"),
-        ({"name": "x", "inner": {"d_mm": float("inf")}}, typed.Mismatch, "inner.d_mm"),
-        ({"name": "x", "inner": {}}, typed.MissingKey, "inner.d_mm"),
+        ({"name": "x", "colour": 1}, typed_tables.UnknownKeys, None),
+        ({"kind": "a"}, typed_tables.MissingKey, "name"),
+        ({"name": 3}, typed_tables.Mismatch, "name"),
+        ({"name": "x", "n": True}, typed_tables.Mismatch, "n"),  # a bool is not an integer
+        ({"name": "x", "kind": "c"}, typed_tables.Mismatch, "kind"),
+        ({"name": "x", "tags": ["p", 1]}, typed_tables.Mismatch, "tags[1]"),
+        ({"name": "x", "inner": {"d_mm": float("inf")}}, typed_tables.Mismatch, "inner.d_mm"),
+        ({"name": "x", "inner": {}}, typed_tables.MissingKey, "inner.d_mm"),
     ],
 )
 def test_a_table_that_does_not_fit_names_its_key(
-    table: dict[str, object], error: type[typed.TableError], key: str | None
+    table: dict[str, object], error: type[typed_tables.TableError], key: str | None
 ) -> None:
     with pytest.raises(error) as info:
-        typed.typed_kwargs(Outer, table)
+        typed_tables.typed_kwargs(Outer, table)
     if key is not None:
         assert info.value.key == key  # type: ignore[attr-defined]
     else:
@@ -55,8 +55,8 @@ def test_a_table_that_does_not_fit_names_its_key(
 
 
 def test_required_and_described() -> None:
-    with pytest.raises(typed.MissingKey):
-        typed.typed_kwargs(Outer, {"name": "x"}, required=("kind",))
-    assert typed.describe(float | None) == "a finite number"
-    assert typed.describe(tuple[float, ...]) == "a list of numbers"
-    assert typed.describe(Literal["a", "b"]) == "one of 'a', 'b'"
+    with pytest.raises(typed_tables.MissingKey):
+        typed_tables.typed_kwargs(Outer, {"name": "x"}, required=("kind",))
+    assert typed_tables.describe(float | None) == "a finite number"
+    assert typed_tables.describe(tuple[float, ...]) == "a list of numbers"
+    assert typed_tables.describe(Literal["a", "b"]) == "one of 'a', 'b'"

@@ -9,7 +9,7 @@ top-level ``controllers/`` folder, installed as ``fsarm_sim.controllers``.
 
 Read top-down, the layers are the package's folders:
 
-* base - the command's fixed choices (enums), named errors, declared parameter blocks, checked paths and output paths, task
+* base - the command's fixed choices (enums), named errors, declared parameter blocks, checked paths and output paths, the strict typed-table reader, task
   executors, the lazily completed command app, the seed papers' declared claims (data: the
   calibration targets);
 * laws (``plant/``, ``controllers/``) - physical laws and pure controllers: no MuJoCo,
@@ -45,6 +45,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
             "outputs",
             "paramblocks",
             "paths",
+            "typed_tables",
             # the papers' claims are declared data, read by calibration code below studies
             "studies.reproduce.claims",
             "studies.reproduce.claims_file",

@@ -40,11 +40,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TypeVar
 
+from fsarm_sim import typed_tables
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.paths import bounded_json, checked_path, regular_file
 from fsarm_sim.plant.effects import registry
 from fsarm_sim.plant.shaft import ShaftParams
-from fsarm_sim.records import typed
 
 SCHEMA = "fsarm-record/1"  # value of the ``schema`` key this version writes
 WRITER_RUN = "fsarm run"
@@ -400,23 +400,23 @@ def _to_json(x: Any) -> Any:
 
 
 def _bad(where: str, key: str, tp: Any, v: Any) -> SidecarTypeError:
-    return SidecarTypeError(f"{where}: '{key}' must be {typed.describe(tp)}, got {v!r}")
+    return SidecarTypeError(f"{where}: '{key}' must be {typed_tables.describe(tp)}, got {v!r}")
 
 
 def _parse(cls: type[_T], data: Mapping[str, Any], where: str, prefix: str) -> _T:
     """``cls`` read from ``data`` by the shared typed reader, its errors as the sidecar's."""
     try:
-        return cls(**typed.typed_kwargs(cls, data, prefix=prefix))
-    except typed.UnknownKeys as e:
+        return cls(**typed_tables.typed_kwargs(cls, data, prefix=prefix))
+    except typed_tables.UnknownKeys as e:
         inner = e.prefix[:-1]
         raise SidecarKeyError(
             f"{where}: unknown key {', '.join(repr(e.prefix + k) for k in e.keys)}; "
             f"allowed{' in ' + repr(inner) if inner else ''}: {', '.join(e.allowed)}"
             + ("" if inner else " (free text belongs in 'notes')")
         ) from None
-    except typed.MissingKey as e:
+    except typed_tables.MissingKey as e:
         raise SidecarError(f"{where}: the sidecar needs '{e.key}'") from None
-    except typed.Mismatch as e:
+    except typed_tables.Mismatch as e:
         raise _bad(where, e.key, e.hint, e.value) from None
 
 

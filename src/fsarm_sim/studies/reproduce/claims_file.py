@@ -36,7 +36,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from fsarm_sim.records import typed
+from fsarm_sim import typed_tables
 from fsarm_sim.studies.reproduce.claims import PAPERS, Claim, ClaimError, Tolerance
 
 # the tolerance classes by name: a claim's ``[claim.tolerance]`` names one as its ``kind``
@@ -59,19 +59,19 @@ def _fields(
         raise ClaimsFileError(f"{where}: must be a table, got {table!r}")
     required = REQUIRED_CLAIM_KEYS if cls is Claim else ()
     try:
-        return typed.typed_kwargs(cls, table, skip=skip, extra=extra, required=required)
-    except typed.UnknownKeys as e:
+        return typed_tables.typed_kwargs(cls, table, skip=skip, extra=extra, required=required)
+    except typed_tables.UnknownKeys as e:
         allowed = ", ".join(e.allowed)
         raise ClaimsFileError(
             f"{where}: unknown key {sorted(e.keys)[0]!r}; allowed: {allowed}"
         ) from None
-    except typed.MissingKey as e:
+    except typed_tables.MissingKey as e:
         raise ClaimsFileError(
-            f"{where}: missing key {e.key!r} ({typed.describe(e.hint)})"
+            f"{where}: missing key {e.key!r} ({typed_tables.describe(e.hint)})"
         ) from None
-    except typed.Mismatch as e:
+    except typed_tables.Mismatch as e:
         raise ClaimsFileError(
-            f"{where}: key {e.key!r} must be {typed.describe(e.hint)}, got {e.value!r}"
+            f"{where}: key {e.key!r} must be {typed_tables.describe(e.hint)}, got {e.value!r}"
         ) from None
 
 
