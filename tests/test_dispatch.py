@@ -103,6 +103,7 @@ def test_every_law_acts_through_its_hooks() -> None:
         for w in base.model_writes(e.law):
             assert w.param in declared and w.field.startswith("dof_") and hasattr(model, w.field)
         assert {p for _, p in getattr(e.law, "LEGACY_FIELDS", ())} <= declared
+        assert getattr(e.law, "SIZE", None) in declared | {None}
     assert set(registry.legacy_fields()) == {
         "payload_error_kg",
         "backlash_width_rad",

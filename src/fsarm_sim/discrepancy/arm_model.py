@@ -19,7 +19,8 @@ from fsarm_sim.discrepancy import variants
 from fsarm_sim.discrepancy.arm_run import ArmRun
 from fsarm_sim.discrepancy.benchmodel import EffectInstance
 from fsarm_sim.engine.model import PAYLOAD_MAX_KG, Effects, SimConfig
-from fsarm_sim.plant.effects import sensor_offset
+from fsarm_sim.plant.effects import registry, sensor_offset
+from fsarm_sim.plant.effects.base import is_off
 from fsarm_sim.sim.simulation import Simulation
 
 FloatArray = npt.NDArray[np.float64]
@@ -179,8 +180,8 @@ def to_config(run: ArmRun, m: ArmModel) -> SimConfig:
         present = any(k.startswith(name + ".") for k in m.values)
         if name == variants.PAYLOAD:
             values["dm_kg"] = m.v("payload_kg_refit") + values["dm_kg"]
-            present = values["dm_kg"] != 0.0
-        if present:
+            present = True
+        if present and not is_off(registry.get(name).law, values):  # (at 0: the same run)
             laws.append((name, tuple(values.items())))
     fx = Effects(laws=tuple(laws))
     return SimConfig(

@@ -35,6 +35,7 @@ KERNEL_PARAMS = (
     Decl("center_rad", "rad", 0.0, "middle c of the dead band"),
 )
 STATES: tuple[Decl, ...] = ()
+SIZE = "width_rad"  # at 0 the law acts as nothing (a model with it at 0 is the same run)
 # the keys of this law in the effects entry of older run records (records.sidecar)
 LEGACY_FIELDS = (("backlash_width_rad", "width_rad"), ("backlash_center_rad", "center_rad"))
 

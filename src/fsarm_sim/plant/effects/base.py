@@ -16,6 +16,10 @@ through one or more of three hooks, whichever states its physics (:func:`hooks`)
   as ``dof_frictionloss``: the constraint solver's dry friction, exact stick; its extra viscous
   damping as ``dof_damping``: integrated implicitly by MuJoCo).
 
+A law whose effect vanishes when one parameter is 0 names it ``SIZE`` (the payload's mass error,
+the play's width, the friction level, the damping): a law at size 0 is left off (:func:`is_off`),
+so a model with it at 0 is the same run as one without it.
+
 How to add an arm effect (three files): its law module in this package, its
 ``Effect(..., law=module)`` entry in :mod:`fsarm_sim.plant.effects.registry` (with an ``ARM``
 variant whose parameters are the ones the diagnosis fits and ``fsarm run --effect`` / ``fsarm
@@ -128,3 +132,13 @@ def model_writes(law: Any) -> tuple[ModelWrite, ...]:
     """The law's :class:`ModelWrite` declarations (() for a law without any)."""
     writes: tuple[ModelWrite, ...] = getattr(law, "MODEL_WRITES", ())
     return writes
+
+
+def is_off(law: Any, values: dict[str, float]) -> bool:
+    """True when ``values`` (the law's parameters given; the others at their declared defaults)
+    put the law's ``SIZE`` at 0: it acts as nothing (False for a law without a size)."""
+    size: str | None = getattr(law, "SIZE", None)
+    if size is None:
+        return False
+    default = {d.name: d.default for d in law.KERNEL_PARAMS}[size]
+    return values.get(size, default) == 0.0

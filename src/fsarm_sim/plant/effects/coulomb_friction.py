@@ -28,6 +28,7 @@ from fsarm_sim.plant.effects.base import ModelWrite
 KERNEL_PARAMS = (Decl("f_c_nm", "N*m", 0.0, "Coulomb friction torque at joint 3"),)
 STATES: tuple[Decl, ...] = ()
 MODEL_WRITES = (ModelWrite("dof_frictionloss", "q3", "f_c_nm"),)
+SIZE = "f_c_nm"  # at 0 the law acts as nothing (a model with it at 0 is the same run)
 # the key of this law in the effects entry of older run records (records.sidecar)
 LEGACY_FIELDS = (("q3_friction_nm", "f_c_nm"),)
 

@@ -34,6 +34,7 @@ KERNEL_PARAMS = (
     Decl("gravity", "m/s^2", 0.0, "|g| (read from the compiled MJCF)"),
 )
 FROM_MODEL = ("l2", "l3", "gravity")  # written by the model builder, never given by a user
+SIZE = "dm_kg"  # at 0 the law acts as nothing (a model with it at 0 is the same run)
 # the key of this law in the effects entry of older run records (records.sidecar)
 LEGACY_FIELDS = (("payload_error_kg", "dm_kg"),)
 STATES: tuple[Decl, ...] = ()

@@ -47,7 +47,7 @@ from fsarm_sim.plant.effects import (
     shaft_drag,
     viscous_damping,
 )
-from fsarm_sim.plant.effects.base import ArmEffectLaw
+from fsarm_sim.plant.effects.base import ArmEffectLaw, is_off
 
 SERIES = "series_bench"
 PARALLEL = "parallel_bench"
@@ -420,7 +420,7 @@ def parse_laws(texts: list[str]) -> tuple[LawValues, ...]:
 
 def legacy_fields() -> dict[str, tuple[str, str]]:
     """Key -> (effect, parameter) of the laws' keys in older run records' ``effects`` entries
-    (each law's ``LEGACY_FIELDS``, its size first)."""
+    (each law's ``LEGACY_FIELDS``)."""
     return {
         key: (e.name, param)
         for e in arm_laws()
@@ -430,9 +430,9 @@ def legacy_fields() -> dict[str, tuple[str, str]]:
 
 def legacy_laws(entry: Mapping[str, object]) -> tuple[LawValues, ...]:
     """The laws an older record's ``effects`` entry switched on through its :func:`legacy_fields`
-    keys (other keys are ignored), in registry order: a law is on where its first key (its
-    size: the mass error, the play's width, the friction level, the damping) is non-zero, as it
-    acted then; its other keys come along. A value that is not a number is an
+    keys (other keys are ignored), in registry order: a law is on where its ``SIZE`` (the mass
+    error, the play's width, the friction level, the damping) is non-zero, as it acted then;
+    its other keys come along. A value that is not a number is an
     InvalidParameterError naming the key."""
     keys = legacy_fields()
     values: dict[str, dict[str, float]] = {}
@@ -443,13 +443,11 @@ def legacy_laws(entry: Mapping[str, object]) -> tuple[LawValues, ...]:
             raise InvalidParameterError(f"effects.{key} must be a number, got {value!r}")
         effect, param = keys[key]
         values.setdefault(effect, {})[param] = float(value)
-    out: list[LawValues] = []
-    for e in arm_laws():
-        fields = getattr(e.law, "LEGACY_FIELDS", ())
-        given = values.get(e.name, {})
-        if fields and given.get(fields[0][1], 0.0) != 0.0:
-            out.append((e.name, tuple(given.items())))
-    return tuple(out)
+    return tuple(
+        (e.name, tuple(values[e.name].items()))
+        for e in arm_laws()
+        if e.name in values and not is_off(e.law, values[e.name])
+    )
 
 
 def applicable(setup: str, inertia_load: bool) -> list[tuple[str, str]]:

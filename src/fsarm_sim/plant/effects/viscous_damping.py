@@ -20,6 +20,7 @@ from fsarm_sim.plant.effects.base import ModelWrite
 KERNEL_PARAMS = (Decl("b_nms", "N*m*s/rad", 0.0, "extra viscous damping at joint 3"),)
 STATES: tuple[Decl, ...] = ()
 MODEL_WRITES = (ModelWrite("dof_damping", "q3", "b_nms"),)
+SIZE = "b_nms"  # at 0 the law acts as nothing (a model with it at 0 is the same run)
 # the key of this law in the effects entry of older run records (records.sidecar)
 LEGACY_FIELDS = (("q3_damping_nms", "b_nms"),)
 
