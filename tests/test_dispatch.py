@@ -93,6 +93,8 @@ def test_every_law_acts_through_its_hooks() -> None:
     per-dof field MuJoCo has; older records' keys name declared parameters."""
     import mujoco
 
+    from fsarm_sim.engine.model import model_quantities
+
     model = mujoco.MjModel.from_xml_string("<mujoco/>")
     for e in registry.arm_laws():
         hooks = base.hooks(e.law)
@@ -104,6 +106,8 @@ def test_every_law_acts_through_its_hooks() -> None:
             assert w.param in declared and w.field.startswith("dof_") and hasattr(model, w.field)
         assert {p for _, p in getattr(e.law, "LEGACY_FIELDS", ())} <= declared
         assert getattr(e.law, "SIZE", None) in declared | {None}
+        # the parameters the model builder reads from the MJCF: ones it knows, ones it declares
+        assert set(getattr(e.law, "FROM_MODEL", ())) <= set(model_quantities(model)) & declared
     assert set(registry.legacy_fields()) == {
         "payload_error_kg",
         "backlash_width_rad",

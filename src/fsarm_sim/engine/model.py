@@ -496,13 +496,27 @@ def write_arm_effects(
     *,
     lever_arms: tuple[float, float] | None = None,
 ) -> None:
-    """Plant-only arm effects (the registry's laws); the payload error's geometry read from the
-    compiled MJCF (``lever_arms``: :func:`payload_lever_arms_m` of ``model`` if known)."""
+    """Plant-only arm effects (the registry's laws), each law's ``FROM_MODEL`` parameters read
+    from the compiled MJCF (:func:`model_quantities`; ``lever_arms``: :func:`payload_lever_arms_m`
+    of ``model`` if known)."""
     write_laws(p, fx, model)
-    pay = L.LAW_BLOCK["payload_error"]
+    known = model_quantities(model, lever_arms)
+    for b in L.ARM_LAW_BLOCKS:
+        law = registry.get(b.name).law
+        assert law is not None
+        for i, d in enumerate(law.KERNEL_PARAMS):
+            if d.name in getattr(law, "FROM_MODEL", ()):
+                p[b.start + i] = known[d.name]
+
+
+def model_quantities(
+    model: mujoco.MjModel, lever_arms: tuple[float, float] | None = None
+) -> dict[str, float]:
+    """What a law's ``FROM_MODEL`` may name, read from the compiled MJCF: ``l2`` (joint 2 ->
+    joint 3) and ``l3`` (joint 3 -> payload centre of mass) at the zero pose, m, and ``gravity``
+    (|g|, m/s^2)."""
     l2, l3 = payload_lever_arms_m(model) if lever_arms is None else lever_arms
-    p[pay.start + 1], p[pay.start + 2] = l2, l3
-    p[pay.start + 3] = float(np.linalg.norm(model.opt.gravity))
+    return {"l2": l2, "l3": l3, "gravity": float(np.linalg.norm(model.opt.gravity))}
 
 
 def payload_lever_arms_m(model: mujoco.MjModel) -> tuple[float, float]:
