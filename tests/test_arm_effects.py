@@ -1,4 +1,6 @@
-"""Plant-only arm effects (model.Effects: payload error, backlash, joint-3 friction/damping)."""
+"""Plant-only arm effects that are registry laws acting on the arm in their own ways: the payload
+error (torques), the backlash (the transmitted twist), joint-3 friction and damping (MuJoCo model
+writes); and older records' keys for them mapped onto the laws."""
 
 from __future__ import annotations
 
@@ -11,9 +13,15 @@ import pytest
 from fsarm_sim.engine.model import Effects, SimConfig, build_model, read_structure
 from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.kernels import layout, physics
+from fsarm_sim.plant.effects import registry
 from fsarm_sim.sim.simulation import Simulation, run_scenario
 
 from conftest import hold_table, joint3_gravity_balance
+
+
+def _fx(*texts: str, control: bool = True) -> Effects:
+    """Effects with the laws of ``fsarm run --effect`` texts switched on."""
+    return Effects(control=control, laws=registry.parse_laws(list(texts)))
 
 
 def _gravity_bias(m: mujoco.MjModel, q: np.ndarray) -> np.ndarray:
@@ -32,7 +40,7 @@ def test_payload_error_equals_mujoco_gravity_of_that_mass(dm: float) -> None:
     """The kernel's extra gravity torque = MuJoCo's for a model that really carries dm more."""
     table = hold_table(0.0, 0.5, 0.3)
     base = 3.0
-    plant = build_model(SimConfig(payload_kg=base, effects=Effects(payload_error_kg=dm)), table)
+    plant = build_model(SimConfig(payload_kg=base, effects=_fx(f"payload_error={dm}")), table)
     heavier = build_model(SimConfig(payload_kg=base + dm), table)
     lighter = build_model(SimConfig(payload_kg=base), table)
     st = read_structure(plant)
@@ -57,7 +65,7 @@ def test_payload_error_is_unknown_to_the_controller() -> None:
     base = run_scenario("fig14-sine", duration_s=3.0, backend="native")
     hidden = run_scenario(
         "fig14-sine",
-        SimConfig(effects=Effects(payload_error_kg=5.0)),
+        SimConfig(effects=_fx("payload_error=5")),
         duration_s=3.0,
         backend="native",
     )
@@ -70,7 +78,7 @@ def test_payload_error_is_unknown_to_the_controller() -> None:
 def test_backlash_start_is_static_equilibrium_and_costs_tracking() -> None:
     """With play, the start takes it up on the loaded flank: the arm holds still at t = 0."""
     w = math.radians(2.0)
-    cfg = SimConfig(effects=Effects(backlash_width_rad=w, control=False))
+    cfg = SimConfig(effects=_fx(f"backlash={w}", control=False))
     sim = Simulation(cfg, hold_table(0.0, 0.8, 0.6))
     st = sim.structure
     mujoco.mj_forward(sim.model, sim.data)
@@ -85,7 +93,7 @@ def test_backlash_start_is_static_equilibrium_and_costs_tracking() -> None:
     base = run_scenario("fig14-sine", duration_s=4.0, backend="native")
     play = run_scenario(
         "fig14-sine",
-        SimConfig(effects=Effects(backlash_width_rad=math.radians(3.0))),
+        SimConfig(effects=_fx(f"backlash={math.radians(3.0)}")),
         duration_s=4.0,
         backend="native",
     )
@@ -93,22 +101,27 @@ def test_backlash_start_is_static_equilibrium_and_costs_tracking() -> None:
 
 
 def test_joint3_friction_and_damping_reach_mujoco() -> None:
-    cfg = SimConfig(effects=Effects(q3_friction_nm=1.5, q3_damping_nms=0.7))
+    """The two laws MuJoCo applies itself: their values land in q3's dof fields, nowhere else."""
+    cfg = SimConfig(effects=_fx("coulomb_friction=1.5", "viscous_damping=0.7"))
     m = build_model(cfg, hold_table(0.0, 0.5, 0.3))
     ref = build_model(SimConfig(), hold_table(0.0, 0.5, 0.3))
     st = read_structure(m)
     assert m.dof_frictionloss[st.dof[2]] - ref.dof_frictionloss[st.dof[2]] == pytest.approx(1.5)
     assert m.dof_damping[st.dof[2]] - ref.dof_damping[st.dof[2]] == pytest.approx(0.7)
+    others = [i for i in range(m.nv) if i != st.dof[2]]
+    assert np.array_equal(m.dof_frictionloss[others], ref.dof_frictionloss[others])
+    assert np.array_equal(m.dof_damping[others], ref.dof_damping[others])
 
 
 @pytest.mark.parametrize(
     "fx",
     [
-        Effects(payload_error_kg=math.nan),
-        Effects(payload_error_kg=40.0),
-        Effects(backlash_width_rad=-0.1),
-        Effects(q3_friction_nm=math.inf),
-        Effects(backlash_center_rad=1.0),
+        _fx("payload_error=nan"),
+        _fx("payload_error=40"),
+        _fx("backlash=-0.1"),
+        _fx("coulomb_friction=inf"),
+        _fx("backlash=0.01,1.0"),
+        _fx("viscous_damping=-1"),
     ],
 )
 def test_bad_arm_effects_are_named_errors(fx: Effects) -> None:
@@ -120,3 +133,39 @@ def test_initial_state_unchanged_for_the_default_transmission() -> None:
     """The generalised start (static_twist) gives the eq. 8 twist tau / K exactly."""
     held, gravity = joint3_gravity_balance(build_model(SimConfig(), hold_table(0.0, 0.7, 0.5)))
     assert held == pytest.approx(gravity, rel=1e-12)
+
+
+# ------------------------------------------------------------------ older records' keys
+
+
+def test_older_records_keys_are_the_laws() -> None:
+    """An ``effects`` entry with the keys older records wrote switches the same laws on, with
+    the same values; a size of 0 leaves its law off (as it acted then)."""
+    old = {
+        "series": True,
+        "control": False,
+        "payload_error_kg": 0.5,
+        "backlash_width_rad": 0.01,
+        "backlash_center_rad": 0.002,
+        "q3_friction_nm": 0.0,
+        "q3_damping_nms": 0.3,
+    }
+    fx = Effects.from_entry(old)
+    assert fx.control is False
+    assert dict(fx.laws) == {
+        "payload_error": (("dm_kg", 0.5),),
+        "backlash": (("width_rad", 0.01), ("center_rad", 0.002)),
+        "viscous_damping": (("b_nms", 0.3),),
+    }
+    # a centre without a width was no play then, and is none now
+    assert Effects.from_entry({"backlash_width_rad": 0.0, "backlash_center_rad": 0.1}).laws == ()
+    # the written form reads back as it was; a law given both ways is given twice
+    assert Effects.from_entry({"laws": {"backlash": {"width_rad": 0.01}}}).laws == (
+        ("backlash", (("width_rad", 0.01),)),
+    )
+    with pytest.raises(InvalidParameterError, match="given twice"):
+        Effects.from_entry({"payload_error_kg": 1.0, "laws": {"payload_error": {"dm_kg": 1.0}}})
+    with pytest.raises(InvalidParameterError, match=r"effects\.q3_friction_nm must be a number"):
+        Effects.from_entry({"q3_friction_nm": "0.5"})
+    with pytest.raises(InvalidParameterError, match=r"unknown key effects\.'spring'"):
+        Effects.from_entry({"spring": 1.0})

@@ -234,8 +234,9 @@ def test_model_file_loads_as_a_sim_config(tmp_path: Path, prototype) -> None:  #
     )
     path = MF.save_arm_model(run, m, tmp_path / "model.json")
     cfg = MF.load_arm_config(path)
-    assert cfg.payload_kg == 2.0 and cfg.effects.payload_error_kg == pytest.approx(0.3)
-    assert cfg.effects.q3_friction_nm == pytest.approx(0.1)
+    laws = dict(cfg.effects.laws)
+    assert cfg.payload_kg == 2.0 and dict(laws["payload_error"])["dm_kg"] == pytest.approx(0.3)
+    assert dict(laws["coulomb_friction"]) == pytest.approx({"f_c_nm": 0.1})
     assert cfg.shaft.k_neg == pytest.approx(1.2 * prototype.k_neg)
     assert cfg.shaft.slip_k[0] == 4.0 and cfg.shaft.slip_f[0] == pytest.approx(0.012)
     assert cfg.controller_shaft == prototype  # the controller keeps the stated shaft
@@ -285,7 +286,7 @@ def test_cli_synth_and_diagnose_arm(monkeypatch: pytest.MonkeyPatch, tmp_path: P
     assert set(res["nrmse"]) == {"q3", "theta_m", "q2", "twist"}
     assert res["confidence"][0]["runner_up"] and res["bic"]["final"] < res["bic"]["nominal"]
     cfg = MF.load_arm_config(tmp_path / "m.json")
-    assert cfg.effects.q3_damping_nms == pytest.approx(0.2, rel=0.05)
+    assert dict(dict(cfg.effects.laws)["viscous_damping"])["b_nms"] == pytest.approx(0.2, rel=0.05)
 
 
 @pytest.mark.parametrize(

@@ -12,7 +12,7 @@ from fsarm_sim.errors import InvalidParameterError
 from fsarm_sim.kernels import dispatch, layout
 from fsarm_sim.paramblocks import Decl
 from fsarm_sim.plant import transmissions
-from fsarm_sim.plant.effects import registry
+from fsarm_sim.plant.effects import base, registry
 from fsarm_sim.plant.effects.base import S_BEND, S_OMEGA_M, S_OWN, S_Q2, S_QD3, STATE
 
 
@@ -86,6 +86,60 @@ def test_every_registered_law_has_its_block_in_the_layout() -> None:
         for v in effect.variants:
             if registry.ARM in v.setups:
                 assert {p.name for p in v.params} <= declared
+
+
+def test_every_law_acts_through_its_hooks() -> None:
+    """Each registered arm law acts in at least one way the kernels or the model builder apply;
+    a law with own states has the rates of them; a model write adds a declared parameter to a
+    per-dof field MuJoCo has; older records' keys name declared parameters."""
+    import mujoco
+
+    from fsarm_sim.engine.model import model_quantities
+
+    model = mujoco.MjModel.from_xml_string("<mujoco/>")
+    for e in registry.arm_laws():
+        hooks = base.hooks(e.law)
+        assert hooks, e.name
+        if e.law is not None and e.law.STATES:
+            assert base.TORQUES in hooks, e.name
+        declared = {d.name for d in e.law.KERNEL_PARAMS} if e.law else set()
+        for w in base.model_writes(e.law):
+            assert w.param in declared and w.field.startswith("dof_") and hasattr(model, w.field)
+        assert {p for _, p in getattr(e.law, "LEGACY_FIELDS", ())} <= declared
+        assert getattr(e.law, "SIZE", None) in declared | {None}
+        # the parameters the model builder reads from the MJCF: ones it knows, ones it declares
+        assert set(getattr(e.law, "FROM_MODEL", ())) <= set(model_quantities(model)) & declared
+    assert set(registry.legacy_fields()) == {
+        "payload_error_kg",
+        "backlash_width_rad",
+        "backlash_center_rad",
+        "q3_friction_nm",
+        "q3_damping_nms",
+    }
+
+
+def test_the_twist_dispatch_applies_the_laws_that_are_on_in_order() -> None:
+    """``arm_law_twist``: each twist law that is on, in turn; the twist as it is when none is."""
+    # the registry's: the backlash alone (a model-write law reaches neither dispatcher)
+    assert [b.name for b in dispatch.TWIST_BLOCKS] == ["backlash"]
+    torque_laws = [b.name for b in dispatch.TORQUE_BLOCKS]
+    assert "payload_error" in torque_laws and "backlash" not in torque_laws
+    assert "coulomb_friction" not in torque_laws and "viscous_damping" not in torque_laws
+
+    def shift(by: float) -> SimpleNamespace:
+        return SimpleNamespace(transmitted_twist=lambda blk, x, r: (blk[0] * x + by, r + by))
+
+    blocks = (
+        layout.LawBlock("a", on=0, act=1, start=2, end=3, n_states=0),
+        layout.LawBlock("b", on=3, act=4, start=5, end=6, n_states=0),
+    )
+    twist = dispatch.law_twist_dispatch(blocks, {"a": shift(1.0), "b": shift(10.0)})
+    prm = np.array([0.0, -1.0, 2.0, 0.0, -1.0, 3.0])
+    assert twist(prm, 0.5, 0.25) == (0.5, 0.25)
+    prm[0] = 1.0
+    assert twist(prm, 0.5, 0.25) == (2.0, 1.25)
+    prm[3] = 1.0
+    assert twist(prm, 0.5, 0.25) == (3.0 * 2.0 + 10.0, 11.25)
 
 
 def test_the_named_state_holds_what_the_kernels_compute() -> None:

@@ -39,7 +39,9 @@ def test_a_law_module_declares_its_own_block() -> None:
     assert [s.decl.name for s in layout.LAYOUT.slots[lo:hi]] == [
         d.name for d in bending.KERNEL_PARAMS
     ]
-    assert layout.LAYOUT.slots[layout.P_BL_WIDTH].decl is backlash.KERNEL_PARAMS[0]
+    # a registry law's block: its on/off and state-address slots, then its own declarations
+    b = layout.LAW_BLOCK["backlash"]
+    assert [s.decl for s in layout.LAYOUT.slots[b.start : b.end]] == list(backlash.KERNEL_PARAMS)
 
 
 def test_duplicate_declarations_are_refused() -> None:
@@ -92,4 +94,4 @@ def test_the_bench_replay_vector_is_declared_too() -> None:
     names = {k: v for k, v in vars(replay).items() if k.startswith("R_") and isinstance(v, int)}
     assert len(set(names.values())) == len(names)
     assert all(0 <= v < replay.N_R for v in names.values())
-    assert slots[replay.R_BL_W].decl.name == "width"  # the backlash law's own declaration
+    assert slots[replay.R_BL_W].decl.name == "width_rad"  # the backlash law's own declaration

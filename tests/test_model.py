@@ -125,7 +125,12 @@ def _cached_configs() -> list[SimConfig]:
         SimConfig(shaft=cat.shaft(8, 435, series_hysteresis=True), payload_kg=5.0),
         SimConfig(shaft=replace(cat.shaft(10, 435), inertia_kgm2=2e-5)),
         SimConfig(
-            effects=Effects(q3_friction_nm=0.5, q3_damping_nms=0.2),
+            effects=Effects(
+                laws=(
+                    ("coulomb_friction", (("f_c_nm", 0.5),)),
+                    ("viscous_damping", (("b_nms", 0.2),)),
+                )
+            ),
             joint_damping=False,
             timestep_s=0.0005,
             integrator="RK4",

@@ -171,7 +171,8 @@ def test_the_passive_kernel_bends_joint_2_as_the_torque_from_the_state(width: fl
     """The passive kernel hands its twist (through the backlash) and bend to the bend coupling;
     the torque on joint 2 it logs is bending_torques' from qpos, bit for bit, in the play and out
     of it."""
-    cfg = SimConfig(effects=Effects(control=False, backlash_width_rad=width))
+    play = (("backlash", (("width_rad", width),)),) if width else ()
+    cfg = SimConfig(effects=Effects(control=False, laws=play))
     m = build_model(cfg, hold_table(0.0, 0.6, 0.4))
     prm = m.numeric(layout.PARAMS_NAME).data
     d = mujoco.MjData(m)

@@ -11,7 +11,7 @@ import pytest
 
 from fsarm_sim.discrepancy import arm, arm_synth, synth
 from fsarm_sim.discrepancy import arm_modelfile as MF
-from fsarm_sim.engine.model import SimConfig
+from fsarm_sim.engine.model import Effects, SimConfig
 from fsarm_sim.plant import transmissions
 from fsarm_sim.records import sidecar as rec
 from fsarm_sim.records import timeseries
@@ -112,6 +112,19 @@ def test_version_0_2_0_run_sidecar_still_loads(tmp_path: Path) -> None:
     assert record.is_run and record.timestep_s is None and record.integrator is None
     assert record.transmission is not None and record.transmission.params["k_pos"] > 0.0
     assert set(record.declared_columns()) >= set(rec.RUN_COLUMNS)
+    # its effects' own keys for the laws (all 0 there: no law on), and with values set
+    assert rec.effects_of(record, LEGACY_RUN) == Effects()
+    raw["effects"].update(q3_friction_nm=0.4, backlash_width_rad=0.02, backlash_center_rad=0.0)
+    old = rec.Sidecar.from_json(raw, LEGACY_RUN)
+    assert rec.effects_of(old, LEGACY_RUN) == Effects(
+        laws=(
+            ("coulomb_friction", (("f_c_nm", 0.4),)),
+            ("backlash", (("width_rad", 0.02), ("center_rad", 0.0))),
+        )
+    )
+    raw["effects"]["q3_friction_nm"] = -1.0  # a value the law refuses: named, with the file
+    with pytest.raises(SidecarError, match=r"coulomb_friction\.f_c_nm must be within"):
+        rec.effects_of(rec.Sidecar.from_json(raw, LEGACY_RUN), LEGACY_RUN)
     sh = rec.shaft_params_of(record, LEGACY_RUN)  # fields added since: their defaults
     assert sh is not None and sh.k_pos == raw["shaft_params"]["k_pos"]
     assert list(sh.conduit_tau) == raw["shaft_params"]["conduit_tau"]

@@ -327,7 +327,10 @@ def test_booleans_are_not_numbers_of_a_config() -> None:
         (SimConfig(payload_kg=True), "payload_kg must be a number"),  # type: ignore[arg-type]
         (SimConfig(timestep_s=True), "timestep_s must be a number"),  # type: ignore[arg-type]
         (SimConfig(gains=Gains(ctrl_dt_s=True)), "gain ctrl_dt_s must be a number"),  # type: ignore[arg-type]
-        (SimConfig(effects=Effects(q3_friction_nm=True)), "q3_friction_nm must be"),  # type: ignore[arg-type]
+        (
+            SimConfig(effects=Effects(laws=(("coulomb_friction", (("f_c_nm", True),)),))),
+            "coulomb_friction.f_c_nm must be a number",
+        ),
     ):
         with pytest.raises(InvalidParameterError, match=re.escape(words)):
             cfg.validate()

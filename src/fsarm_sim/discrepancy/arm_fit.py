@@ -32,9 +32,9 @@ than the flexible shaft the series-stiffness scales (eq. 8's) and ``hysteresis[m
 =========================  =============================================================  ====
 effect[variant]            acts as                                                        k
 =========================  =============================================================  ====
-payload_error[mass]        unstated payload mass (``Effects.payload_error_kg``)           1
-coulomb_friction[q3]       Coulomb friction at joint 3 (``Effects.q3_friction_nm``)       1
-viscous_damping[q3]        extra viscous damping at joint 3 (``Effects.q3_damping_nms``)  1
+payload_error[mass]        unstated payload mass (the ``payload_error`` law)              1
+coulomb_friction[q3]       Coulomb friction at joint 3 (q3's ``dof_frictionloss``)        1
+viscous_damping[q3]        extra viscous damping at joint 3 (q3's ``dof_damping``)        1
 backlash[twist]            dead band on the shaft twist (width; centre too when the       1-2
                            twist crosses zero, both signs >= 0.2 % of the samples)
 hysteresis[maxwell_slip]   elasto-slip elements on the shaft (``ShaftParams.slip_k/f``):  2/el.

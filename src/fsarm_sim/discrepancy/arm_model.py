@@ -19,7 +19,8 @@ from fsarm_sim.discrepancy import variants
 from fsarm_sim.discrepancy.arm_run import ArmRun
 from fsarm_sim.discrepancy.benchmodel import EffectInstance
 from fsarm_sim.engine.model import PAYLOAD_MAX_KG, Effects, SimConfig
-from fsarm_sim.plant.effects import sensor_offset
+from fsarm_sim.plant.effects import registry, sensor_offset
+from fsarm_sim.plant.effects.base import is_off
 from fsarm_sim.sim.simulation import Simulation
 
 FloatArray = npt.NDArray[np.float64]
@@ -171,23 +172,18 @@ def to_config(run: ArmRun, m: ArmModel) -> SimConfig:
         slip_k=(slip_k[0], slip_k[1], slip_k[2]),
         slip_f=(slip_f[0], slip_f[1], slip_f[2]),
     )
-    fx = Effects(
-        payload_error_kg=m.v("payload_kg_refit") + m.v("payload_error.dm_kg"),
-        backlash_width_rad=m.v("backlash.width_rad"),
-        backlash_center_rad=m.v("backlash.center_rad"),
-        q3_friction_nm=m.v("coulomb_friction.f_c_nm"),
-        q3_damping_nms=m.v("viscous_damping.b_nms"),
-        laws=tuple(
-            (
-                name,
-                tuple(
-                    (p.name, m.v(f"{name}.{p.name}")) for v in variants.ARM[name] for p in v.params
-                ),
-            )
-            for name in variants.ARM_LAWS
-            if any(k.startswith(name + ".") for k in m.values)
-        ),
-    )
+    # the plant effects that are registry laws, with their fitted values; the payload refit
+    # acts through the payload error's law too (the controller keeps the stated payload)
+    laws = []
+    for name in variants.ARM_PLANT_LAWS:
+        values = {p.name: m.v(f"{name}.{p.name}") for v in variants.ARM[name] for p in v.params}
+        present = any(k.startswith(name + ".") for k in m.values)
+        if name == variants.PAYLOAD:
+            values["dm_kg"] = m.v("payload_kg_refit") + values["dm_kg"]
+            present = True
+        if present and not is_off(registry.get(name).law, values):  # (at 0: the same run)
+            laws.append((name, tuple(values.items())))
+    fx = Effects(laws=tuple(laws))
     return SimConfig(
         shaft=plant,
         payload_kg=run.payload_kg,

@@ -128,7 +128,7 @@ R_KP, R_SP, R_KN, R_SN = _r["k_pos"], _r["s_pos"], _r["k_neg"], _r["s_neg"]
 R_A2P, R_A3P, R_A2N, R_A3N = _r["c2_pos"], _r["c3_pos"], _r["c2_neg"], _r["c3_neg"]
 R_XREF = _r["x_ref"]
 _r = REPLAY_LAYOUT.block("backlash", backlash.KERNEL_PARAMS)
-R_BL_W, R_BL_C = _r["width"], _r["center"]
+R_BL_W, R_BL_C = _r["width_rad"], _r["center_rad"]
 _r = REPLAY_LAYOUT.block(
     "shaft_friction",
     (

@@ -1,11 +1,11 @@
 """Each setup's variants of the registry's effects: where an effect acts in that setup, with the
 registry's parameters and bounds (:mod:`fsarm_sim.plant.effects.registry`).
 
-The benches use the registry's variants as they are. The arm's are the registry's laws placed on
-the arm: Coulomb friction and viscous damping at joint 3 (the laws of the ``shaft`` variants), a
-dead band on the shaft twist (``backlash[coupling]``), the shaft's own Maxwell-slip elements, the
-payload, and - on the recording, not the plant - a bias or a lag of one recorded channel (the
-``input`` variants' laws on ``q3``, ``theta_m`` or ``q2``). One table for the arm's candidates,
+The benches use the registry's variants as they are. The arm's are the registry's laws with their
+``ARM`` variants (payload error, Coulomb friction and viscous damping at joint 3, a dead band on
+the shaft twist, and every other arm law), the shaft's own Maxwell-slip elements, and - on the
+recording, not the plant - a bias or a lag of one recorded channel (the ``input`` variants' laws
+on ``q3``, ``theta_m`` or ``q2``). One table for the arm's candidates,
 its model file and the effect text of ``fsarm synth --setup arm``.
 """
 
@@ -37,9 +37,9 @@ NONLINEAR = registry.get("nonlinear_stiffness").name
 
 ARM: dict[str, tuple[Variant, ...]] = {  # effect -> its arm variants (candidate order)
     PAYLOAD: (registry.get(PAYLOAD).variant("mass"),),
-    COULOMB: (_on_arm(COULOMB, "shaft", "q3", "Coulomb friction at joint 3 (q3_friction_nm)"),),
-    VISCOUS: (_on_arm(VISCOUS, "shaft", "q3", "extra viscous damping at joint 3"),),
-    BACKLASH: (_on_arm(BACKLASH, "coupling", "twist", "dead band on the shaft twist"),),
+    COULOMB: (registry.get(COULOMB).variant("q3"),),
+    VISCOUS: (registry.get(VISCOUS).variant("q3"),),
+    BACKLASH: (registry.get(BACKLASH).variant("twist"),),
     HYSTERESIS: (
         _on_arm(HYSTERESIS, "maxwell_slip", "maxwell_slip", "the shaft's elasto-slip elements"),
     ),
@@ -55,6 +55,8 @@ ARM_LAWS = tuple(e.name for e in registry.arm_laws() if e.name not in ARM)
 for _law in ARM_LAWS:
     ARM[_law] = tuple(v for v in registry.get(_law).variants if registry.ARM in v.setups)
 ARM_RECORDING = frozenset({OFFSET, DELAY})  # the arm's effects on the recording, not the plant
+# the arm's plant effects that are registry laws (Effects.laws of a model), in table order
+ARM_PLANT_LAWS = tuple(name for name in ARM if registry.get(name).law is not None)
 ARM_MAX_ELEMENTS = 3  # hysteresis elements on the arm (ShaftParams' slots)
 ARM_DEFAULTS = {(BACKLASH, "center_rad"): 0.0}  # (effect, parameter): value when not given
 

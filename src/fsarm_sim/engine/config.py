@@ -5,7 +5,8 @@ the shaft and payload (SimConfig).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields, replace
 
 import mujoco
 import numpy as np
@@ -107,7 +108,8 @@ class Gains:
 
 @dataclass(frozen=True)
 class Effects:
-    """Which shaft effects act on the plant. Slip hysteresis also needs non-zero element stiffness."""
+    """Which effects act on the plant: the shaft's own (switches; slip hysteresis also needs
+    non-zero element stiffness) and the registry's arm effect laws switched on."""
 
     series: bool = True
     bending: bool = True
@@ -115,42 +117,55 @@ class Effects:
     slip: bool = True
     coupling: bool = True  # energy-consistency term of eq. 8 on joint 2 (physics.py)
     control: bool = True
-    # effects the discrepancy workflow names on the arm (0: off); each acts on the plant only,
-    # the controllers do not know it
-    payload_error_kg: float = 0.0  # unstated payload mass (effects.payload_error)
-    backlash_width_rad: float = (
-        0.0  # play in joint 3's transmission, on the twist (effects.backlash)
-    )
-    backlash_center_rad: float = 0.0
-    q3_friction_nm: float = 0.0  # Coulomb friction at joint 3 (MuJoCo dof frictionloss), N*m
-    q3_damping_nms: float = 0.0  # extra viscous damping at joint 3 (added to dof damping)
     # the registry's arm effect laws switched on (plant.effects.registry, Effect.law), with the
     # values of their kernel parameters: ((effect, ((parameter, value), ...)), ...); parameters
-    # not given keep the law's declared default
+    # not given keep the law's declared default. Each acts on the plant only, the controllers do
+    # not know it.
     laws: tuple[tuple[str, tuple[tuple[str, float], ...]], ...] = ()
 
     def validate(self) -> None:
         validate_laws(self.laws)
-        if self.payload_error_kg != 0.0 and any(n == "payload_error" for n, _ in self.laws):
+
+    @classmethod
+    def from_entry(cls, entry: Mapping[str, object]) -> Effects:
+        """The effects of a record's ``effects`` entry (:func:`fsarm_sim.records.sidecar.
+        effects_entry`): the switches, ``laws`` as ``{effect: {parameter: value}}``, and the
+        keys older records used for some laws (``payload_error_kg``, ``backlash_width_rad``,
+        ...: :func:`~fsarm_sim.plant.effects.registry.legacy_laws`); a law given both ways is
+        given twice (InvalidParameterError)."""
+        legacy = registry.legacy_fields()
+        switches = {f.name for f in fields(cls)} - {"laws"}
+        kw: dict[str, bool] = {}
+        for key, value in entry.items():
+            if key in switches:
+                if not isinstance(value, bool):
+                    raise InvalidParameterError(
+                        f"effects.{key} must be true or false, got {value!r}"
+                    )
+                kw[key] = value
+            elif key != "laws" and key not in legacy:
+                raise InvalidParameterError(
+                    f"unknown key effects.{key!r}; allowed: {', '.join(sorted(switches))}, laws, "
+                    + ", ".join(legacy)
+                )
+        laws_raw = entry.get("laws", {})
+        if not isinstance(laws_raw, Mapping) or not all(
+            isinstance(v, Mapping) for v in laws_raw.values()
+        ):
             raise InvalidParameterError(
-                "the payload error is given twice: payload_error_kg and the payload_error law"
+                "effects.laws must map each effect to {parameter: value}, got " + repr(laws_raw)
             )
-        for name in ("payload_error_kg", "backlash_width_rad", "backlash_center_rad"):
-            real_number(getattr(self, name), name)
-        for name in ("q3_friction_nm", "q3_damping_nms"):
-            real_number(getattr(self, name), name)
-        if not math.isfinite(self.payload_error_kg) or abs(self.payload_error_kg) > PAYLOAD_MAX_KG:
-            raise InvalidParameterError(
-                f"payload_error_kg must be within +-{PAYLOAD_MAX_KG:g} kg, got {self.payload_error_kg!r}"
+        laws = tuple(
+            (
+                str(name),
+                tuple((str(k), real_number(v, f"effects.laws.{name}.{k}")) for k, v in vs.items()),
             )
-        for name in ("backlash_width_rad", "q3_friction_nm", "q3_damping_nms"):
-            v = getattr(self, name)
-            if not math.isfinite(v) or v < 0.0:
-                raise InvalidParameterError(f"{name} must be a finite number >= 0, got {v!r}")
-        if not math.isfinite(self.backlash_center_rad) or abs(self.backlash_center_rad) > 0.5:
-            raise InvalidParameterError(
-                f"backlash_center_rad must be within +-0.5 rad, got {self.backlash_center_rad!r}"
-            )
+            for name, vs in laws_raw.items()
+        )
+        laws += registry.legacy_laws(entry)
+        out = cls(**kw, laws=laws)
+        out.validate()
+        return out
 
 
 @dataclass(frozen=True)
@@ -261,6 +276,7 @@ def validate_laws(laws: tuple[tuple[str, tuple[tuple[str, float], ...]], ...]) -
                     f"{name} has no parameter {key!r}; its parameters: {', '.join(sorted(declared))}"
                 )
             b = limits.get(key)
+            real_number(value, f"{name}.{key}")  # a number, never a boolean
             if not math.isfinite(value) or (b is not None and not b[0] <= value <= b[1]):
                 unit = {d.name: d.unit for d in effect.law.KERNEL_PARAMS}[key]
                 allowed = f"within [{b[0]:g}, {b[1]:g}] {unit}" if b else "finite"

@@ -39,6 +39,7 @@ from fsarm_sim.engine.structure import read_structure as read_structure
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
 from fsarm_sim.kernels import layout as L
 from fsarm_sim.plant.effects import registry
+from fsarm_sim.plant.effects.base import model_writes
 from fsarm_sim.plant.transmissions.base import Transmission, TransmissionError
 
 
@@ -199,8 +200,7 @@ def build_model(
     if not config.joint_damping:
         model.dof_damping[:] = 0.0
     st = base.structure
-    model.dof_frictionloss[st.dof[2]] += config.effects.q3_friction_nm
-    model.dof_damping[st.dof[2]] += config.effects.q3_damping_nms
+    write_law_model(model, config.effects)
     write_params(model, st, config, ref.shape[0], lever_arms=base.lever_arms)
     if lean:
         idle_off(model)  # MuJoCo's spring stage, where no element has a spring (engine.lean)
@@ -442,6 +442,31 @@ def _reference_stiffness(tr: Transmission, ctrl: npt.NDArray[np.float64]) -> flo
     return max(tr.stiffness(ctrl, x, 0.0), 0.0)
 
 
+def law_model_writes(fx: Effects) -> list[tuple[str, str, float]]:
+    """(model field, joint, value) of every model write of the registry laws switched on in
+    ``fx`` (:class:`~fsarm_sim.plant.effects.base.ModelWrite`), in registry order; a parameter
+    not given is the law's declared default."""
+    given = dict(fx.laws)
+    out = []
+    for e in registry.arm_laws():
+        if e.name not in given:
+            continue
+        values = {d.name: d.default for d in e.law.KERNEL_PARAMS} if e.law else {}
+        values.update(given[e.name])
+        out += [(w.field, w.joint, values[w.param]) for w in model_writes(e.law)]
+    return out
+
+
+def write_law_model(model: mujoco.MjModel, fx: Effects) -> None:
+    """Add the model writes of the laws switched on (:func:`law_model_writes`) to the compiled
+    model's per-dof fields; a law on a joint the model lacks is a ModelStructureError."""
+    for name, joint, value in law_model_writes(fx):
+        j = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, joint)
+        if j < 0:
+            raise ModelStructureError(f"an effect law acts on joint {joint!r}; the model has none")
+        getattr(model, name)[model.jnt_dofadr[j]] += value
+
+
 def write_laws(p: npt.NDArray[np.float64], fx: Effects, model: mujoco.MjModel) -> None:
     """The registry's arm laws: on/off slot, the address of their own states in ``data.act``
     (the actuators :func:`add_law_states` added; -1 when off or without any) and parameters
@@ -471,20 +496,27 @@ def write_arm_effects(
     *,
     lever_arms: tuple[float, float] | None = None,
 ) -> None:
-    """Plant-only arm effects (payload error, backlash, the registry's laws); geometry read from
-    the compiled MJCF (``lever_arms``: :func:`payload_lever_arms_m` of ``model`` if known)."""
+    """Plant-only arm effects (the registry's laws), each law's ``FROM_MODEL`` parameters read
+    from the compiled MJCF (:func:`model_quantities`; ``lever_arms``: :func:`payload_lever_arms_m`
+    of ``model`` if known)."""
     write_laws(p, fx, model)
-    p[L.P_BL_WIDTH] = fx.backlash_width_rad
-    p[L.P_BL_CENTER] = fx.backlash_center_rad
-    # the payload error: a registry law, on while a mass error is stated (Effects.payload_error_kg
-    # or its law's dm_kg), with the geometry of this model
-    pay = L.LAW_BLOCK["payload_error"]
-    if fx.payload_error_kg != 0.0:
-        p[pay.on] = 1.0
-        p[pay.start] = fx.payload_error_kg
+    known = model_quantities(model, lever_arms)
+    for b in L.ARM_LAW_BLOCKS:
+        law = registry.get(b.name).law
+        assert law is not None
+        for i, d in enumerate(law.KERNEL_PARAMS):
+            if d.name in getattr(law, "FROM_MODEL", ()):
+                p[b.start + i] = known[d.name]
+
+
+def model_quantities(
+    model: mujoco.MjModel, lever_arms: tuple[float, float] | None = None
+) -> dict[str, float]:
+    """What a law's ``FROM_MODEL`` may name, read from the compiled MJCF: ``l2`` (joint 2 ->
+    joint 3) and ``l3`` (joint 3 -> payload centre of mass) at the zero pose, m, and ``gravity``
+    (|g|, m/s^2)."""
     l2, l3 = payload_lever_arms_m(model) if lever_arms is None else lever_arms
-    p[pay.start + 1], p[pay.start + 2] = l2, l3
-    p[pay.start + 3] = float(np.linalg.norm(model.opt.gravity))
+    return {"l2": l2, "l3": l3, "gravity": float(np.linalg.norm(model.opt.gravity))}
 
 
 def payload_lever_arms_m(model: mujoco.MjModel) -> tuple[float, float]:

@@ -24,7 +24,7 @@ import numpy.typing as npt
 from fsarm_sim.kernels.layout import ARM_LAW_BLOCKS, LawBlock
 from fsarm_sim.plant import transmissions
 from fsarm_sim.plant.effects import registry
-from fsarm_sim.plant.effects.base import State
+from fsarm_sim.plant.effects.base import TORQUES, TWIST, State, hooks
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -32,6 +32,10 @@ SOURCE: dict[str, str] = {}  # generated function name -> its source
 
 _TR_MODULES = list(transmissions.MODULES.values())
 _LAWS = {e.name: e.law for e in registry.arm_laws()}
+# the law blocks of each hook (plant.effects.base), registry order: a law is dispatched only where
+# it acts (a model-write law never reaches the kernels)
+TORQUE_BLOCKS = tuple(b for b in ARM_LAW_BLOCKS if TORQUES in hooks(_LAWS[b.name]))
+TWIST_BLOCKS = tuple(b for b in ARM_LAW_BLOCKS if TWIST in hooks(_LAWS[b.name]))
 
 
 def _compile(name: str, src: str, env: dict[str, Any]) -> Callable[..., Any]:
@@ -122,9 +126,24 @@ def law_dispatch(blocks: tuple[LawBlock, ...], laws: dict[str, Any]) -> Callable
     return _compile("arm_law_torques", "\n".join(lines) + "\n", env)
 
 
+def law_twist_dispatch(blocks: tuple[LawBlock, ...], laws: dict[str, Any]) -> Callable[..., Any]:
+    """``arm_law_twist(prm, x, rate)``: the (twist, rate) joint 3's transmission law sees, each
+    law in ``blocks`` whose on/off slot is on applied in turn (its ``transmitted_twist``)."""
+    lines = ["def arm_law_twist(prm, x, rate):"]
+    env = {}
+    for i, b in enumerate(blocks):
+        env[f"_law{i}"] = laws[b.name]
+        lines += [
+            f"    if prm[{b.on}] > 0.5:  # {b.name}",
+            f"        x, rate = _law{i}.transmitted_twist(prm[{b.start}:{b.end}], x, rate)",
+        ]
+    lines.append("    return x, rate")
+    return _compile("arm_law_twist", "\n".join(lines) + "\n", env)
+
+
 def law_any_dispatch(blocks: tuple[LawBlock, ...]) -> Callable[..., Any]:
-    """``arm_laws_on(prm)``: True when any law in ``blocks`` is on (the passive kernel builds the
-    named state only then)."""
+    """``arm_laws_on(prm)``: True when any law in ``blocks`` (the torque laws) is on (the passive
+    kernel builds the named state only then)."""
     test = " or ".join(f"prm[{b.on}] > 0.5" for b in blocks) or "False"
     return _compile("arm_laws_on", f"def arm_laws_on(prm):\n    return {test}\n", {})
 
@@ -199,9 +218,12 @@ tr_bend_torque: Callable[[float, FloatArray, float, float, FloatArray, int], flo
 )
 tr_output_torque: Callable[[float, FloatArray, float, float], float] = _output_dispatch()
 arm_law_torques: Callable[[FloatArray, FloatArray, State], tuple[float, float, float]] = (
-    law_dispatch(ARM_LAW_BLOCKS, _LAWS)
+    law_dispatch(TORQUE_BLOCKS, _LAWS)
 )
-arm_laws_on: Callable[[FloatArray], bool] = law_any_dispatch(ARM_LAW_BLOCKS)
+arm_laws_on: Callable[[FloatArray], bool] = law_any_dispatch(TORQUE_BLOCKS)
+arm_law_twist: Callable[[FloatArray, float, float], tuple[float, float]] = law_twist_dispatch(
+    TWIST_BLOCKS, _LAWS
+)
 arm_law_owns: Callable[[FloatArray, int], bool] = law_owner_dispatch(ARM_LAW_BLOCKS)
 arm_law_state_rate: Callable[[FloatArray, FloatArray, State, int], float] = law_rate_dispatch(
     ARM_LAW_BLOCKS, _LAWS

@@ -19,7 +19,7 @@ from typing import NamedTuple
 
 from fsarm_sim.paramblocks import Decl, Layout
 from fsarm_sim.plant import transmissions
-from fsarm_sim.plant.effects import backlash, bending, conduit_viscoelastic, registry
+from fsarm_sim.plant.effects import bending, conduit_viscoelastic, registry
 from fsarm_sim.plant.transmissions.base import N_TR
 
 PARAMS_NAME = "fsarm_params"
@@ -194,10 +194,6 @@ P_CTRL_KIND, P_DOB_WQ = _j["kind"], _j["dob_wq"]
 P_HM = _j["hm_k_pos"]  # first of the 12 hysteresis-model slots, in Gains.hysteresis_model order
 N_HM = 12
 
-# arm effects the discrepancy workflow can switch on (0: off); the controllers do not know them
-_k = _.block("backlash", backlash.KERNEL_PARAMS)
-P_BL_WIDTH, P_BL_CENTER = _k["width"], _k["center"]
-
 
 class LawBlock(NamedTuple):
     """Where a registry arm law's numbers live: its on/off slot, the slot holding the ``data.act``
@@ -223,12 +219,13 @@ def _law_block(effect: registry.Effect) -> LawBlock:
 
 # the registry's arm effect laws (Effect.law): one block each, an on/off slot, a state-address
 # slot and then the law's KERNEL_PARAMS, in registry order; kernels.dispatch calls each law whose
-# slot is on, with the named state (plant.effects.base) and its own states appended
+# slot is on through its hooks (plant.effects.base: torques of the named state with its own
+# states appended, the transmitted twist), engine.model applies its model writes
 ARM_LAW_BLOCKS: tuple[LawBlock, ...] = tuple(_law_block(e) for e in registry.arm_laws())
 LAW_BLOCK = {b.name: b for b in ARM_LAW_BLOCKS}
 
 N_PARAMS = LAYOUT.size
-del _, _s, _b, _c, _e, _g, _u, _j, _k
+del _, _s, _b, _c, _e, _g, _u, _j
 
 STIFFNESS_FLOOR = 0.1  # gain scheduler: stiffness floored at this fraction of P_TR_K0
 

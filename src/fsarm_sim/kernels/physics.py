@@ -34,6 +34,7 @@ from fsarm_sim.kernels.dispatch import (
     arm_law_owns,
     arm_law_state_rate,
     arm_law_torques,
+    arm_law_twist,
     arm_laws_on,
     tr_bend_torque,
     tr_has_motor_torque,
@@ -85,8 +86,6 @@ from fsarm_sim.kernels.layout import (
     P_ACT_SLIP1,
     P_BEND_FIXED,
     P_BETA,
-    P_BL_CENTER,
-    P_BL_WIDTH,
     P_BR_K1,
     P_BR_K2,
     P_BR_TAU1,
@@ -168,7 +167,6 @@ from fsarm_sim.kernels.layout import (
     rec_width,
 )
 from fsarm_sim.plant.effects import (
-    backlash,
     bending,
     conduit_viscoelastic,
 )
@@ -213,23 +211,12 @@ def twist_and_rate(prm: FloatArray, qpos: FloatArray, qvel: FloatArray) -> tuple
     return twist_angle(prm, qpos), rate
 
 
-def transmitted_twist(prm: FloatArray, x: float, rate: float) -> tuple[float, float]:
-    """Twist and rate reaching the transmission's law through a backlash, if one is switched on."""
-    w = prm[P_BL_WIDTH]
-    if w > 0.0:
-        c = prm[P_BL_CENTER]
-        return backlash.transmitted_deflection_rad(x, w, c), backlash.transmitted_rate(
-            x, rate, w, c
-        )
-    return x, rate
-
-
 def transmission_input(
     prm: FloatArray, twist: float, rate: float
 ) -> tuple[float, float, FloatArray, int]:
-    """(twist, rate) reaching the transmission's law (through a backlash, if on), its block and
-    its first state slot."""
-    x, xd = transmitted_twist(prm, twist, rate)
+    """(twist, rate) reaching the transmission's law (through the registry's twist laws that are
+    on, e.g. a backlash: ``arm_law_twist``), its block and its first state slot."""
+    x, xd = arm_law_twist(prm, twist, rate)
     return x, xd, prm[P_TR : P_TR + N_TR], int(prm[P_ACT_SLIP1])
 
 
@@ -249,8 +236,8 @@ def shaft_torque(prm: FloatArray, qpos: FloatArray, qvel: FloatArray, act: Float
 def bend_coupling_torque_at(prm: FloatArray, x: float, bend: float, act: FloatArray) -> float:
     """-dV/dphi_B on joint 2, V the transmission's stored energy (its ``potential_j``).
 
-    ``x``: the twist reaching the transmission's law (through the backlash, if one is on:
-    :func:`transmitted_twist`); ``bend``: :func:`bend_angle`. They are passed in because the
+    ``x``: the twist reaching the transmission's law (through the registry's twist laws that are
+    on: :func:`transmission_input`); ``bend``: :func:`bend_angle`. They are passed in because the
     passive kernel has computed both already; :func:`bend_coupling_torque` computes them from
     ``qpos``. A transmission routed over joint 2 whose law depends on the bend stores energy that
     changes when joint 2 moves at constant twist; this torque is its reaction, so the arm conserves
@@ -269,11 +256,9 @@ def bend_coupling_torque_at(prm: FloatArray, x: float, bend: float, act: FloatAr
 
 
 def transmitted_twist_angle(prm: FloatArray, qpos: FloatArray) -> float:
-    """Twist reaching the transmission's law (rad): :func:`twist_angle` through the backlash, if
-    one is switched on (the angle half of :func:`transmitted_twist`, without the rate)."""
-    x = twist_angle(prm, qpos)
-    if prm[P_BL_WIDTH] > 0.0:
-        x = backlash.transmitted_deflection_rad(x, prm[P_BL_WIDTH], prm[P_BL_CENTER])
+    """Twist reaching the transmission's law (rad): :func:`twist_angle` through the registry's
+    twist laws that are on (the angle half of :func:`transmission_input`)."""
+    x, _ = arm_law_twist(prm, twist_angle(prm, qpos), 0.0)
     return x
 
 
@@ -417,7 +402,7 @@ def state_rate(
     if arm_law_owns(prm, act_adr):  # a registry law's own state
         s = law_state(prm, qpos, qvel, ud, twist, rate, bend)
         return arm_law_state_rate(prm, act, s, act_adr)
-    twist, rate = transmitted_twist(prm, twist, rate)
+    twist, rate = arm_law_twist(prm, twist, rate)
     a0 = int(prm[P_ACT_SLIP1])
     vm = prm[P_COEF_M] * coord(qvel, prm[P_DOF_ROT])  # motor-side speed: a tendon's sliding
     return tr_state_rate(

@@ -363,6 +363,22 @@ def shaft_params_of(record: Sidecar, where: str | Path = "sidecar") -> ShaftPara
     return sh
 
 
+def effects_of(record: Sidecar, where: str | Path = "sidecar") -> Any:
+    """The :class:`fsarm_sim.engine.model.Effects` of ``effects`` (None when absent): the
+    switches and laws as written, and the keys older records used for some laws mapped onto
+    those laws (:func:`fsarm_sim.plant.effects.registry.legacy_laws`); :class:`SidecarError`
+    naming the file when they do not make a valid set of effects."""
+    if record.effects is None:
+        return None
+    from fsarm_sim.engine.model import Effects
+    from fsarm_sim.errors import InvalidParameterError
+
+    try:
+        return Effects.from_entry(record.effects)
+    except InvalidParameterError as exc:
+        raise SidecarError(f"{where}: {exc}") from None
+
+
 # ----------------------------------------------------------------------------- machinery
 
 _T = TypeVar("_T")
@@ -420,18 +436,29 @@ def _parse(cls: type[_T], data: Mapping[str, Any], where: str, prefix: str) -> _
         raise _bad(where, e.key, e.hint, e.value) from None
 
 
-def _typed_keys(entry: Mapping[str, Any] | None, owner: type, what: str, where: str) -> None:
-    """Keys and value kinds of a mapping entry against the dataclass it mirrors."""
+def _typed_keys(
+    entry: Mapping[str, Any] | None,
+    owner: type,
+    what: str,
+    where: str,
+    numbers: tuple[str, ...] = (),
+) -> None:
+    """Keys and value kinds of a mapping entry against the dataclass it mirrors; ``numbers``:
+    further keys it may hold, each a number."""
     if not isinstance(entry, Mapping):
         return  # absent, or not an object: the schema's own check names it
     fields = {f.name: f for f in dataclasses.fields(owner)}
-    unknown = [k for k in entry if k not in fields]
+    unknown = [k for k in entry if k not in fields and k not in numbers]
     if unknown:
         raise SidecarKeyError(
             f"{where}: unknown key {', '.join(repr(f'{what}.{k}') for k in unknown)}; "
             f"allowed in '{what}' ({owner.__name__} fields): {', '.join(fields)}"
         )
     for k, v in entry.items():
+        if k not in fields:  # one of ``numbers``
+            if not _is(float, v):
+                raise _bad(where, f"{what}.{k}", float, v)
+            continue
         f = fields[k]
         if isinstance(v, Mapping) and str(f.type).startswith("tuple[tuple[str"):
             continue  # a nested entry (Effects.laws, name -> values): checked where it is built
@@ -471,7 +498,9 @@ def _check_fields(raw: Mapping[str, Any], where: str) -> None:
         from fsarm_sim.engine.model import Effects, Gains
 
         _typed_keys(raw.get("gains"), Gains, "gains", where)
-        _typed_keys(raw.get("effects"), Effects, "effects", where)
+        # (older records hold some laws as keys of their own: registry.legacy_fields)
+        legacy = tuple(registry.legacy_fields())
+        _typed_keys(raw.get("effects"), Effects, "effects", where, legacy)
     _typed_keys(raw.get("shaft_params"), ShaftParams, "shaft_params", where)
 
 
@@ -494,6 +523,7 @@ __all__ = [
     "TransmissionRef",
     "as_record",
     "effects_entry",
+    "effects_of",
     "gains_entry",
     "jsonable",
     "read_sidecar",

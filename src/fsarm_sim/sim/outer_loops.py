@@ -71,7 +71,13 @@ import numpy as np
 import numpy.typing as npt
 
 from fsarm_sim.engine.callbacks import DEFAULT_BACKEND, Backend
-from fsarm_sim.engine.model import PAYLOAD_MAX_KG, SimConfig, build_model, read_structure
+from fsarm_sim.engine.model import (
+    PAYLOAD_MAX_KG,
+    SimConfig,
+    build_model,
+    law_model_writes,
+    read_structure,
+)
 from fsarm_sim.errors import FsarmError
 from fsarm_sim.kernels import layout
 from fsarm_sim.plant.transmissions.base import TransmissionError
@@ -166,8 +172,12 @@ class JointThreeObserver:
         self.structure = st = read_structure(model)
         self.transmission = config.transmission_model()
         self.block = config.transmission_blocks()[1]  # the controller's copy of the law
-        # the MJCF's joint-3 damping; a discrepancy effect on top of it is unknown to the observer
-        self.damping = float(model.dof_damping[st.dof[2]]) - config.effects.q3_damping_nms
+        # the MJCF's joint-3 damping; an effect law's damping on top of it is unknown to the
+        # observer
+        self.damping = float(model.dof_damping[st.dof[2]])
+        for name, joint, value in law_model_writes(config.effects):
+            if name == "dof_damping" and joint == "q3":
+                self.damping -= value
         self._data = mujoco.MjData(model)
         self._full = np.zeros((model.nv, model.nv))
         self._bias = np.zeros(model.nv)

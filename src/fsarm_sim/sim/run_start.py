@@ -4,6 +4,8 @@ MuJoCo's warnings, and the initial state (the shaft's static twist under gravity
 
 from __future__ import annotations
 
+from typing import Any
+
 import mujoco
 import numpy as np
 import numpy.typing as npt
@@ -19,6 +21,7 @@ from fsarm_sim.errors import (
 from fsarm_sim.kernels import layout
 from fsarm_sim.plant import transmissions
 from fsarm_sim.plant.effects import registry
+from fsarm_sim.plant.effects.base import TWIST, hooks
 from fsarm_sim.sim.run_memory import MADV_POPULATE_WRITE as MADV_POPULATE_WRITE
 from fsarm_sim.sim.run_memory import MAX_STEPS as MAX_STEPS
 from fsarm_sim.sim.run_memory import MEMORY_SHARE as MEMORY_SHARE
@@ -127,7 +130,10 @@ def static_twist(prm: Array, tau_shaft: float, bend: float) -> float:
         return 0.0
     tr = transmissions.by_kind(prm[layout.P_TRANS])
     twist = tr.twist_for_torque(prm[layout.P_TR : layout.P_TR + layout.N_TR], tau_shaft, bend)
-    if prm[layout.P_BL_WIDTH] > 0.0:  # the play must be taken up first, on the loaded flank
-        c, w = prm[layout.P_BL_CENTER], prm[layout.P_BL_WIDTH]
-        twist += c + (0.5 * w if twist > 0.0 else -0.5 * w if twist < 0.0 else 0.0)
+    # the registry's twist laws that are on, undone last first (a play is taken up first, on
+    # the loaded flank)
+    for b in reversed(layout.ARM_LAW_BLOCKS):
+        law: Any = registry.get(b.name).law  # (a twist law: the hook's members, base.hooks)
+        if prm[b.on] > 0.5 and TWIST in hooks(law):
+            twist = law.twist_for_transmitted(prm[b.start : b.end], twist)
     return twist

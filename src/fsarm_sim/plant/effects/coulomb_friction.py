@@ -12,9 +12,25 @@ sgn(phi')"). Two places it can act on a bench, same law:
   Stated as a stiff elasto-slip ("presliding") element - a spring of deflection limit ``delta``
   that saturates at ``F`` - so a position-driven replay never divides by a noisy velocity:
   after a reversal the torque swings by ``2 F`` within a deflection ``2 delta``.
+
+On the arm it acts at joint 3 (its bearing and hypoid) as a registry law MuJoCo applies itself
+(:mod:`.base`, ``MODEL_WRITES``): ``F`` is added to joint 3's ``dof_frictionloss``, the
+constraint solver's dry friction - exact stick within ``F``, sliding torque ``-F sgn(qd3)``,
+never adds energy - rather than a smoothed sign in the passive callback.
 """
 
 from __future__ import annotations
+
+from fsarm_sim.paramblocks import Decl
+from fsarm_sim.plant.effects.base import ModelWrite
+
+# the arm law: joint 3's Coulomb friction level (0: none)
+KERNEL_PARAMS = (Decl("f_c_nm", "N*m", 0.0, "Coulomb friction torque at joint 3"),)
+STATES: tuple[Decl, ...] = ()
+MODEL_WRITES = (ModelWrite("dof_frictionloss", "q3", "f_c_nm"),)
+SIZE = "f_c_nm"  # at 0 the law acts as nothing (a model with it at 0 is the same run)
+# the key of this law in the effects entry of older run records (records.sidecar)
+LEGACY_FIELDS = (("q3_friction_nm", "f_c_nm"),)
 
 
 def sliding_torque_nm(velocity: float, f_c: float) -> float:

@@ -10,8 +10,8 @@ also shows as extra shaft twist ``tau_3 / (i_G2 K)`` - how the discrepancy workf
 
 Lengths and g are arguments: the caller reads them from the compiled MJCF (never repeated here).
 On the arm the law acts through the registry like any other (``arm_torques`` of the named state);
-``Effects.payload_error_kg`` (or ``--effect payload_error=DM``) switches it on, and the model
-builder writes the geometry (``FROM_MODEL``).
+``--effect payload_error=DM`` switches it on, and the model builder writes the geometry
+(``FROM_MODEL``).
 """
 
 from __future__ import annotations
@@ -28,12 +28,15 @@ FloatArray = npt.NDArray[np.float64]
 
 # the parameters this law takes in the kernels (layout allocates their slots)
 KERNEL_PARAMS = (
-    Decl("dm_kg", "kg", 0.0, "payload mass the controllers do not know (Effects.payload_error_kg)"),
+    Decl("dm_kg", "kg", 0.0, "payload mass the controllers do not know"),
     Decl("l2", "m", 0.0, "joint 2 -> joint 3 distance (read from the compiled MJCF)"),
     Decl("l3", "m", 0.0, "joint 3 -> payload centre of mass (read from the compiled MJCF)"),
     Decl("gravity", "m/s^2", 0.0, "|g| (read from the compiled MJCF)"),
 )
 FROM_MODEL = ("l2", "l3", "gravity")  # written by the model builder, never given by a user
+SIZE = "dm_kg"  # at 0 the law acts as nothing (a model with it at 0 is the same run)
+# the key of this law in the effects entry of older run records (records.sidecar)
+LEGACY_FIELDS = (("payload_error_kg", "dm_kg"),)
 STATES: tuple[Decl, ...] = ()
 
 

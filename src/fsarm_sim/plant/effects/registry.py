@@ -16,25 +16,38 @@ This module holds data and the ``--effect`` text parser only - no fitting code (
 How to add an effect that acts on the simulated arm (three files, nothing else changes):
 
 1. its law module in this package (:mod:`.base` says what it declares: ``KERNEL_PARAMS``,
-   ``STATES``, ``arm_torques(blk, s)`` and ``state_rate(blk, s, i)`` of the named state ``s``,
-   optionally ``LIMITS``); :mod:`.lugre_friction` (with a state) and :mod:`.shaft_drag`
-   (without) are examples;
+   ``STATES`` and one or more hooks - ``arm_torques(blk, s)`` / ``state_rate(blk, s, i)`` of the
+   named state ``s``, ``transmitted_twist`` on the twist ahead of joint 3's transmission, or
+   ``MODEL_WRITES`` that MuJoCo applies itself - optionally ``LIMITS``); :mod:`.lugre_friction`
+   (torques with a state), :mod:`.shaft_drag` (torques without), :mod:`.backlash` (twist) and
+   :mod:`.coulomb_friction` (a model write) are examples;
 2. its ``Effect(..., law=module)`` entry below, with an ``ARM`` variant whose parameters are the
    ones the arm diagnosis fits (``fsarm diagnose``) and ``fsarm run --effect`` / ``fsarm synth
    --effect`` take by position;
 3. its test file (``tests/test_effects_<module>.py``).
 
-The layout, the generated kernel dispatch, the model's state slots, the recorded columns,
-``SimConfig``, ``fsarm run --effect``, ``fsarm synth`` and the arm diagnosis read it from here.
+Every effect that acts on the simulated arm is such a law; ``Effects.laws`` (which are on, with
+which values) is all a run states about them. The layout, the generated kernel dispatch, the
+model's state slots and model writes, the recorded columns, ``SimConfig``, the sidecar,
+``fsarm run --effect``, ``fsarm synth`` and the arm diagnosis read them from here.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from fsarm_sim.errors import InvalidParameterError
-from fsarm_sim.plant.effects import lugre_friction, motor_thermal, payload_error, shaft_drag
-from fsarm_sim.plant.effects.base import ArmEffectLaw
+from fsarm_sim.plant.effects import (
+    backlash,
+    coulomb_friction,
+    lugre_friction,
+    motor_thermal,
+    payload_error,
+    shaft_drag,
+    viscous_damping,
+)
+from fsarm_sim.plant.effects.base import ArmEffectLaw, is_off
 
 SERIES = "series_bench"
 PARALLEL = "parallel_bench"
@@ -87,6 +100,8 @@ class Effect:
 
 _F = Param("f_c_nm", "N*m", 0.0, 20.0, "friction torque magnitude")
 _B = Param("b_nms", "N*m*s/rad", 0.0, 20.0, "damping coefficient")
+_W = Param("width_rad", "rad", 0.0, 0.5, "total play")
+_C = Param("center_rad", "rad", -0.25, 0.25, "middle of the gap")
 
 EFFECTS: tuple[Effect, ...] = (
     Effect(
@@ -109,7 +124,15 @@ EFFECTS: tuple[Effect, ...] = (
                 (_F,),
                 needs_inertia_load=True,
             ),
+            Variant(
+                "q3",
+                (ARM,),
+                "at joint 3 (bearing, hypoid): F added to q3's dof_frictionloss, MuJoCo's dry "
+                "friction (exact stick while the other torques stay below F)",
+                (_F,),
+            ),
         ),
+        law=coulomb_friction,
     ),
     Effect(
         "viscous_damping",
@@ -129,7 +152,15 @@ EFFECTS: tuple[Effect, ...] = (
                 (_B,),
                 needs_inertia_load=True,
             ),
+            Variant(
+                "q3",
+                (ARM,),
+                "extra viscous damping at joint 3: b added to q3's dof_damping (implicit in "
+                "MuJoCo's step)",
+                (_B,),
+            ),
         ),
+        law=viscous_damping,
     ),
     Effect(
         "backlash",
@@ -141,12 +172,17 @@ EFFECTS: tuple[Effect, ...] = (
                 (SERIES, PARALLEL),
                 "dead zone of width w centred at c on the measured deflection (twist or bend) "
                 "before the elastic law",
-                (
-                    Param("width_rad", "rad", 0.0, 0.5, "total play"),
-                    Param("center_rad", "rad", -0.25, 0.25, "middle of the gap"),
-                ),
+                (_W, _C),
+            ),
+            Variant(
+                "twist",
+                (ARM,),
+                "dead zone of width w centred at c on the shaft twist, ahead of joint 3's "
+                "transmission law (every transmission's law sees the twist through it)",
+                (_W, _C),
             ),
         ),
+        law=backlash,
     ),
     Effect(
         "hysteresis",
@@ -380,6 +416,38 @@ def parse_law(text: str) -> LawValues:
 def parse_laws(texts: list[str]) -> tuple[LawValues, ...]:
     """:func:`parse_law` of each text (``fsarm run --effect``, repeatable)."""
     return tuple(parse_law(t) for t in texts)
+
+
+def legacy_fields() -> dict[str, tuple[str, str]]:
+    """Key -> (effect, parameter) of the laws' keys in older run records' ``effects`` entries
+    (each law's ``LEGACY_FIELDS``)."""
+    return {
+        key: (e.name, param)
+        for e in arm_laws()
+        for key, param in getattr(e.law, "LEGACY_FIELDS", ())
+    }
+
+
+def legacy_laws(entry: Mapping[str, object]) -> tuple[LawValues, ...]:
+    """The laws an older record's ``effects`` entry switched on through its :func:`legacy_fields`
+    keys (other keys are ignored), in registry order: a law is on where its ``SIZE`` (the mass
+    error, the play's width, the friction level, the damping) is non-zero, as it acted then;
+    its other keys come along. A value that is not a number is an
+    InvalidParameterError naming the key."""
+    keys = legacy_fields()
+    values: dict[str, dict[str, float]] = {}
+    for key, value in entry.items():
+        if key not in keys:
+            continue
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise InvalidParameterError(f"effects.{key} must be a number, got {value!r}")
+        effect, param = keys[key]
+        values.setdefault(effect, {})[param] = float(value)
+    return tuple(
+        (e.name, tuple(values[e.name].items()))
+        for e in arm_laws()
+        if e.name in values and not is_off(e.law, values[e.name])
+    )
 
 
 def applicable(setup: str, inertia_load: bool) -> list[tuple[str, str]]:
