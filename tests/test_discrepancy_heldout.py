@@ -378,3 +378,117 @@ def test_a_bound_is_waived_only_for_a_parameter_at_it() -> None:
     zero = Real.params_at_bounds("coulomb_friction", "shaft", {"f_c_nm": 0.0})
     c = Real.EffectCheck("coulomb_friction", "shaft", False, [f"parameter {b}" for b in zero])
     assert not Real.bound_waived(c).passed
+
+
+# ----------------------------------------------------------------------------- re-test
+
+
+def _retest_case(outside: float) -> tuple[bool, list[str], str]:
+    """The re-test on a stand-in setup: a backlash named, a Coulomb friction of 2 noise RMS
+    left out, and ``outside`` x the noise RMS of a 50 Hz line no library effect takes up."""
+    from types import SimpleNamespace as NS
+
+    from fsarm_sim.discrepancy import selection
+    from fsarm_sim.discrepancy.retest import retest
+
+    rng = np.random.default_rng(4)
+    n, sigma = 6000, 0.01
+    t = np.arange(n) * 1e-3
+    b = 0.3 * np.sin(2 * np.pi * 0.9 * t)  # what the named effect explains
+    c = 2 * sigma * np.sign(np.cos(2 * np.pi * 0.9 * t))
+    y = b + c + outside * sigma * np.sqrt(2) * np.sin(2 * np.pi * 50.0 * t)
+    y = y + sigma * rng.standard_normal(n)
+    teach, held = (t % 1.0) < 0.5, (t % 1.0) >= 0.5
+
+    def fit(yhat: np.ndarray, effect: str | None, k: int) -> NS:
+        r = y - yhat
+        return NS(
+            yhat=yhat,
+            mse_teach=float(np.mean(r[teach] ** 2)),
+            mse_held=float(np.mean(r[held] ** 2)),
+            k=k,
+            label=f"{effect}[shaft]",
+            effect=effect,
+            variant="shaft",
+            note="",
+            model=NS(effect=lambda e, v: NS(params={"f_c_nm": 0.02})),
+        )
+
+    cur = fit(b, "backlash", 3)
+
+    class Stub:
+        noise_var, mse_name, look_alikes = sigma**2, "MSE", selection.LOOK_ALIKES
+
+        def candidates(self, cur_: NS, named: list[str]) -> list[NS]:
+            return (
+                [] if "coulomb_friction" in named else [fit(cur_.yhat + c, "coulomb_friction", 4)]
+            )
+
+        def cost(self, f: NS) -> tuple[float, float, int]:
+            return f.mse_teach, f.mse_held, f.k
+
+        def residual(self, f: NS) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            return y - f.yhat, teach, held
+
+        def gap(self, f: NS) -> float:
+            return 0.0
+
+        def effect_params(self, f: NS) -> dict:
+            return {"f_c_nm": 0.02}
+
+        def accept(self, f: NS) -> NS:
+            return f
+
+        def finish(self, f: NS, named: list[str]) -> NS:
+            return f
+
+        def conclude(self, nom: NS, final: NS, named: list[str]) -> tuple[str, dict]:
+            return "v", {"unexplained": bool(final.mse_held > 2 * sigma**2)}
+
+    ctx = NS(inp=NS(inertia_load=False, y=y, t=t), teach=teach, held=held, sigma_y=sigma)
+    diag = NS(
+        named=["backlash"],
+        extras={"unexplained": True},
+        final=cur,
+        nominal=fit(0 * y, None, 2),
+        steps=[],
+    )
+    done = retest(Stub(), ctx, diag, 4)  # type: ignore[arg-type]
+    return done, diag.named, diag.steps[-1].reason if diag.steps else ""
+
+
+def test_the_retest_names_a_lost_effect_that_explains_what_is_left() -> None:
+    done, named, why = _retest_case(0.0)
+    assert done and named == ["backlash", "coulomb_friction"], why
+
+
+def test_the_retest_names_nothing_when_the_rest_stays_unexplained() -> None:
+    done, named, why = _retest_case(3.0)
+    assert not done and named == ["backlash"]
+    assert "stays unexplained" in why
+
+
+def test_slowly_correlated_noise_is_not_localised_and_a_burst_is(bench_like: tuple) -> None:
+    """AR(1) noise with a 200 ms correlation time on a 10 s record: its 0.25 s windows' energies
+    scatter far beyond white noise's (the robust z alone flags 4 of these 40 records), but no
+    more than phase-randomised copies of it; a 1 s burst of 3 noise RMS on white noise stands
+    out of both."""
+    from scipy.signal import lfilter
+
+    from fsarm_sim.discrepancy.residual_search import Signals, localisation
+
+    t = np.arange(10000) * 1e-3
+    ang = bench_like[1][: t.size]
+    hits = 0
+    for seed in range(40):
+        rng = np.random.default_rng(seed)
+        e = lfilter([1.0], [1.0, -0.995], rng.standard_normal(t.size))
+        r = e / e.std() + 0.5 * rng.standard_normal(t.size)
+        hits += localisation(Signals("tau_s", "N·m", t, r, 15.0 * ang, 0.5, [ang]), 0.25)[
+            "significant"
+        ]
+    assert hits <= 1
+    rng = np.random.default_rng(9)
+    r = rng.standard_normal(t.size) + 3.0 * ((t > 4.0) & (t < 5.0)) * rng.standard_normal(t.size)
+    found = localisation(Signals("tau_s", "N·m", t, r, 15.0 * ang, 1.0, [ang]), 0.25)
+    assert found["significant"] and 3 <= found["windows"] <= 5
