@@ -159,18 +159,19 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument(
         "--set",
-        choices=("dev", "heldout", "round1-heldout"),
+        choices=("dev", "heldout", "round1-heldout", "round2-heldout"),
         default="dev",
-        help="round1-heldout: round 1's held-out kinds (seen since: development now)",
+        help="dev, heldout: round 3's split; round1-heldout, round2-heldout: the held-out kinds "
+        "of rounds 1 and 2 (seen since: development now)",
     )
     ap.add_argument("--per-kind", type=int, default=3)
     ap.add_argument("--only", default="", help="kinds whose name contains this text")
     ap.add_argument(
         "--round",
         type=int,
-        choices=(1, 2),
+        choices=(1, 2, 3),
         default=0,
-        help="only the kinds of this round (1: seen in earlier development; 2: added since)",
+        help="only the kinds of this round (1, 2: seen in earlier development; 3: added since)",
     )
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--out", default="", help="JSON lines, one per record (appended)")
@@ -186,7 +187,7 @@ def main() -> None:
                 r["signature_right"] = signature_right({"findings": r["findings"]}, want)
         print(summarise(rows))
         return
-    rounds = (args.round,) if args.round else (1, 2)
+    rounds = (args.round,) if args.round else (1, 2, 3)
     if args.set == "round1-heldout":
         r1 = gen_bench.split_round1()
         recs = [
@@ -195,6 +196,8 @@ def main() -> None:
             if k.round == 1 and r1[k.name] == "heldout"
             for i in range(args.per_kind)
         ]
+    elif args.set == "round2-heldout":
+        recs = gen_bench.battery("heldout", args.per_kind, rounds=(2,), rnd=2)
     else:
         recs = gen_bench.battery(args.set, args.per_kind, rounds=rounds)
     recs = [r for r in recs if args.only in r.kind.name]

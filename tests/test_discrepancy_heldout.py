@@ -64,29 +64,88 @@ HELDOUT_ROUND2 = {
 }
 
 
+# round 3's held-out kinds, as the seeded split drew them (seed 3028) before any diagnosis ran
+# on them; round 2's held-out kinds above have been evaluated and looked at: development now.
+# Run once at the end of round 3's development (2 records per kind): strict 17/28, unexplained
+# wrongly true 3/12, library effects for an outside cause 2/16, signature 14/16 (CHANGELOG).
+HELDOUT_ROUND3 = {
+    "backlash+sensor_offset",
+    "hysteresis+nonlinear_stiffness",
+    "backlash+coulomb_friction+delay",
+    "nonlinear_stiffness+viscous_damping+sensor_offset",
+    "belt_error",
+    "belt_error+coulomb_friction",
+    "stiffness_drift",
+    "stiffness_drift+delay+sensor_offset",
+    "stiction_burst",
+    "stiction_burst+viscous_damping",
+    "cable_tether",
+    "cable_tether+coulomb_friction+delay",
+    "null_lowpass_quantised",
+    "null_pink_lowpass",
+}
+
+
+def test_round2_split_is_as_it_was() -> None:
+    sp = gen_bench.split(2)
+    assert set(sp) == {k.name for k in gen_bench.KINDS if k.round <= 2}
+    assert {n for n, s in sp.items() if s == "heldout"} == HELDOUT_ROUND2
+    r1 = gen_bench.split_round1()
+    assert sum(s == "heldout" for s in r1.values()) == 18  # round 1's, as it was
+
+
 def test_split_is_fixed_and_covers_every_category() -> None:
     sp = gen_bench.split()
     assert sp == gen_bench.split()
     assert set(sp) == {k.name for k in gen_bench.KINDS}
-    assert {n for n, s in sp.items() if s == "heldout"} == HELDOUT_ROUND2
-    # every kind seen before (round 1, both of its sets) is development now
-    assert all(sp[k.name] == "dev" for k in gen_bench.KINDS if k.round == 1)
+    held_names = {n for n, s in sp.items() if s == "heldout"}
+    assert held_names == HELDOUT_ROUND3
+    # every kind seen before (rounds 1 and 2, both of their sets) is development now
+    assert all(sp[k.name] == "dev" for k in gen_bench.KINDS if k.round < 3)
     held = [k for k in gen_bench.KINDS if sp[k.name] == "heldout"]
     for cat in ("library_multi", "outside", "outside_plus", "null"):
-        assert {sp[k.name] for k in gen_bench.KINDS if k.category == cat and k.round == 2} == {
+        assert {sp[k.name] for k in gen_bench.KINDS if k.category == cat and k.round == 3} == {
             "dev",
             "heldout",
         }, cat
     assert {len(k.library) for k in held if k.category == "library_multi"} == {2, 3}
     assert {len(k.library) for k in held if k.category == "outside_plus"} == {1, 2}
-    # no outside cause of the held-out set appears in development
+    # no outside cause of the held-out set appears in development, of any round
     dev_causes = {k.outside for k in gen_bench.KINDS if sp[k.name] == "dev"}
     assert not dev_causes & {k.outside for k in held if k.outside}
-    new_outside = [k for k in gen_bench.KINDS if k.category == "outside" and k.round == 2]
+    # nor does a held-out multi-effect set appear in development
+    dev_sets = {frozenset(k.library) for k in gen_bench.KINDS if sp[k.name] == "dev"}
+    assert not dev_sets & {frozenset(k.library) for k in held if k.category == "library_multi"}
+    new_outside = [k for k in gen_bench.KINDS if k.category == "outside" and k.round == 3]
     assert len(new_outside) >= 6
+    assert not {k.outside for k in new_outside} & (
+        set(gen_bench.OUTSIDE_ROUND1) | set(gen_bench.OUTSIDE_ROUND2)
+    )
     assert all(k.noise != "white" for k in held if k.category == "null")
-    r1 = gen_bench.split_round1()
-    assert sum(s == "heldout" for s in r1.values()) == 18  # round 1's, as it was
+    # the battery's held-out records are of held-out kinds only
+    names = {r.kind.name for r in gen_bench.battery("heldout", 1, rounds=(3,))}
+    assert names == HELDOUT_ROUND3
+
+
+@pytest.mark.parametrize(
+    "kind", ["stiffness_drift", "clock_drift", "logger_dropouts", "cable_tether", "belt_error"]
+)
+def test_round3_causes_are_well_above_the_noise(kind: str) -> None:
+    """Each new outside cause moves tau_s (against the stated shaft's torque of the recorded
+    angle) by at least twice the noise in RMS; a null by the noise only."""
+    from fsarm_sim.records.measured import stated_shaft
+
+    sh = stated_shaft(gen_bench.DIAMETER_MM, gen_bench.LENGTH_MM)
+    sigma = gen_bench.NOISE * 2 * 0.8 * float(sh.rating_nm)
+
+    def excess(name: str) -> float:
+        rec = gen_bench.make_record(next(k for k in gen_bench.KINDS if k.name == name), 3)
+        th = rec.columns["theta_m"]
+        nom = np.where(th >= 0, float(sh.k_pos) * th, float(sh.k_neg) * th)
+        return float(np.std(rec.columns["tau_s"] - nom)) / sigma
+
+    assert excess(kind) > 2.0
+    assert excess("null_pink_lowpass") == pytest.approx(1.0, abs=0.1)
 
 
 @pytest.mark.parametrize("kind", ["null_pink", "mesh_ripple", "backlash+delay+sensor_offset"])
@@ -323,3 +382,117 @@ def test_a_bound_is_waived_only_for_a_parameter_at_it() -> None:
     zero = Real.params_at_bounds("coulomb_friction", "shaft", {"f_c_nm": 0.0})
     c = Real.EffectCheck("coulomb_friction", "shaft", False, [f"parameter {b}" for b in zero])
     assert not Real.bound_waived(c).passed
+
+
+# ----------------------------------------------------------------------------- re-test
+
+
+def _retest_case(outside: float) -> tuple[bool, list[str], str]:
+    """The re-test on a stand-in setup: a backlash named, a Coulomb friction of 2 noise RMS
+    left out, and ``outside`` x the noise RMS of a 50 Hz line no library effect takes up."""
+    from types import SimpleNamespace as NS
+
+    from fsarm_sim.discrepancy import selection
+    from fsarm_sim.discrepancy.retest import retest
+
+    rng = np.random.default_rng(4)
+    n, sigma = 6000, 0.01
+    t = np.arange(n) * 1e-3
+    b = 0.3 * np.sin(2 * np.pi * 0.9 * t)  # what the named effect explains
+    c = 2 * sigma * np.sign(np.cos(2 * np.pi * 0.9 * t))
+    y = b + c + outside * sigma * np.sqrt(2) * np.sin(2 * np.pi * 50.0 * t)
+    y = y + sigma * rng.standard_normal(n)
+    teach, held = (t % 1.0) < 0.5, (t % 1.0) >= 0.5
+
+    def fit(yhat: np.ndarray, effect: str | None, k: int) -> NS:
+        r = y - yhat
+        return NS(
+            yhat=yhat,
+            mse_teach=float(np.mean(r[teach] ** 2)),
+            mse_held=float(np.mean(r[held] ** 2)),
+            k=k,
+            label=f"{effect}[shaft]",
+            effect=effect,
+            variant="shaft",
+            note="",
+            model=NS(effect=lambda e, v: NS(params={"f_c_nm": 0.02})),
+        )
+
+    cur = fit(b, "backlash", 3)
+
+    class Stub:
+        noise_var, mse_name, look_alikes = sigma**2, "MSE", selection.LOOK_ALIKES
+
+        def candidates(self, cur_: NS, named: list[str]) -> list[NS]:
+            return (
+                [] if "coulomb_friction" in named else [fit(cur_.yhat + c, "coulomb_friction", 4)]
+            )
+
+        def cost(self, f: NS) -> tuple[float, float, int]:
+            return f.mse_teach, f.mse_held, f.k
+
+        def residual(self, f: NS) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            return y - f.yhat, teach, held
+
+        def gap(self, f: NS) -> float:
+            return 0.0
+
+        def effect_params(self, f: NS) -> dict:
+            return {"f_c_nm": 0.02}
+
+        def accept(self, f: NS) -> NS:
+            return f
+
+        def finish(self, f: NS, named: list[str]) -> NS:
+            return f
+
+        def conclude(self, nom: NS, final: NS, named: list[str]) -> tuple[str, dict]:
+            return "v", {"unexplained": bool(final.mse_held > 2 * sigma**2)}
+
+    ctx = NS(inp=NS(inertia_load=False, y=y, t=t), teach=teach, held=held, sigma_y=sigma)
+    diag = NS(
+        named=["backlash"],
+        extras={"unexplained": True},
+        final=cur,
+        nominal=fit(0 * y, None, 2),
+        steps=[],
+    )
+    done = retest(Stub(), ctx, diag, 4)  # type: ignore[arg-type]
+    return done, diag.named, diag.steps[-1].reason if diag.steps else ""
+
+
+def test_the_retest_names_a_lost_effect_that_explains_what_is_left() -> None:
+    done, named, why = _retest_case(0.0)
+    assert done and named == ["backlash", "coulomb_friction"], why
+
+
+def test_the_retest_names_nothing_when_the_rest_stays_unexplained() -> None:
+    done, named, why = _retest_case(3.0)
+    assert not done and named == ["backlash"]
+    assert "stays unexplained" in why
+
+
+def test_slowly_correlated_noise_is_not_localised_and_a_burst_is(bench_like: tuple) -> None:
+    """AR(1) noise with a 200 ms correlation time on a 10 s record: its 0.25 s windows' energies
+    scatter far beyond white noise's (the robust z alone flags 4 of these 40 records), but no
+    more than phase-randomised copies of it; a 1 s burst of 3 noise RMS on white noise stands
+    out of both."""
+    from scipy.signal import lfilter
+
+    from fsarm_sim.discrepancy.residual_search import Signals, localisation
+
+    t = np.arange(10000) * 1e-3
+    ang = bench_like[1][: t.size]
+    hits = 0
+    for seed in range(40):
+        rng = np.random.default_rng(seed)
+        e = lfilter([1.0], [1.0, -0.995], rng.standard_normal(t.size))
+        r = e / e.std() + 0.5 * rng.standard_normal(t.size)
+        hits += localisation(Signals("tau_s", "N·m", t, r, 15.0 * ang, 0.5, [ang]), 0.25)[
+            "significant"
+        ]
+    assert hits <= 1
+    rng = np.random.default_rng(9)
+    r = rng.standard_normal(t.size) + 3.0 * ((t > 4.0) & (t < 5.0)) * rng.standard_normal(t.size)
+    found = localisation(Signals("tau_s", "N·m", t, r, 15.0 * ang, 1.0, [ang]), 0.25)
+    assert found["significant"] and 3 <= found["windows"] <= 5

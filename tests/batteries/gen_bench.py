@@ -68,6 +68,37 @@ Round 2 also adds library combinations (two- and three-effect), outside causes w
 library effects, and four coloured-noise nulls (AR(1) with a 50 ms correlation time, plain or
 quantised; noise through the amplifier's 80 Hz low-pass; 1/f noise on short records); round-2
 records with index 1 (mod 3) carry the low-passed noise.
+
+Round 3 (added after round 2's held-out kinds had been evaluated and looked at - every round-1
+and round-2 kind is development now; :data:`ROUND3_SPLIT_SEED` splits the round-3 kinds, before
+the diagnosis has run on any of them). Eight more outside causes, each well above the noise
+(sizes: estimates, stated per kind):
+
+* ``cogging`` - cogging torque of a direct-drive motor on the shaft input (36 slots, 8 poles:
+  72 cogging periods per rev; period 2 pi / 72 rad of theta_m, with a 2nd harmonic of 0.4),
+  4 x the noise RMS,
+* ``belt_error`` - the periodic transmission error of a toothed belt between the encoder's
+  pulley and the shaft input (30-tooth pulley: period 2 pi / 30 rad of theta_m, with a 2nd
+  harmonic): the recorded angle errs; torque-equivalent 4 x the noise RMS,
+* ``stiffness_drift`` - the shaft's stiffness falling linearly over the record as it warms
+  (what a constant stiffness cannot take up: 4 x the noise RMS; ~1-3 % over a record),
+* ``clock_drift`` - the torque logger's clock running fast against the encoder's: a time
+  shift that grows linearly over the record, zero on average (what a constant delay cannot take
+  up: 4 x the noise RMS),
+* ``stiction_burst`` - a stretch of 2 s in which the shaft input sticks in its bearing
+  (debris): a friction opposing the rate in that stretch only, its RMS over the record 3 x the
+  noise,
+* ``logger_dropouts`` - the logger repeats its last torque sample for 150 ms three times (a
+  buffer overrun) while the torque moves fast,
+* ``cable_tether`` - a sensor cable wrapped round the shaft input that tightens only past a
+  third of the peak angle (a one-sided spring), 4 x the noise RMS,
+* ``fan_vibration`` - a cooling fan's imbalance at 47 Hz (wandering by +/- 0.3 Hz) on the
+  bench frame, 3.5 x the noise RMS.
+
+Round 3 also adds library combinations (two- and three-effect), these causes with one or two
+library effects, and four coloured-noise nulls (AR(2) noise with a broad hump near 10 Hz; the
+80 Hz low-passed noise quantised; AR(1) with a 200 ms correlation time on short records; 1/f
+noise through the 80 Hz low-pass).
 """
 
 from __future__ import annotations
@@ -365,6 +396,69 @@ def encoder_count_loss(b: Bench, u: FloatArray) -> FloatArray:
     return u + np.round(e / qa) * qa
 
 
+def cogging(b: Bench, y: FloatArray) -> FloatArray:
+    return y + _scaled(b, np.sin(72 * b.u + 0.2) + 0.4 * np.sin(144 * b.u + 1.0), 4.0)
+
+
+def belt_error(b: Bench, u: FloatArray) -> FloatArray:
+    """The recorded angle (not the torque): the true input plus the belt's periodic error."""
+    e = np.sin(30 * u + 0.9) + 0.3 * np.sin(60 * u + 2.0)
+    return u + _scaled(b, e, 4.0) / b.k_pos
+
+
+def stiffness_drift(b: Bench, x: FloatArray, y: FloatArray) -> FloatArray:
+    """The nominal torque scaled by a stiffness falling linearly over the record."""
+    dur = float(b.t[-1])
+    nom = b.nominal(x)
+    d = _beyond(-(b.t / dur) * nom, nom)
+    k = 4.0 * NOISE * b.tau_range / float(np.sqrt(np.mean(d * d)))
+    return y - k * (b.t / dur) * nom
+
+
+def clock_shift(b: Bench, y: FloatArray, ts: FloatArray) -> FloatArray:
+    """The time shift (s) at the sample times ``ts`` of a logger clock running fast, zero on
+    average, sized so that what a constant delay cannot take up is 4 x the noise RMS."""
+    dur = float(b.t[-1])
+    ramp = ts / dur - 0.5
+    dy = np.interp(ts, b.t, np.gradient(y, b.h))
+    d = _beyond(ramp * dy, dy)
+    return np.asarray(ramp * 4.0 * NOISE * b.tau_range / float(np.sqrt(np.mean(d * d))))
+
+
+def stiction_burst(b: Bench, x: FloatArray, y: FloatArray) -> FloatArray:
+    dur = float(b.t[-1])
+    t0 = float(b.rng.uniform(0.2 * dur, 0.8 * dur - 2.0))
+    v = _rate(b, x)
+    on = ((b.t >= t0) & (b.t < t0 + 2.0)).astype(np.float64)
+    ramp = np.convolve(on, np.ones(200) / 200, mode="same")  # 20 ms edges
+    d = ramp * np.tanh(v / (0.02 * float(np.max(np.abs(v)))))
+    return y + _scaled(b, d, 3.0)
+
+
+def logger_dropouts(b: Bench, ys: FloatArray, rng: np.random.Generator) -> FloatArray:
+    """On the sampled torque (noise included): three holds of 150 samples where it moves fast."""
+    out = ys.copy()
+    v = np.abs(np.gradient(ys))
+    v = np.convolve(v, np.ones(150) / 150, mode="same")
+    n = ys.size
+    cand = np.flatnonzero(v[: n - 160] > np.quantile(v[: n - 160], 0.8))
+    for i in np.sort(rng.choice(cand, 3, replace=False)):
+        out[i : i + 150] = out[i]
+    return out
+
+
+def cable_tether(b: Bench, y: FloatArray) -> FloatArray:
+    th0 = (1 if b.rng.random() < 0.5 else -1) * b.x_ref / 3
+    d = np.maximum((b.u - th0) * np.sign(th0), 0.0) * np.sign(th0)
+    return y + _scaled(b, d, 4.0)
+
+
+def fan_vibration(b: Bench, y: FloatArray) -> FloatArray:
+    f = 47.0 + 0.3 * np.sin(2 * np.pi * 0.05 * b.t + float(b.rng.uniform(0, 6.3)))
+    ph = 2 * np.pi * np.cumsum(f) * b.h
+    return y + _scaled(b, np.sin(ph), 3.5)
+
+
 # name -> (law, what a right residual signature names: (quantity, value) )
 OUTSIDE: dict[str, tuple[Callable[..., FloatArray], dict[str, Any]]] = {
     "mesh_ripple": (mesh_ripple, {"periodic_in": "theta_m", "period_rad": 2 * np.pi / 24}),
@@ -389,8 +483,19 @@ OUTSIDE_ROUND2: dict[str, tuple[Callable[..., FloatArray], dict[str, Any]]] = {
     "offset_cycle": (offset_cycle, {"trend": "offset"}),
     "table_knock": (table_knock, {"localized": True, "line_hz": 18.0}),
 }
+OUTSIDE_ROUND3: dict[str, tuple[Callable[..., FloatArray], dict[str, Any]]] = {
+    "cogging": (cogging, {"periodic_in": "theta_m", "period_rad": 2 * np.pi / 72}),
+    "belt_error": (lambda b, y: y, {"periodic_in": "theta_m", "period_rad": 2 * np.pi / 30}),
+    "stiffness_drift": (lambda b, y: y, {"trend": "gain"}),
+    "clock_drift": (lambda b, y: y, {"signal": "twist rate"}),
+    "stiction_burst": (lambda b, y: y, {"localized": True}),
+    "logger_dropouts": (lambda b, y: y, {"localized": True}),
+    "cable_tether": (cable_tether, {"signal": ["twist", "|twist|", "model output"]}),
+    "fan_vibration": (fan_vibration, {"line_hz": 47.0}),
+}
 OUTSIDE_ROUND1 = tuple(OUTSIDE)
 OUTSIDE.update(OUTSIDE_ROUND2)
+OUTSIDE.update(OUTSIDE_ROUND3)
 TWIST_LAWS = ("twist_ripple", "quadratic_drag")
 TWIST_RIPPLE_PERIOD = 0.1  # x the peak twist
 
@@ -423,7 +528,7 @@ class Kind:
     outside: str | None = None
     noise: str = "white"  # "white" | "ar1" | "pink" | "ar1_slow" | "lowpass"
     quantised: bool = False  # tau_s through a 12-bit ADC
-    round: int = 1  # 1: seen during earlier development; 2: added afterwards (see split)
+    round: int = 1  # 1: seen during earlier development; 2, 3: added afterwards (see split)
     short: bool = False  # every record 10 s
 
     @property
@@ -462,7 +567,7 @@ def _kinds() -> list[Kind]:
         Kind("null_ar1_quantised", "null", noise="ar1", quantised=True),
         Kind("null_pink_quantised", "null", noise="pink", quantised=True),
     ]
-    return out + _round2()
+    return out + _later_rounds()
 
 
 # Round 2: groups of two kinds of the same category and size; the split sends one of each
@@ -505,33 +610,76 @@ ROUND2_NULLS = (
 ROUND2_SPLIT_SEED = 2835
 
 
-def _round2_groups() -> list[tuple[list[Kind], list[Kind]]]:
-    """Each group: two alternatives, each a list of kinds that go to the same set."""
+# Round 3: groups as in round 2 (one alternative of each to development, the other held out).
+ROUND3_MULTI = (
+    (("backlash", "sensor_offset"), ("coulomb_friction", "delay")),
+    (("hysteresis", "nonlinear_stiffness"), ("backlash", "delay")),
+    (
+        ("backlash", "coulomb_friction", "delay"),
+        ("hysteresis", "coulomb_friction", "sensor_offset"),
+    ),
+    (
+        ("nonlinear_stiffness", "viscous_damping", "sensor_offset"),
+        ("backlash", "hysteresis", "delay"),
+    ),
+)
+ROUND3_OUTSIDE = (
+    (("cogging", ("backlash",)), ("belt_error", ("coulomb_friction",))),
+    (
+        ("stiffness_drift", ("delay", "sensor_offset")),
+        ("clock_drift", ("hysteresis", "sensor_offset")),
+    ),
+    (("stiction_burst", ("viscous_damping",)), ("logger_dropouts", ("nonlinear_stiffness",))),
+    (
+        ("cable_tether", ("coulomb_friction", "delay")),
+        ("fan_vibration", ("backlash", "viscous_damping")),
+    ),
+)
+ROUND3_NULLS = (
+    (
+        Kind("null_ar2_hump", "null", noise="ar2_hump", round=3),
+        Kind("null_lowpass_quantised", "null", noise="lowpass", quantised=True, round=3),
+    ),
+    (
+        Kind("null_ar1_veryslow_short", "null", noise="ar1_veryslow", round=3, short=True),
+        Kind("null_pink_lowpass", "null", noise="pink_lowpass", round=3),
+    ),
+)
+ROUND3_SPLIT_SEED = 3028
+
+
+def _groups(rnd: int) -> list[tuple[list[Kind], list[Kind]]]:
+    """Each group of round ``rnd`` (2 or 3): two alternatives, each a list of kinds that go to
+    the same set."""
+    multi, outside, nulls = {
+        2: (ROUND2_MULTI, ROUND2_OUTSIDE, ROUND2_NULLS),
+        3: (ROUND3_MULTI, ROUND3_OUTSIDE, ROUND3_NULLS),
+    }[rnd]
     groups: list[tuple[list[Kind], list[Kind]]] = []
-    for a, b in ROUND2_MULTI:
+    for a, b in multi:
         groups.append(
             (
-                [Kind("+".join(a), "library_multi", a, round=2)],
-                [Kind("+".join(b), "library_multi", b, round=2)],
+                [Kind("+".join(a), "library_multi", a, round=rnd)],
+                [Kind("+".join(b), "library_multi", b, round=rnd)],
             )
         )
-    for pair in ROUND2_OUTSIDE:
+    for pair in outside:
         alts = []
         for o, lib in pair:
             alts.append(
                 [
-                    Kind(o, "outside", (), o, round=2),
-                    Kind("+".join((o, *lib)), "outside_plus", lib, o, round=2),
+                    Kind(o, "outside", (), o, round=rnd),
+                    Kind("+".join((o, *lib)), "outside_plus", lib, o, round=rnd),
                 ]
             )
         groups.append((alts[0], alts[1]))
-    for na, nb in ROUND2_NULLS:
+    for na, nb in nulls:
         groups.append(([na], [nb]))
     return groups
 
 
-def _round2() -> list[Kind]:
-    return [k for g in _round2_groups() for alt in g for k in alt]
+def _later_rounds() -> list[Kind]:
+    return [k for r in (2, 3) for g in _groups(r) for alt in g for k in alt]
 
 
 KINDS: tuple[Kind, ...] = tuple(_kinds())
@@ -552,14 +700,18 @@ def split_round1(seed: int = SPLIT_SEED) -> dict[str, str]:
     return out
 
 
-def split(seed: int = ROUND2_SPLIT_SEED) -> dict[str, str]:
-    """kind name -> "dev" | "heldout": every round-1 kind development; of each round-2 group
-    (two multi-effect kinds of one size, two outside causes with their outside_plus kinds, two
-    nulls) one alternative by a fixed-seed coin to each set. Fixed before any tuning on round 2
-    (issue 28; tests/test_discrepancy_heldout.py records the held-out names)."""
-    out = {k.name: "dev" for k in KINDS if k.round == 1}
+def split(rnd: int = 3) -> dict[str, str]:
+    """kind name -> "dev" | "heldout" for the kinds up to round ``rnd``: every kind of an
+    earlier round development; of each group of round ``rnd`` (two multi-effect kinds of one
+    size, two outside causes with their outside_plus kinds, two nulls) one alternative by a
+    fixed-seed coin to each set. Round 2's split (``rnd=2``, seed
+    :data:`ROUND2_SPLIT_SEED`) and round 3's (seed :data:`ROUND3_SPLIT_SEED`) were each fixed
+    before any tuning on that round (issue 28; tests/test_discrepancy_heldout.py records the
+    held-out names)."""
+    seed = {2: ROUND2_SPLIT_SEED, 3: ROUND3_SPLIT_SEED}[rnd]
+    out = {k.name: "dev" for k in KINDS if k.round < rnd}
     rng = np.random.default_rng(seed)
-    for a, b in _round2_groups():
+    for a, b in _groups(rnd):
         held, dev = (a, b) if rng.random() < 0.5 else (b, a)
         out.update({k.name: "heldout" for k in held})
         out.update({k.name: "dev" for k in dev})
@@ -594,6 +746,16 @@ def _noise(kind: str, n: int, rng: np.random.Generator, fs: float) -> FloatArray
     elif kind == "lowpass":  # through the amplifier's 80 Hz 2nd-order low-pass, 30 % white
         w = sosfiltfilt(butter(2, 80.0, fs=fs, output="sos"), rng.standard_normal(n))
         e = w / np.std(w) + 0.3 * rng.standard_normal(n)
+    elif kind == "ar2_hump":  # AR(2), poles at radius 0.95 near 10 Hz: a broad hump
+        r, w = 0.95, 2 * np.pi * 10.0 / fs
+        e = lfilter([1.0], [1.0, -2 * r * math.cos(w), r * r], rng.standard_normal(n))
+    elif kind == "ar1_veryslow":  # phi = 0.995 at 1 kHz: correlation time ~200 ms
+        e = lfilter([1.0], [1.0, -0.995], rng.standard_normal(n))
+        e = e / np.std(e) + 0.5 * rng.standard_normal(n)
+    elif kind == "pink_lowpass":  # 1/f noise through the 80 Hz low-pass, 30 % white
+        p = _noise("pink", n, rng, fs)
+        w = sosfiltfilt(butter(2, 80.0, fs=fs, output="sos"), p)
+        e = w / np.std(w) + 0.3 * rng.standard_normal(n)
     else:
         raise ValueError(f"unknown noise {kind!r}")
     return np.asarray(e / np.std(e), dtype=np.float64)
@@ -610,7 +772,7 @@ def make_record(kind: Kind, index: int, seed: int = 0) -> Record:
     noise = kind.noise
     if kind.category != "null" and index % 3 == 2:
         noise = "ar1"  # coloured noise in every category
-    if kind.category != "null" and kind.round == 2 and index % 3 == 1:
+    if kind.category != "null" and kind.round >= 2 and index % 3 == 1:
         noise = "lowpass"
     quant = kind.quantised or (kind.category != "null" and index % 5 == 4)
     over = 10
@@ -643,6 +805,12 @@ def make_record(kind: Kind, index: int, seed: int = 0) -> Record:
             recorded_u = u + err
         elif kind.outside == "encoder_count_loss":
             recorded_u = encoder_count_loss(b, u)
+        elif kind.outside == "belt_error":
+            recorded_u = belt_error(b, u)
+        elif kind.outside == "stiffness_drift":
+            y = stiffness_drift(b, x, y)
+        elif kind.outside == "stiction_burst":
+            y = stiction_burst(b, x, y)
         elif kind.outside in TWIST_LAWS:
             y = law(b, y, x)
         else:
@@ -651,9 +819,12 @@ def make_record(kind: Kind, index: int, seed: int = 0) -> Record:
     # sample at RATE_HZ; the torque channel delayed
     idx = np.arange(0, t.size, over)
     ts = t[idx]
-    y_s = np.interp(ts - delay, t, y) if delay else y[idx]
+    shift = clock_shift(b, y, ts) if kind.outside == "clock_drift" else 0.0
+    y_s = np.interp(ts + shift - delay, t, y) if delay or kind.outside == "clock_drift" else y[idx]
     sigma = NOISE * b.tau_range
     y_s = y_s + sigma * _noise(noise, ts.size, rng, RATE_HZ)
+    if kind.outside == "logger_dropouts":
+        y_s = logger_dropouts(b, y_s, rng)
     if quant:
         q = 2.5 * tau_peak / 2**ADC_BITS
         y_s = np.round(y_s / q) * q
@@ -702,14 +873,14 @@ def write_record(rec: Record, folder: Path) -> Path:
 
 
 def battery(
-    which: str, per_kind: int, seed: int = 0, rounds: tuple[int, ...] = (1, 2)
+    which: str, per_kind: int, seed: int = 0, rounds: tuple[int, ...] = (1, 2, 3), rnd: int = 3
 ) -> list[Record]:
-    """``per_kind`` records of every kind of the ``which`` set ("dev" | "heldout") and of the
-    given rounds."""
-    sp = split()
+    """``per_kind`` records of every kind of the ``which`` set ("dev" | "heldout") of round
+    ``rnd``'s split and of the given rounds."""
+    sp = split(rnd)
     return [
         make_record(k, i, seed)
         for k in KINDS
-        if sp[k.name] == which and k.round in rounds
+        if sp.get(k.name) == which and k.round in rounds
         for i in range(per_kind)
     ]

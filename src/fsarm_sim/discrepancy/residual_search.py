@@ -32,7 +32,8 @@ found with numbers, and each is judged against what noise of the record's own co
   (flat or rising: 1/f noise is not a drift), times :data:`SLOW_MARGIN`; chi-square at the
   search's share of :data:`ALPHA` (:func:`slow_offset`).
 * **localisation in time** - windows of :data:`.unexplained.WINDOW_S` s whose energy stands out
-  of the windows' robust spread by more than :data:`LOCAL_Z` (sparse events, stretches).
+  of the windows' robust spread by more than :data:`LOCAL_Z` (sparse events, stretches) and
+  more than in any of :data:`LOCAL_SURROGATES` phase-randomised copies of the residual.
 * **saturation** - the residual against the model's output beyond a level ``c``: a hinge
   ``sign(yhat) max(|yhat| - c, 0)`` with a negative slope (the measured output stops growing
   where the model's goes on), F test at :data:`ALPHA`.
@@ -69,11 +70,13 @@ ANGLE_BINS = 1024
 MIN_CYCLES = 2.0
 MAX_CYCLES_PER_BIN = 0.25  # a period spans at least 4 bins
 LOCAL_Z = 12.0
+LOCAL_SURROGATES = 19  # a localisation beyond all of them: p < 1/20 against the record's colour
 SLOW_HZ = 0.1  # the slow basis reaches about this frequency (Legendre degree 2 T SLOW_HZ)
 SLOW_DEG = (2, 8)
 SLOW_REF_HZ = (0.5, 5.0)  # the band whose noise level is extrapolated to the slow basis
 SLOW_MARGIN = 6.0  # the extrapolation scatters: 1/f noise on 10 s records reaches ~5 x (dev nulls)
 MIN_STRUCT = 0.5  # noise variances a significant finding must explain for "unexplained"
+MIN_SHARE_STRUCT = 0.05  # ... and this share of the residual variance (the signature's headline)
 GENERIC_WEIGHT = 0.5
 GENERIC = ("signal", "localized")
 N_SURROGATES = 30
@@ -421,18 +424,42 @@ def slow_offset(s: Signals) -> dict[str, Any]:
     }
 
 
+def _window_z(r: FloatArray, w: int) -> tuple[FloatArray, FloatArray]:
+    """Each window's mean square and its robust z against the windows' median and MAD."""
+    nw = r.size // w
+    e = np.mean((r[: nw * w] ** 2).reshape(nw, w), axis=1)
+    med = float(np.median(e))
+    mad = 1.4826 * float(np.median(np.abs(e - med))) or med or 1e-300
+    return e, (e - med) / mad
+
+
+def _surrogate_max_z(r: FloatArray, w: int, n: int = LOCAL_SURROGATES) -> float:
+    """The largest window z of ``n`` phase-randomised copies of ``r`` (its spectrum, its colour
+    kept; any localisation in time spread out), seeded by the record's length (reproducible)."""
+    spec = np.fft.rfft(r)
+    rng = np.random.default_rng(r.size)
+    top = 0.0
+    for _ in range(n):
+        ph = np.exp(2j * np.pi * rng.random(spec.size))
+        ph[0] = 1.0
+        sur = np.fft.irfft(spec * ph, r.size)
+        top = max(top, float(_window_z(sur, w)[1].max()))
+    return top
+
+
 def localisation(s: Signals, window_s: float) -> dict[str, Any]:
-    """Windows whose energy stands out of the windows' robust spread (events, stretches)."""
+    """Windows whose energy stands out of the windows' robust spread (events, stretches) by
+    more than :data:`LOCAL_Z` *and* by more than any of :data:`LOCAL_SURROGATES`
+    phase-randomised copies of the residual (noise of the record's own colour: the window
+    energies of slowly correlated noise scatter far more than white noise's)."""
     r = s.residual
     h = float(s.t[1] - s.t[0])
     w = max(1, int(window_s / h))
     nw = r.size // w
     if nw < 8:
         return {"kind": "localized", "significant": False, "explained_var": 0.0, "text": ""}
-    e = np.mean((r[: nw * w] ** 2).reshape(nw, w), axis=1)
+    e, z = _window_z(r, w)
     med = float(np.median(e))
-    mad = 1.4826 * float(np.median(np.abs(e - med))) or med or 1e-300
-    z = (e - med) / mad
     hot = z > LOCAL_Z
     excess = float(np.sum(e[hot] - med) * w / r.size)
     starts = np.flatnonzero(hot)
@@ -441,14 +468,17 @@ def localisation(s: Signals, window_s: float) -> dict[str, Any]:
         {"t_start_s": t0 + float(i * w * h), "t_end_s": t0 + float((i + 1) * w * h)}
         for i in starts[:10]
     ]
+    sig = bool(hot.any() and hot.mean() < 0.3)
+    z_sur = _surrogate_max_z(r, w) if sig else math.nan
     return {
         "kind": "localized",
         "windows": int(hot.sum()),
         "of_windows": int(nw),
         "max_z": float(z.max()),
+        "max_z_surrogates": z_sur,
         "events": events,
         "explained_var": excess,
-        "significant": bool(hot.any() and hot.mean() < 0.3),
+        "significant": sig and float(z.max()) > z_sur,
         "text": f"the residual of {s.channel} concentrates in {int(hot.sum())} of {nw} "
         f"{window_s:g} s windows"
         + (f" (first at {events[0]['t_start_s']:.3g} s)" if events else ""),
@@ -537,6 +567,13 @@ def findings(
     return allf
 
 
-def structured(found: list[dict[str, Any]], sigma: float) -> bool:
-    """Does a significant finding explain at least MIN_STRUCT noise variances?"""
-    return any(f["significant"] and f["explained_var"] >= MIN_STRUCT * sigma * sigma for f in found)
+def structured(found: list[dict[str, Any]], sigma: float, var: float = 0.0) -> bool:
+    """Does a significant finding explain at least MIN_STRUCT noise variances (and, given the
+    residual's variance ``var``, at least :data:`MIN_SHARE_STRUCT` of it: a finding the
+    signature would name, not a sliver of coloured noise above a white-noise floor)?"""
+    return any(
+        f["significant"]
+        and f["explained_var"] >= MIN_STRUCT * sigma * sigma
+        and f["explained_var"] >= MIN_SHARE_STRUCT * var
+        for f in found
+    )

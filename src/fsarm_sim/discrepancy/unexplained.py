@@ -344,7 +344,7 @@ def characterise(s: Signals) -> dict[str, Any]:
         "findings": [
             {k: v for k, v in f.items() if k not in ("bin_centres", "bin_means")} for f in found
         ],
-        "structured": residual_search.structured(found, s.sigma),
+        "structured": residual_search.structured(found, s.sigma, var),
         "method": "spectral lines: Hann periodogram vs its 101-bin running median (> "
         f"{LINE_POWER:g} x), amplitude by least squares at the refined frequency; trends: least "
         "squares on time (offset) and time x model output (gain), standard errors inflated by the "
