@@ -9,8 +9,8 @@
   negligible"), the law's friction state advanced with the tendon's sliding (the sum of the
   motor's and the joint's steps, solved together). One full cycle after a warm-up stroke is
   recorded, eq. 19 is fitted per direction over the moving phases (phases C/F, the joint
-  static, belong to neither), and the gap between the two curves at theta_2 = 0 (M(R.C.) - M(R.A.)) and the fits' maximal errors
-  are compared; Table 1 at bend pi (the text), Table 2 at 0.06 rad/s (``DEFAULT_SPEED``).
+  static, belong to neither), and the gap between the two curves at theta_2 = 0
+  (M(R.C.) - M(R.A.)) and the fits' maximal errors are compared; Table 1 at bend pi (the text), Table 2 at 0.06 rad/s (``DEFAULT_SPEED``).
 * Bandwidth (Sec. V-C): joint-3 torque on the held arm with the tendon-sheath transmission, which
   runs seed 004's dual-encoder position loop (``controllers/tendon_sheath_compliance.py``; the
   controller's stiffness fixed at the straight value), its sheath's own bend set to pi/2, pi,
