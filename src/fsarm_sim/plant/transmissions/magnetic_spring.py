@@ -64,6 +64,7 @@ import math
 
 import numpy as np
 
+from fsarm_sim.plant.roots import bisect
 from fsarm_sim.plant.transmissions.base import (
     Bounds,
     FloatArray,
@@ -367,13 +368,7 @@ def stable_range_rad(d: float, tr: FloatArray | None = None) -> float:
             hi = float(x)
             break
         lo, k_prev = float(x), k
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if _shape_slope(t, mid) > 0.0:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+    return bisect(lambda x: _shape_slope(t, x) > 0.0, lo, hi)
 
 
 def max_torque_nm(d: float, tr: FloatArray | None = None) -> float:
@@ -398,14 +393,7 @@ def linear_range_rad(
     lo = float(xs[0])
     for x in xs[1:]:
         if dev(float(x)) > 0.0:
-            hi = float(x)
-            for _ in range(200):
-                mid = 0.5 * (lo + hi)
-                if dev(mid) > 0.0:
-                    hi = mid
-                else:
-                    lo = mid
-            return 0.5 * (lo + hi)
+            return bisect(lambda m: not dev(m) > 0.0, lo, float(x))
         lo = float(x)
     return 0.5 * PERIOD_RAD
 
@@ -422,14 +410,7 @@ def safe_range_rad(d: float, torque_fraction: float = 0.9, tr: FloatArray | None
     t = _block_at(d, tr)
     x_max = stable_range_rad(d, t)
     target = torque_fraction * _shape(t, x_max)
-    lo, hi = 0.0, x_max
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if _shape(t, mid) >= target:
-            hi = mid
-        else:
-            lo = mid
-    return 0.5 * (lo + hi)
+    return bisect(lambda x: not _shape(t, x) >= target, 0.0, x_max)
 
 
 def scale_for_torque(torque_nm: float, d: float = 0.0, within: str = "linear") -> float:

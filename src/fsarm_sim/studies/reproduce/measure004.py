@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import brentq
 
+from fsarm_sim.plant.roots import bisect
 from fsarm_sim.studies.reproduce.claims import Context, Measured, MeasureFn
 
 LOAD_KG = 1.0  # Sec. III: "The joint is connected to a load of 1 kg"
@@ -94,16 +95,14 @@ def _solve_twist(residual: Callable[[float], float], x: float) -> float:
 def _start_twist(ts: Any, block: Any, load_nm: float) -> float:
     """The tendon's stretch (as twist) that holds ``load_nm`` with the friction relaxed (z = 0),
     by bisection."""
-    lo0, hi0 = 0.0, 1.0
-    while float(ts.sensor_torque_nm(block, hi0, 0.0)) < load_nm:
-        hi0 *= 2.0
-    for _ in range(60):
-        mid0 = 0.5 * (lo0 + hi0)
-        if float(ts.sensor_torque_nm(block, mid0, 0.0)) < load_nm:
-            lo0 = mid0
-        else:
-            hi0 = mid0
-    return 0.5 * (lo0 + hi0)
+
+    def below(x: float) -> bool:
+        return float(ts.sensor_torque_nm(block, x, 0.0)) < load_nm
+
+    hi = 1.0
+    while below(hi):
+        hi *= 2.0
+    return bisect(below, 0.0, hi, 60)
 
 
 def _fit_eq19(
