@@ -104,7 +104,8 @@ def _spring_params(sh: ShaftParams, src: str) -> tuple[Param, ...]:
 
 
 def _slip_params(sh: ShaftParams, src: str) -> tuple[Param, ...]:
-    """The Maxwell-slip elements and their bend and side scaling."""
+    """The Maxwell-slip elements, their bend and side scaling, and their apparent stiffness in
+    seed 000's series test."""
     return (
         *(
             Param(
@@ -141,12 +142,6 @@ def _slip_params(sh: ShaftParams, src: str) -> tuple[Param, ...]:
             f"capstan-like growth of the slip torques with |phi_B| (effects.bend_friction); {src}",
             non_negative("a friction coefficient: >= 0 (0: no growth with the bend)"),
         ),
-    )
-
-
-def _apparent_params(sh: ShaftParams, src: str) -> tuple[Param, ...]:
-    """The slip elements' apparent stiffness in seed 000's series test."""
-    return (
         *(
             Param(
                 f"slip_app_{name}",
@@ -171,7 +166,7 @@ def _apparent_params(sh: ShaftParams, src: str) -> tuple[Param, ...]:
 def _params() -> tuple[Param, ...]:
     sh = load_catalogue().shaft()
     src = f"catalogue default shaft {sh.diameter_mm:g} x {sh.length_mm:g} mm (estimates)"
-    return (*_spring_params(sh, src), *_slip_params(sh, src), *_apparent_params(sh, src))
+    return (*_spring_params(sh, src), *_slip_params(sh, src))
 
 
 PARAMS = _params()
