@@ -46,18 +46,30 @@ from fsarm_sim.studies.reproduce.measure002_design import (
 
 
 def clamped_link_test(
-    sigma_deg: float, speeds_deg_s: tuple[float, ...] = SPEEDS_DEG_S, seed: int = 0
+    sigma_deg: float,
+    speeds_deg_s: tuple[float, ...] = SPEEDS_DEG_S,
+    seed: int = 0,
+    *,
+    amp_fraction: float = 0.9,
+    cycles: int = 2,
+    presliding_rad: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Sec. V on our law: returns time, deflection, torque, speed label per sample, true block."""
+    """Sec. V on our law: the link clamped, the motor driving ``cycles`` rectangular velocity
+    cycles of ``amp_fraction`` sigma at each speed (the Table IV row at ``sigma_deg``, the Dahl
+    state integrated with explicit 1 ms steps; noise on the torque sensor and the encoders).
+    Returns time, deflection, torque, speed label per sample, true block."""
     tr, qa = qa_law()
-    block = tr.block(qa.table_iv_overrides(sigma_deg))
+    overrides = qa.table_iv_overrides(sigma_deg)
+    if presliding_rad is not None:
+        overrides["presliding_rad"] = presliding_rad
+    block = tr.block(overrides)
     sigma = sigma_deg * DEG
-    amp = 0.9 * sigma
+    amp = amp_fraction * sigma
     act = np.array([sigma, 0.0, 0.0])
     t, x = 0.0, 0.0
     ts, xs, taus, labels = [], [], [], []
     for speed in speeds_deg_s:
-        for _ in range(2):
+        for _ in range(cycles):
             for target in (amp, -amp):
                 d = 1.0 if target > x else -1.0
                 while (target - x) * d > 0.0:
