@@ -58,6 +58,19 @@ def free_oscillation_energies(
     return out
 
 
+def make_jitable(module: Any) -> None:
+    """Register a law module's functions with numba (as the native backend does), so a test's
+    ``numba.njit`` function may call them."""
+    import inspect
+
+    from numba.extending import register_jitable
+
+    for _, fn in inspect.getmembers(module, inspect.isfunction):
+        if fn.__module__ == module.__name__ and not getattr(fn, "_fsarm_jitable", False):
+            register_jitable(error_model="numpy", _nrt=False)(fn)
+            fn._fsarm_jitable = True
+
+
 class FailingStdout(io.StringIO):
     """A standard output whose every write fails with OSError ``code`` (a full or closed
     device)."""
