@@ -123,7 +123,8 @@ def _identification(ctx: Context) -> list[dict[str, Any]]:
     return ctx.once("002/identification", run)
 
 
-def _rel_errors(ctx: Context, idx: tuple[int, int]) -> tuple[float, list[dict[str, Any]]]:
+def _identified(ctx: Context, idx: tuple[int, int], names: str, note: str = "") -> Measured:
+    """The largest relative error of the fitted coefficients ``idx`` over the presets."""
     worst = 0.0
     rows = []
     for r in _identification(ctx):
@@ -131,26 +132,21 @@ def _rel_errors(ctx: Context, idx: tuple[int, int]) -> tuple[float, list[dict[st
             e = abs(r["fit"][i] / r["true"][i] - 1.0)
             worst = max(worst, e)
         rows.append({"sigma_deg": r["sigma_deg"], "table_iv": r["true"], "fitted": r["fit"]})
-    return worst, rows
+    return Measured(
+        ours=worst,
+        text=f"largest |fit/Table IV − 1| of {names}: {100 * worst:.2f} %",
+        details={"rows": rows},
+        note=note,
+    )
 
 
 def identify_stiffness(ctx: Context) -> Measured:
-    worst, rows = _rel_errors(ctx, (0, 1))
-    return Measured(
-        ours=worst,
-        text=f"largest |fit/Table IV − 1| of a_S, b_S: {100 * worst:.2f} %",
-        details={"rows": rows},
-        note="clamped-link test on our law with torque (0.02 N·m) and encoder noise",
-    )
+    note = "clamped-link test on our law with torque (0.02 N·m) and encoder noise"
+    return _identified(ctx, (0, 1), "a_S, b_S", note)
 
 
 def identify_friction(ctx: Context) -> Measured:
-    worst, rows = _rel_errors(ctx, (2, 3))
-    return Measured(
-        ours=worst,
-        text=f"largest |fit/Table IV − 1| of a_F, b_F: {100 * worst:.2f} %",
-        details={"rows": rows},
-    )
+    return _identified(ctx, (2, 3), "a_F, b_F")
 
 
 def friction_velocity(ctx: Context) -> Measured:
