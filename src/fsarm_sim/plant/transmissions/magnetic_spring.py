@@ -91,12 +91,9 @@ CONSERVATIVE: dict[str, float] = {"z": 0.0, "tau_fr": 0.0}
 ROUTED_OVER_JOINT2 = False
 
 DEG = math.pi / 180.0
-STABLE_RANGE_DEG = 31.5  # Sec. 7.1 / Fig. 17, at d = 0
-LINEAR_RANGE_DEG = 19.7  # Sec. 7.1 / Fig. 17, at d = 0
 LINEAR_TOLERANCE = 0.05  # Sec. 3: "differs from the linearised one no more than 5 %"
 PERIOD_RAD = 2.0 * math.pi / 3.0  # eq. 1: 120 deg (three stable equilibria, Sec. 6.1)
 DATA_RANGE_DEG = 41.0  # Sec. 6.1 experiment A: -41..41 deg from the stable equilibrium
-PEAK_TORQUE_ESTIMATE_NM = 1.0  # estimate, see the module docstring
 
 # parameter-block indices
 I_D, I_B1, I_B2, I_B3, I_A1, I_A2, I_A3, I_A4 = 0, 1, 2, 3, 4, 5, 6, 7
