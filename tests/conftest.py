@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+import itertools
 import os
 
 os.environ.setdefault("MUJOCO_GL", "disable")
@@ -56,6 +57,43 @@ def free_oscillation_energies(
         v += dt * (k1v + 2 * k2v + 2 * k3v + k4v) / 6
         out.append(0.5 * j * v * v + law.potential_j(tr, x, 0.0, act, 0))
     return out
+
+
+def check_free_oscillation(
+    law: Any,
+    blocks: tuple[np.ndarray, np.ndarray],
+    act: np.ndarray,
+    run: tuple[float, float, float, int],
+    *,
+    drift: float,
+    rise: float,
+    final: float,
+) -> None:
+    """The free oscillation of :func:`free_oscillation_energies` (``run`` = inertia, start
+    twist, step, steps) keeps its energy within ``drift`` (relative) on ``blocks[0]`` (no
+    damping), and on ``blocks[1]`` (damped) never gains more than ``rise`` J a step and ends
+    below ``final`` of the start."""
+    free_tr, damped_tr = blocks
+    j, x0, dt, steps = run
+    e0 = law.potential_j(damped_tr, x0, 0.0, act, 0)
+    free = free_oscillation_energies(law, free_tr, act, j, x0, dt, steps)
+    assert max(abs(e - e0) for e in free) < drift * e0
+    damped = free_oscillation_energies(law, damped_tr, act, j, x0, dt, steps)
+    assert all(b <= a + rise for a, b in itertools.pairwise(damped))
+    assert damped[-1] < final * e0
+
+
+def make_jitable(module: Any) -> None:
+    """Register a law module's functions with numba (as the native backend does), so a test's
+    ``numba.njit`` function may call them."""
+    import inspect
+
+    from numba.extending import register_jitable
+
+    for _, fn in inspect.getmembers(module, inspect.isfunction):
+        if fn.__module__ == module.__name__ and not getattr(fn, "_fsarm_jitable", False):
+            register_jitable(error_model="numpy", _nrt=False)(fn)
+            fn._fsarm_jitable = True
 
 
 class FailingStdout(io.StringIO):

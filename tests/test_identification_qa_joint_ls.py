@@ -10,12 +10,12 @@ import pytest
 from fsarm_sim.plant.transmissions import qa_joint as qa
 from fsarm_sim.plant.transmissions.base import Transmission
 from fsarm_sim.studies.identification import qa_joint_ls as ls
+from fsarm_sim.studies.reproduce import measure002
 
 TR = Transmission("qa-joint", 2, qa)
 DEG = math.pi / 180.0
 DT = 1e-3
-TORQUE_NOISE_NM = 0.02  # estimate: a link-side torque sensor's noise
-ENCODER_NOISE_RAD = 1e-5
+TORQUE_NOISE_NM = measure002.TORQUE_NOISE_NM
 
 
 def clamped_link_test(
@@ -33,33 +33,15 @@ def clamped_link_test(
     integrated with explicit 1 ms steps; noise on the torque sensor and the encoders.
     Returns (time, deflection, torque, true block).
     """
-    overrides = qa.table_iv_overrides(sigma_deg)
-    if presliding_rad is not None:
-        overrides["presliding_rad"] = presliding_rad
-    tr = TR.block(overrides)
-    sigma = sigma_deg * DEG
-    amp = amp_fraction * sigma
-    act = np.array([sigma, 0.0, 0.0])
-    t, x = 0.0, 0.0
-    ts, xs, taus = [], [], []
-    for speed in speeds_deg_s:
-        for _ in range(cycles):
-            for target in (amp, -amp):
-                d = 1.0 if target > x else -1.0
-                while (target - x) * d > 0.0:
-                    xdot = d * speed * DEG
-                    ts.append(t)
-                    xs.append(x)
-                    taus.append(qa.torque_nm(tr, x, xdot, 0.0, act, 0))
-                    act[1] += DT * qa.state_rate(tr, x, xdot, 0.0, act, 0, 1)
-                    act[1] = min(1.0, max(-1.0, act[1]))
-                    x += xdot * DT
-                    t += DT
-    rng = np.random.default_rng(seed)
-    n = len(ts)
-    deflection = np.array(xs) + ENCODER_NOISE_RAD * rng.standard_normal(n)
-    torque = np.array(taus) + TORQUE_NOISE_NM * rng.standard_normal(n)
-    return np.array(ts), deflection, torque, tr
+    t, deflection, torque, _, tr = measure002.clamped_link_test(
+        sigma_deg,
+        speeds_deg_s,
+        seed,
+        amp_fraction=amp_fraction,
+        cycles=cycles,
+        presliding_rad=presliding_rad,
+    )
+    return t, deflection, torque, tr
 
 
 def true_coefficients(tr: np.ndarray) -> np.ndarray:

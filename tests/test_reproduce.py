@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -34,6 +35,25 @@ from conftest import run_fsarm
 # ------------------------------------------------------------------------------ the registry
 
 
+def _claim(**changes: Any) -> Claim:
+    """A prediction of paper 002 with every required field; ``changes`` replace fields (it is
+    built here, so a bad role already fails)."""
+    fields: dict[str, Any] = {
+        "id": "002-x",
+        "paper": "002",
+        "title": "t",
+        "locator": "Sec. I",
+        "quote": "q",
+        "paper_text": "1",
+        "unit": "-",
+        "tolerance": Rel(0.1),
+        "paper_value": 1.0,
+        "measure": "m",
+        "role": "prediction",
+    }
+    return Claim(**{**fields, **changes})
+
+
 def test_registry_is_well_formed() -> None:
     runner.check_registry()  # validate(), unique ids, every measure name known
     claims = runner.all_claims()
@@ -57,20 +77,8 @@ def test_issue_items_are_covered_for_seeds_000_and_001() -> None:
 
 
 def test_a_malformed_claim_is_refused() -> None:
-    good = {
-        "id": "000-x",
-        "paper": "000",
-        "title": "t",
-        "locator": "Sec. I",
-        "quote": "q",
-        "paper_text": "1 N·m",
-        "unit": "N·m",
-        "tolerance": Rel(0.1),
-        "paper_value": 1.0,
-        "measure": "m",
-        "role": "prediction",
-    }
-    Claim(**good).validate()  # type: ignore[arg-type]
+    good = {"id": "000-x", "paper": "000", "paper_text": "1 N·m", "unit": "N·m"}
+    _claim(**good).validate()
     for change in (
         {"paper": "007"},
         {"id": "001-x"},
@@ -86,23 +94,13 @@ def test_a_malformed_claim_is_refused() -> None:
         {"role": "consistency", "post_hoc": "seen"},  # only a prediction can be post-hoc
     ):
         with pytest.raises(ClaimError):
-            Claim(**{**good, **change}).validate()  # type: ignore[arg-type]
+            _claim(**{**good, **change}).validate()
 
 
 def test_post_hoc_predictions_are_counted_apart_and_never_as_evidence() -> None:
-    base = {
-        "paper": "002",
-        "title": "t",
-        "locator": "Sec. I",
-        "quote": "q",
-        "paper_text": "1",
-        "unit": "-",
-        "tolerance": AtLeast(1.0),
-        "measure": "m",
-        "role": "prediction",
-    }
-    blind = Claim(id="002-blind", **base)  # type: ignore[arg-type]
-    late = Claim(id="002-late", post_hoc="written after ours was seen", **base)  # type: ignore[arg-type]
+    base = {"tolerance": AtLeast(1.0), "paper_value": None}
+    blind = _claim(id="002-blind", **base)
+    late = _claim(id="002-late", post_hoc="written after ours was seen", **base)
     results = [Result(blind, "reproduced"), Result(late, "reproduced")]
     s = runner.summarize(results, ["002"])["002"]
     assert s["prediction"]["reproduced"] == 1 and s["post_hoc"]["reproduced"] == 1
@@ -215,22 +213,6 @@ def test_all_of_and_ranking() -> None:
 # ----------------------------------------------------------------------------- the runner
 
 
-def _claim(cid: str, measure: str) -> Claim:
-    return Claim(
-        id=cid,
-        paper="002",
-        title="t",
-        locator="Sec. V",
-        quote="q",
-        paper_text="1",
-        unit="-",
-        tolerance=Rel(0.1),
-        paper_value=1.0,
-        measure=measure,
-        role="prediction",
-    )
-
-
 def test_failed_experiment_and_interrupt_keep_finished_claims(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
@@ -243,7 +225,11 @@ def test_failed_experiment_and_interrupt_keep_finished_claims(
     def ctrl_c(ctx: Context) -> Measured:
         raise KeyboardInterrupt
 
-    claims = (_claim("002-a", "ok"), _claim("002-b", "broken"), _claim("002-c", "ctrl_c"))
+    claims = (
+        _claim(id="002-a", locator="Sec. V", measure="ok"),
+        _claim(id="002-b", locator="Sec. V", measure="broken"),
+        _claim(id="002-c", locator="Sec. V", measure="ctrl_c"),
+    )
     monkeypatch.setattr(
         runner, "REGISTRY", {"002": (claims, {"ok": ok, "broken": broken, "ctrl_c": ctrl_c})}
     )

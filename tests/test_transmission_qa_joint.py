@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import inspect
 import itertools
 import math
 
@@ -11,6 +10,8 @@ import pytest
 
 from fsarm_sim.plant.transmissions import qa_joint as qa
 from fsarm_sim.plant.transmissions.base import N_STATES, N_TR, Transmission, TransmissionError
+
+from conftest import make_jitable
 
 TR = Transmission("qa-joint", 2, qa)
 DT = 1e-3  # the arm's physics step
@@ -255,12 +256,7 @@ def test_twist_for_torque_and_max_stiffness_for_the_arm() -> None:
 
 def test_kernels_compile_with_numba() -> None:
     numba = pytest.importorskip("numba")
-    from numba.extending import register_jitable
-
-    for _, fn in inspect.getmembers(qa, inspect.isfunction):
-        if fn.__module__ == qa.__name__ and not getattr(fn, "_fsarm_jitable", False):
-            register_jitable(error_model="numpy", _nrt=False)(fn)
-            fn._fsarm_jitable = True  # type: ignore[attr-defined]
+    make_jitable(qa)
 
     @numba.njit(error_model="numpy")
     def run(tr: np.ndarray, act: np.ndarray) -> np.ndarray:

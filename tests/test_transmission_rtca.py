@@ -12,7 +12,7 @@ from fsarm_sim.plant.effects import nonlinear_stiffness
 from fsarm_sim.plant.transmissions import rtca
 from fsarm_sim.plant.transmissions.base import N_STATES, N_TR, Transmission, TransmissionError
 
-from conftest import free_oscillation_energies
+from conftest import check_free_oscillation
 
 ACT = np.zeros(N_STATES)
 TR = rtca.default_block()
@@ -198,17 +198,15 @@ def test_damping_term_dissipates_and_sensor_is_the_static_torque() -> None:
 
 def test_free_oscillation_conserves_energy_without_damping_and_loses_it_with() -> None:
     """An inertia on the shaft's output (input held): RK4, energy drift tiny; with c, it falls."""
-    j = 2e-3  # kg*m^2
-
-    def run(tr: np.ndarray) -> list[float]:
-        return free_oscillation_energies(rtca, tr, ACT, j, 0.6, 2e-4, 5000)
-
-    e0 = rtca.potential_j(TR, 0.6, 0.0, ACT, 0)
-    free = run(rtca.default_block({"c": 0.0}))
-    assert max(abs(e - e0) for e in free) < 1e-4 * e0
-    damped = run(TR)
-    assert all(b <= a + 1e-12 for a, b in itertools.pairwise(damped))
-    assert damped[-1] < 0.99 * e0
+    check_free_oscillation(
+        rtca,
+        (rtca.default_block({"c": 0.0}), TR),
+        ACT,
+        (2e-3, 0.6, 2e-4, 5000),  # j = 2e-3 kg*m^2
+        drift=1e-4,
+        rise=1e-12,
+        final=0.99,
+    )
 
 
 def test_scale_multiplies_every_torque() -> None:

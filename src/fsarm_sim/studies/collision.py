@@ -49,7 +49,7 @@ from fsarm_sim.sim.outer_loops import (
 )
 from fsarm_sim.sim.outer_loops import calibrate as calibrate_with
 from fsarm_sim.sim.simulation import DEFAULT_BACKEND, Backend, RunResult, Simulation, run_scenario
-from fsarm_sim.studies.collision_alarms import SETTLE_TIME_CONSTANTS
+from fsarm_sim.studies.collision_alarms import SETTLE_TIME_CONSTANTS, detection_report
 from fsarm_sim.studies.collision_alarms import Alarm as Alarm
 from fsarm_sim.studies.collision_alarms import DetectionReport as DetectionReport
 from fsarm_sim.studies.collision_alarms import alarms as alarms
@@ -316,32 +316,8 @@ def evaluate_algorithm1(
     """Detection delay and false alarms of seed 004's Algorithm 1 over a recorded run (alarm:
     ``|delta| > delta_a``), in the observer's report format (torques read as rad of motor
     angle: ``peak_estimate_nm`` holds the largest |delta| in rad)."""
-    t = result.columns["t"]
     d = algorithm1_delta(result.columns, model.up, model.down)
-    found = alarms(t, d, model.threshold_rad)
-    window = disturbance.window_s if disturbance is not None else None
-    detected = None
-    false = 0
-    for a in found:
-        inside = window is not None and window[0] <= a.start_s <= window[1] + late_s
-        if inside and detected is None:
-            detected = a.start_s
-        elif not inside:
-            false += 1
-    return DetectionReport(
-        run=run,
-        threshold_nm=model.threshold_rad,
-        contact_s=window,
-        detected_s=detected,
-        delay_s=None if detected is None or window is None else detected - window[0],
-        false_alarms=false,
-        peak_external_nm=(
-            float(np.max(np.abs(external_torque(result, disturbance))))
-            if disturbance is not None
-            else 0.0
-        ),
-        peak_estimate_nm=float(np.max(np.abs(d))) if len(d) else 0.0,
-    )
+    return detection_report(run, result, d, model.threshold_rad, disturbance, late_s)
 
 
 class Algorithm2Guiding:

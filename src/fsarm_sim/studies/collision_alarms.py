@@ -119,23 +119,23 @@ class DetectionReport:
         }
 
 
-def evaluate_detection(
+def detection_report(
     run: str,
     result: RunResult,
-    threshold_nm: float,
-    disturbance: scenarios.Disturbance | None = None,
-    gain_rad_s: float = GAIN_RAD_S,
+    signal: Array,
+    threshold: float,
+    disturbance: scenarios.Disturbance | None,
+    late_s: float,
 ) -> DetectionReport:
-    """Detection delay and false alarms of Algorithm 1 over a recorded run."""
-    r = residual(result, gain_rad_s)
-    t = result.columns["t"]
-    found = alarms(t, r, threshold_nm)
+    """Detection delay and false alarms of the alarms ``|signal| > threshold`` over a recorded
+    run: an alarm starting within the scripted contact (+ ``late_s`` of settling) detects it,
+    any other is false."""
+    found = alarms(result.columns["t"], signal, threshold)
     window = disturbance.window_s if disturbance is not None else None
     detected = None
     false = 0
-    late = SETTLE_TIME_CONSTANTS / gain_rad_s
     for a in found:
-        inside = window is not None and window[0] <= a.start_s <= window[1] + late
+        inside = window is not None and window[0] <= a.start_s <= window[1] + late_s
         if inside and detected is None:
             detected = a.start_s
         elif not inside:
@@ -147,11 +147,24 @@ def evaluate_detection(
     )
     return DetectionReport(
         run=run,
-        threshold_nm=threshold_nm,
+        threshold_nm=threshold,
         contact_s=window,
         detected_s=detected,
         delay_s=None if detected is None or window is None else detected - window[0],
         false_alarms=false,
         peak_external_nm=peak_ext,
-        peak_estimate_nm=float(np.max(np.abs(r))) if len(r) else 0.0,
+        peak_estimate_nm=float(np.max(np.abs(signal))) if len(signal) else 0.0,
     )
+
+
+def evaluate_detection(
+    run: str,
+    result: RunResult,
+    threshold_nm: float,
+    disturbance: scenarios.Disturbance | None = None,
+    gain_rad_s: float = GAIN_RAD_S,
+) -> DetectionReport:
+    """Detection delay and false alarms of Algorithm 1 over a recorded run."""
+    r = residual(result, gain_rad_s)
+    late = SETTLE_TIME_CONSTANTS / gain_rad_s
+    return detection_report(run, result, r, threshold_nm, disturbance, late)

@@ -182,6 +182,41 @@ class ThrowBatch:
         )
 
 
+def _adjusted_preset(
+    p: dict[str, float],
+    adjust: str,
+    sig: FloatArray,
+    phi: FloatArray,
+    relax: npt.NDArray[np.bool_],
+    dt: float,
+) -> FloatArray:
+    """Eq. 20: in the relaxation phase the preset follows the deflection (clamped to the
+    presets' range), at once (``"ideal"``) or through the stiffness drive's rate (``"drive"``)."""
+    cmd = np.where(relax, np.clip(phi, p["s_min"], p["s_max"]), p["s_cmd"])
+    if adjust == "ideal":
+        return np.where(relax, cmd, sig)
+    rate = np.clip((cmd - sig) / p["s_tau"], -p["s_rate"], p["s_rate"])
+    return np.clip(sig + dt * rate, p["s_min"], p["s_max"])
+
+
+def _euler_step(
+    b: Bench,
+    p: dict[str, float],
+    state: tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray],
+    tau_m: FloatArray,
+    tau_j: FloatArray,
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """One semi-implicit Euler step of (motor angle, its speed, link angle, its speed, Dahl
+    state): the Dahl state (qa_joint.dahl_rate), motor and link (eq. 14-15)."""
+    th, thd, q, qd, z = state
+    dt = b.dt
+    xdot = thd - qd
+    z = np.clip(z + dt * (xdot - np.abs(xdot) * z) / p["delta"], -1.0, 1.0)
+    thd = thd + dt * (tau_m - tau_j) / b.motor_inertia
+    qd = qd + dt * tau_j / b.link_inertia
+    return th + dt * thd, thd, q + dt * qd, qd, z
+
+
 def simulate_throws(
     b: Bench,
     v_rad_s: float,
@@ -206,11 +241,7 @@ def simulate_throws(
     n = ts.size
     dt = b.dt
     steps = math.ceil((float(ts.max()) + tail_s) / dt)
-    th = np.zeros(n)
-    thd = np.zeros(n)
-    q = np.zeros(n)
-    qd = np.zeros(n)
-    z = np.zeros(n)
+    th, thd, q, qd, z = (np.zeros(n) for _ in range(5))
     sig = np.full(n, p["s_cmd"])
     ref = np.zeros(n)
     phi_max = np.zeros(n)
@@ -233,11 +264,8 @@ def simulate_throws(
         phi_min = np.where(live, np.minimum(phi_min, phi), phi_min)
         tau_max = np.where(live, np.maximum(tau_max, np.abs(tau_j)), tau_max)
         if keep_trace:
-            trace["t"].append(np.full(n, t))
-            trace["q_dot"].append(qd.copy())
-            trace["phi"].append(phi.copy())
-            trace["tau_j"].append(tau_j.copy())
-            trace["sigma"].append(sig.copy())
+            for name, value in zip(trace, (np.full(n, t), qd, phi, tau_j, sig), strict=True):
+                trace[name].append(value.copy())
         # relaxation phase: forward deflection past its peak (eq. 20 acts there)
         after = t >= ts
         forward_peaked |= after & (phi > 0.5 * p["s_min"]) & (phi < prev_phi)
@@ -246,20 +274,8 @@ def simulate_throws(
         t_final = np.where(ended, t, t_final)
         done |= ended
         if adjust != "none":
-            relax = forward_peaked & ~done
-            cmd = np.where(relax, np.clip(phi, p["s_min"], p["s_max"]), p["s_cmd"])
-            if adjust == "ideal":
-                sig = np.where(relax, cmd, sig)
-            else:
-                rate = np.clip((cmd - sig) / p["s_tau"], -p["s_rate"], p["s_rate"])
-                sig = np.clip(sig + dt * rate, p["s_min"], p["s_max"])
-        # Dahl state (qa_joint.dahl_rate), motor and link (eq. 14-15), semi-implicit Euler
-        xdot = thd - qd
-        z = np.clip(z + dt * (xdot - np.abs(xdot) * z) / p["delta"], -1.0, 1.0)
-        thd = thd + dt * (tau_m - tau_j) / b.motor_inertia
-        qd = qd + dt * tau_j / b.link_inertia
-        th = th + dt * thd
-        q = q + dt * qd
+            sig = _adjusted_preset(p, adjust, sig, phi, forward_peaked & ~done, dt)
+        th, thd, q, qd, z = _euler_step(b, p, (th, thd, q, qd, z), tau_m, tau_j)
         ref = ref + dt * vref
         prev_phi = phi
         if done.all() and not keep_trace:

@@ -27,8 +27,6 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
 from fsarm_sim.plant.shaft import Catalogue
 
 if TYPE_CHECKING:
@@ -36,7 +34,6 @@ if TYPE_CHECKING:
 
 LOADED_PAYLOAD_KG = 15.0  # seed 000 Table III's rated payload, as measure000.fig14_loaded
 QUICK_S = 4.0  # the quick runs' length, as measure000
-RELIEF_HOLD_S = 3.0  # as measure000.static_relief_on_arm
 
 
 @dataclass(frozen=True)
@@ -80,8 +77,7 @@ def banded_claims(claims: Sequence[Any]) -> list[Any]:
 
 
 def _run(name: str, config: Any, quick: bool, backend: Backend) -> Any:
-    from fsarm_sim.kernels import layout
-    from fsarm_sim.sim.simulation import Simulation, run_scenario
+    from fsarm_sim.sim.simulation import run_scenario
 
     duration = QUICK_S if quick else None
     if name == "fig14":
@@ -98,17 +94,9 @@ def _run(name: str, config: Any, quick: bool, backend: Backend) -> Any:
             backend=backend,
         )
     assert name == "relief"
-    table = np.zeros((round(RELIEF_HOLD_S / config.gains.ctrl_dt_s) + 1, layout.REF_COLS))
-    table[:, 1] = math.pi / 2.0
-    tau2 = {}
-    for label, fx in (
-        ("with", config.effects),
-        ("without", replace(config.effects, bending=False, conduit=False)),
-    ):
-        sim = Simulation(config.with_(effects=fx), table, backend)
-        cols, _ = sim.run(RELIEF_HOLD_S)
-        sel = cols["t"] >= RELIEF_HOLD_S - 1.0
-        tau2[label] = float(np.mean(cols["tau2"][sel]))
+    from fsarm_sim.studies.reproduce.measure000 import relief_hold_tau2
+
+    tau2 = relief_hold_tau2(config, backend)
     return abs(tau2["without"]) - abs(tau2["with"])
 
 

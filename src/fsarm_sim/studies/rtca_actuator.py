@@ -1,5 +1,6 @@
 """Seed 001's actuator as an ODE (motor, gearbox, encoders, cascade) and one bench run of it; the
-experiments on it and the model's sources are in :mod:.
+experiments on it and the model's sources ("module docstring" below) are in
+:mod:`fsarm_sim.studies.rtca_bench`.
 """
 
 from __future__ import annotations
@@ -22,8 +23,6 @@ RPM = 2.0 * math.pi / 60.0
 # Sec. 3.3 (text): NRMSE of eq. 3 straight and at the tightest bend, over the +-5 N*m span
 NRMSE_STRAIGHT = 0.0032
 NRMSE_R150 = 0.023
-R_TIGHT_M = 0.150
-CHARACTERISATION_SPAN_NM = 10.0  # Sec. 3.2: output torque kept within +-5 N*m
 
 
 FRICTION_SITES = ("core", "twist")
@@ -161,6 +160,160 @@ def _quantise(x: float, step: float) -> float:
     return math.floor(x / step) * step
 
 
+def _checked_inputs(
+    act: Rtca001,
+    pid: Pid,
+    tau_des: Array,
+    theta_s: Array | None,
+    bend_rad: Array | None,
+) -> tuple[Array, Array, Array | None]:
+    """(tau_des, output angle per cycle, bend per cycle or None), checked."""
+    act.check()
+    tau_des = np.asarray(tau_des, dtype=float)
+    n = tau_des.size
+    if n < 2 or not np.all(np.isfinite(tau_des)):
+        raise BenchError("tau_des must hold at least two finite samples")
+    out = np.zeros(n) if theta_s is None else np.asarray(theta_s, dtype=float)
+    if out.shape != tau_des.shape or not np.all(np.isfinite(out)):
+        raise BenchError("theta_s must be finite and as long as tau_des")
+    for name, v in (("kp", pid.kp), ("ki", pid.ki), ("kd", pid.kd)):
+        if not math.isfinite(v) or v < 0.0:
+            raise BenchError(f"PID {name} must be finite and >= 0, got {v!r}")
+    if bend_rad is None:
+        return tau_des, out, None
+    bends = np.asarray(bend_rad, dtype=float)
+    if bends.shape != tau_des.shape or not np.all(np.isfinite(bends)) or np.any(bends < 0):
+        raise BenchError("bend_rad must be finite, >= 0 and as long as tau_des")
+    return tau_des, out, bends
+
+
+class _Cascade:
+    """The controllers: the outer PID torque loop (EtherCAT master), its delay, and the EPOS3
+    velocity PI that gives the motor torque."""
+
+    def __init__(self, act: Rtca001, pid: Pid) -> None:
+        self.pid, self.dt = pid, act.ctrl_dt_s
+        j, wv = act.inertia_out_kgm2, 2.0 * math.pi * act.velocity_bw_hz
+        self.kpv, self.kiv = j * wv, j * wv * wv / 4.0  # PI: crossover ~ wv, zero at wv/4 (est.)
+        self.a_d = math.exp(-2.0 * math.pi * pid.d_filter_hz * self.dt)
+        self.w_lim, self.t_lim = act.speed_limit_rad_s, act.torque_limit_nm
+        self.integ_v = self.integ_t = 0.0
+        self.e_prev, self.d_f = 0.0, 0.0
+        self.queue = [0.0] * (act.delay_cycles + 1)
+        self.n_sat = 0
+
+    def velocity_command(self, k: int, e: float) -> float:
+        """The PID's output velocity set-point for the torque error ``e`` of cycle ``k``."""
+        pid, dt = self.pid, self.dt
+        d_raw = (e - self.e_prev) / dt if k > 0 else 0.0
+        self.e_prev = e
+        self.d_f = self.a_d * self.d_f + (1.0 - self.a_d) * d_raw
+        cmd = pid.kp * e + self.integ_t + pid.kd * self.d_f
+        if abs(cmd) >= self.w_lim:
+            cmd = math.copysign(self.w_lim, cmd)
+            self.n_sat += 1
+        else:
+            self.integ_t += pid.ki * e * dt  # no wind-up while saturated
+        return cmd
+
+    def motor_torque(self, cmd: float, om_meas: float) -> float:
+        """The velocity PI's torque on the delayed set-point (``cmd`` enters the delay line)."""
+        self.queue.append(cmd)
+        ev = self.queue.pop(0) - om_meas
+        tm = self.kpv * ev + self.integ_v
+        if abs(tm) >= self.t_lim:
+            tm = math.copysign(self.t_lim, tm)
+        else:
+            self.integ_v += self.kiv * ev * self.dt
+        return tm
+
+
+class _Drive:
+    """The output-referred rotor on the shaft: its states and its motion through one cycle.
+
+    ``core``: the friction acts on the casing at the joints between the core's equal segments
+    (rotor - segment - joint - ... - segment - output, each segment the law at n times the
+    twist); else across the twist (the transmission's element)."""
+
+    def __init__(self, act: Rtca001, bend: float) -> None:
+        tr = act.shaft_block()
+        self.tr, self.core = tr, act.friction_site == "core"
+        self.law = tr.copy()
+        if self.core:
+            self.law[rtca.I_SLIP_F] = 0.0  # the friction acts on the core, not across the twist
+        k_fr = rtca.slip_k(tr) * tr[rtca.I_SCALE] * (CORE_FRICTION_FACTOR if self.core else 1.0)
+        self.banded = self.core and tr[rtca.I_SLIP_F] > 0.0
+        self.bend = bend
+        self.band = rtca.slip_band_rad(tr, bend if self.banded else 0.0)
+        self.j, self.substeps, self.h = (
+            act.inertia_out_kgm2,
+            act.substeps,
+            act.ctrl_dt_s / act.substeps,
+        )
+        self.n_seg, n_node = float(act.core_segments), act.core_segments - 1
+        # each joint: its share of the core's inertia and friction
+        self.jn, self.kn = act.core_inertia_kgm2 / n_node, k_fr / n_node
+        self.st = np.zeros(N_STATES)  # the rtca transmission's states: st[0] its friction element
+        self.th, self.om = 0.0, 0.0  # gearbox output angle, speed
+        # the joints between the core's segments: angle, speed, friction deflection
+        self.thc, self.omc, self.z = [0.0] * n_node, [0.0] * n_node, [0.0] * n_node
+
+    def set_bend(self, bend: float) -> None:
+        self.bend = bend
+        if self.banded:
+            self.band = rtca.slip_band_rad(self.tr, bend)
+
+    def segment(self, y: float, yd: float) -> float:
+        """Torque of one core segment (1/n of the length: the law at n times the twist)."""
+        return rtca.torque_nm(self.law, self.n_seg * y, self.n_seg * yd, self.bend, self.st, 0)
+
+    def output_torque(self, ths: float, v_s: float) -> float:
+        """The torque the output end carries (what the sensor measures)."""
+        if self.core:
+            return self.segment(self.thc[-1] - ths, self.omc[-1] - v_s)  # the output segment
+        return rtca.torque_nm(self.tr, self.th - ths, self.om - v_s, self.bend, self.st, 0)
+
+    def advance(self, tm: float, ths: float, v_s: float) -> None:
+        """One control cycle under motor torque ``tm``, the output moving from ``ths`` at ``v_s``."""
+        if self.core:
+            self._advance_core(tm, ths, v_s)
+        else:
+            self._advance_twist(tm, ths, v_s)
+
+    def _advance_twist(self, tm: float, ths: float, v_s: float) -> None:
+        h, j, tr, st, bend = self.h, self.j, self.tr, self.st, self.bend
+        th, om = self.th, self.om
+        for i in range(self.substeps):
+            x = th - (ths + v_s * h * i)
+            xd = om - v_s
+            tq = rtca.torque_nm(tr, x, xd, bend, st, 0)  # eq. 1 with c x', + friction
+            rate = rtca.state_rate(tr, x, xd, bend, st, 0, 0)
+            om += h * (tm - tq) / j
+            th += om * h
+            st[0] += rate * h
+        self.th, self.om = th, om
+
+    def _advance_core(self, tm: float, ths: float, v_s: float) -> None:
+        h, j, jn, kn, band = self.h, self.j, self.jn, self.kn, self.band
+        th, om, thc, omc, z = self.th, self.om, self.thc, self.omc, self.z
+        nodes = range(len(z))
+        for i in range(self.substeps):
+            # rotor - segment - joint (friction on the casing) - ... - segment - output
+            ang, spd = [th, *thc, ths + v_s * h * i], [om, *omc, v_s]
+            seg = [
+                self.segment(ang[m] - ang[m + 1], spd[m] - spd[m + 1]) for m in range(len(z) + 1)
+            ]
+            rates = [maxwell_slip.banded_rate(z[m], omc[m], band[0], band[1]) for m in nodes]
+            om += h * (tm - seg[0]) / j
+            for m in nodes:
+                omc[m] += h * (seg[m] - seg[m + 1] - kn * z[m]) / jn
+            th += om * h
+            for m in nodes:
+                thc[m] += omc[m] * h
+                z[m] += rates[m] * h
+        self.th, self.om = th, om
+
+
 def run(
     act: Rtca001,
     pid: Pid,
@@ -178,134 +331,40 @@ def run(
     ``bend_rad``: the law's bend angle per cycle (Sec. 5.1: the knee bending the shaft while it
     works; the estimate reads it as the knee encoder does); ``None`` holds ``radius_m``'s.
     """
-    act.check()
-    tau_des = np.asarray(tau_des, dtype=float)
+    tau_des, out, bends = _checked_inputs(act, pid, tau_des, theta_s, bend_rad)
     n = tau_des.size
-    if n < 2 or not np.all(np.isfinite(tau_des)):
-        raise BenchError("tau_des must hold at least two finite samples")
-    out = np.zeros(n) if theta_s is None else np.asarray(theta_s, dtype=float)
-    if out.shape != tau_des.shape or not np.all(np.isfinite(out)):
-        raise BenchError("theta_s must be finite and as long as tau_des")
-    for name, v in (("kp", pid.kp), ("ki", pid.ki), ("kd", pid.kd)):
-        if not math.isfinite(v) or v < 0.0:
-            raise BenchError(f"PID {name} must be finite and >= 0, got {v!r}")
-    tr = act.shaft_block()
-    core = act.friction_site == "core"
-    law = tr.copy()
-    if core:
-        law[rtca.I_SLIP_F] = 0.0  # the friction acts on the core node, not across the twist
-    band = rtca.slip_band_rad(tr, 0.0)
-    k_fr = rtca.slip_k(tr) * tr[rtca.I_SCALE] * (CORE_FRICTION_FACTOR if core else 1.0)
-    bend = bend_of(radius_m, tr)
-    if bend_rad is not None:
-        bends = np.asarray(bend_rad, dtype=float)
-        if bends.shape != tau_des.shape or not np.all(np.isfinite(bends)) or np.any(bends < 0):
-            raise BenchError("bend_rad must be finite, >= 0 and as long as tau_des")
-    if core and tr[rtca.I_SLIP_F] > 0.0:
-        band = rtca.slip_band_rad(tr, bend)
+    drive = _Drive(act, bend_of(radius_m, act.shaft_block()))
+    cascade = _Cascade(act, pid)
     dt = act.ctrl_dt_s
-    h = dt / act.substeps
-    j, jc = act.inertia_out_kgm2, act.core_inertia_kgm2
-    wv = 2.0 * math.pi * act.velocity_bw_hz
-    kpv, kiv = j * wv, j * wv * wv / 4.0  # PI: crossover ~ wv, zero at wv/4 (estimate)
     q_m = 2.0 * math.pi / (act.motor_cpt * act.quadrature)  # rotor increment
     q_s = 2.0 * math.pi / (act.shaft_cpt * act.quadrature)  # shaft-end increment
-    a_d = math.exp(-2.0 * math.pi * pid.d_filter_hz * dt)
-    w_lim, t_lim = act.speed_limit_rad_s, act.torque_limit_nm
     lsb = act.sensor_lsb_nm
-    st = np.zeros(N_STATES)  # the rtca transmission's states: st[0] its friction element
     n_ref = round(act.reference_delay_s / dt)
     ref = np.concatenate([np.zeros(n_ref), tau_des[: n - n_ref]]) if n_ref else tau_des
-
-    n_seg = float(act.core_segments)
-    n_node = act.core_segments - 1
-    jn, kn = jc / n_node, k_fr / n_node  # each joint: its share of the core's inertia, friction
-
-    def half(y: float, yd: float) -> float:
-        """Torque of one core segment (1/n of the length: the law at n times the twist)."""
-        return rtca.torque_nm(law, n_seg * y, n_seg * yd, bend, st, 0)
-
-    th, om = 0.0, 0.0  # gearbox output angle, speed
-    # the joints between the core's segments: angle, speed, friction deflection
-    thc, omc, z = [0.0] * n_node, [0.0] * n_node, [0.0] * n_node
     rotor_prev = 0.0
-    integ_v = integ_t = 0.0
-    e_prev, d_f = 0.0, 0.0
-    queue = [0.0] * (act.delay_cycles + 1)
     res = {k: np.empty(n) for k in ("est", "true", "sens", "thm", "cmd")}
-    n_sat = 0
     try:
         with np.errstate(over="raise", invalid="raise"):
             for k in range(n):
-                if bend_rad is not None and bends[k] != bend:
-                    bend = float(bends[k])
-                    if core and tr[rtca.I_SLIP_F] > 0.0:
-                        band = rtca.slip_band_rad(tr, bend)
+                if bends is not None and bends[k] != drive.bend:
+                    drive.set_bend(float(bends[k]))
                 ths = out[k]  # the output angle at the start of cycle k
                 ths_next = out[k + 1] if k + 1 < n else ths
                 v_s = (ths_next - ths) / dt
-                if not (math.isfinite(th) and math.isfinite(om)):
+                th = drive.th
+                if not (math.isfinite(th) and math.isfinite(drive.om)):
                     raise FloatingPointError
                 # ---- sensing (start of the cycle): encoders and torque sensor at the same instant
                 dth_meas = _quantise(th, q_s) - _quantise(ths, q_s)
-                est = rtca.sensor_torque_nm(tr, dth_meas, bend)
-                if core:
-                    true = half(thc[-1] - ths, omc[-1] - v_s)  # the output segment: the sensor's
-                else:
-                    true = rtca.torque_nm(tr, th - ths, om - v_s, bend, st, 0)
+                est = rtca.sensor_torque_nm(drive.tr, dth_meas, drive.bend)
+                true = drive.output_torque(ths, v_s)
                 res["thm"][k] = th
                 rotor = _quantise(th * act.gear_ratio, q_m)
                 om_meas = (rotor - rotor_prev) / dt / act.gear_ratio
                 rotor_prev = rotor
-                # ---- outer PID torque loop (EtherCAT master)
-                e = ref[k] - est
-                d_raw = (e - e_prev) / dt if k > 0 else 0.0
-                e_prev = e
-                d_f = a_d * d_f + (1.0 - a_d) * d_raw
-                cmd = pid.kp * e + integ_t + pid.kd * d_f
-                if abs(cmd) >= w_lim:
-                    cmd = math.copysign(w_lim, cmd)
-                    n_sat += 1
-                else:
-                    integ_t += pid.ki * e * dt  # no wind-up while saturated
-                queue.append(cmd)
-                w_set = queue.pop(0)
-                # ---- EPOS3 velocity PI
-                ev = w_set - om_meas
-                tm = kpv * ev + integ_v
-                if abs(tm) >= t_lim:
-                    tm = math.copysign(t_lim, tm)
-                else:
-                    integ_v += kiv * ev * dt
+                cmd = cascade.velocity_command(k, ref[k] - est)
                 # ---- physics (output-referred rotor on the shaft), the output moving to out[k + 1]
-                for i in range(act.substeps):
-                    ths_i = ths + v_s * h * i
-                    if core:
-                        # rotor - segment - joint (friction on the casing) - ... - segment - output
-                        ang, spd = [th, *thc, ths_i], [om, *omc, v_s]
-                        seg = [
-                            half(ang[i] - ang[i + 1], spd[i] - spd[i + 1])
-                            for i in range(n_node + 1)
-                        ]
-                        rates = [
-                            maxwell_slip.banded_rate(z[i], omc[i], band[0], band[1])
-                            for i in range(n_node)
-                        ]
-                        om += h * (tm - seg[0]) / j
-                        for i in range(n_node):
-                            omc[i] += h * (seg[i] - seg[i + 1] - kn * z[i]) / jn
-                        th += om * h
-                        for i in range(n_node):
-                            thc[i] += omc[i] * h
-                            z[i] += rates[i] * h
-                    else:
-                        x = th - ths_i
-                        xd = om - v_s
-                        tq = rtca.torque_nm(tr, x, xd, bend, st, 0)  # eq. 1 with c x', + friction
-                        rate = rtca.state_rate(tr, x, xd, bend, st, 0, 0)
-                        om += h * (tm - tq) / j
-                        th += om * h
-                        st[0] += rate * h
+                drive.advance(cascade.motor_torque(cmd, om_meas), ths, v_s)
                 res["est"][k] = est
                 res["true"][k] = true
                 res["sens"][k] = round(true / lsb) * lsb if lsb > 0.0 else true
@@ -325,7 +384,7 @@ def run(
         theta_m=res["thm"],
         theta_s=out,
         omega_cmd=res["cmd"],
-        saturated=n_sat / n,
+        saturated=cascade.n_sat / n,
     )
 
 

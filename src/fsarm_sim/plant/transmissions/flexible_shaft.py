@@ -72,9 +72,8 @@ _APP_WHY = (
 )
 
 
-def _params() -> tuple[Param, ...]:
-    sh = load_catalogue().shaft()
-    src = f"catalogue default shaft {sh.diameter_mm:g} x {sh.length_mm:g} mm (estimates)"
+def _spring_params(sh: ShaftParams, src: str) -> tuple[Param, ...]:
+    """Eq. 1/3's spring and damping, and the rating."""
     return (
         Param(
             "k_pos", sh.k_pos, "N*m/rad", f"eq. 3 winding side, straight; {src}", positive(_K_WHY)
@@ -101,6 +100,13 @@ def _params() -> tuple[Param, ...]:
             f"nominal torque of the shaft; {src}",
             positive("a torque rating: > 0 (it sizes test signals and flags overloads)"),
         ),
+    )
+
+
+def _slip_params(sh: ShaftParams, src: str) -> tuple[Param, ...]:
+    """The Maxwell-slip elements, their bend and side scaling, and their apparent stiffness in
+    seed 000's series test."""
+    return (
         *(
             Param(
                 f"slip_k{i + 1}",
@@ -155,6 +161,12 @@ def _params() -> tuple[Param, ...]:
             )
         ),
     )
+
+
+def _params() -> tuple[Param, ...]:
+    sh = load_catalogue().shaft()
+    src = f"catalogue default shaft {sh.diameter_mm:g} x {sh.length_mm:g} mm (estimates)"
+    return (*_spring_params(sh, src), *_slip_params(sh, src))
 
 
 PARAMS = _params()

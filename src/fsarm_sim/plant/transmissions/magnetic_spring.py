@@ -64,6 +64,7 @@ import math
 
 import numpy as np
 
+from fsarm_sim.plant.roots import bisect
 from fsarm_sim.plant.transmissions.base import (
     Bounds,
     FloatArray,
@@ -90,12 +91,9 @@ CONSERVATIVE: dict[str, float] = {"z": 0.0, "tau_fr": 0.0}
 ROUTED_OVER_JOINT2 = False
 
 DEG = math.pi / 180.0
-STABLE_RANGE_DEG = 31.5  # Sec. 7.1 / Fig. 17, at d = 0
-LINEAR_RANGE_DEG = 19.7  # Sec. 7.1 / Fig. 17, at d = 0
 LINEAR_TOLERANCE = 0.05  # Sec. 3: "differs from the linearised one no more than 5 %"
 PERIOD_RAD = 2.0 * math.pi / 3.0  # eq. 1: 120 deg (three stable equilibria, Sec. 6.1)
 DATA_RANGE_DEG = 41.0  # Sec. 6.1 experiment A: -41..41 deg from the stable equilibrium
-PEAK_TORQUE_ESTIMATE_NM = 1.0  # estimate, see the module docstring
 
 # parameter-block indices
 I_D, I_B1, I_B2, I_B3, I_A1, I_A2, I_A3, I_A4 = 0, 1, 2, 3, 4, 5, 6, 7
@@ -367,13 +365,7 @@ def stable_range_rad(d: float, tr: FloatArray | None = None) -> float:
             hi = float(x)
             break
         lo, k_prev = float(x), k
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if _shape_slope(t, mid) > 0.0:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+    return bisect(lambda x: _shape_slope(t, x) > 0.0, lo, hi)
 
 
 def max_torque_nm(d: float, tr: FloatArray | None = None) -> float:
@@ -398,14 +390,7 @@ def linear_range_rad(
     lo = float(xs[0])
     for x in xs[1:]:
         if dev(float(x)) > 0.0:
-            hi = float(x)
-            for _ in range(200):
-                mid = 0.5 * (lo + hi)
-                if dev(mid) > 0.0:
-                    hi = mid
-                else:
-                    lo = mid
-            return 0.5 * (lo + hi)
+            return bisect(lambda m: not dev(m) > 0.0, lo, float(x))
         lo = float(x)
     return 0.5 * PERIOD_RAD
 
@@ -422,14 +407,7 @@ def safe_range_rad(d: float, torque_fraction: float = 0.9, tr: FloatArray | None
     t = _block_at(d, tr)
     x_max = stable_range_rad(d, t)
     target = torque_fraction * _shape(t, x_max)
-    lo, hi = 0.0, x_max
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if _shape(t, mid) >= target:
-            hi = mid
-        else:
-            lo = mid
-    return 0.5 * (lo + hi)
+    return bisect(lambda x: not _shape(t, x) >= target, 0.0, x_max)
 
 
 def scale_for_torque(torque_nm: float, d: float = 0.0, within: str = "linear") -> float:

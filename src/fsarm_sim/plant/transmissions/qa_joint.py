@@ -49,6 +49,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from fsarm_sim.plant.roots import bisect
 from fsarm_sim.plant.transmissions.base import (
     FloatArray,
     Param,
@@ -107,13 +108,7 @@ def rate_for_adjust_time(seconds: float, tau: float = SIGMA_TAU_S) -> float:
             f"no drive speed settles a full-range preset move in {seconds!r} s (needs > "
             f"{full_range_time_s(hi, tau):.3g} s with a {tau:g} s lag)"
         )
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if full_range_time_s(mid, tau) > seconds:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+    return bisect(lambda rate: full_range_time_s(rate, tau) > seconds, lo, hi)
 
 
 # The stiffness drive's speed (rad/s): Table III's "maximum stiffness adjustment time 0.12 s" is

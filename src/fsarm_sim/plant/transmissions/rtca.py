@@ -83,6 +83,7 @@ import math
 import numpy as np
 
 from fsarm_sim.plant.effects import bend_friction, maxwell_slip
+from fsarm_sim.plant.roots import bisect
 from fsarm_sim.plant.transmissions.base import (
     Bounds,
     FloatArray,
@@ -365,14 +366,8 @@ def curve(twist_rad: float, sign: float) -> float:
 def _fit_end_rad(sign: float) -> float:
     """|twist| where the shifted Table 1 branch reaches FIT_TORQUE_NM (bisection, monotonic)."""
     f0 = curve(0.0, sign)
-    lo, hi = 0.0, 2.0  # both branches pass 5 N*m well below 2 rad and are monotonic up to it
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if abs(curve(sign * mid, sign) - f0) >= FIT_TORQUE_NM:
-            hi = mid
-        else:
-            lo = mid
-    return 0.5 * (lo + hi)
+    # both branches pass 5 N*m well below 2 rad and are monotonic up to it
+    return bisect(lambda m: not abs(curve(sign * m, sign) - f0) >= FIT_TORQUE_NM, 0.0, 2.0)
 
 
 def _dead_end_rad(sign: float) -> float:
@@ -388,14 +383,7 @@ def _dead_end_rad(sign: float) -> float:
             last = i * 1e-3
     if last == 0.0:
         return 0.0
-    lo, hi = last, last + 1e-3
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if wrong(mid):
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+    return bisect(wrong, last, last + 1e-3)
 
 
 _T1 = "seed 001 Table 1 (MasterFlex08 8 mm x 865 mm)"

@@ -67,6 +67,7 @@ def fig14_runs(ctx: Context) -> tuple[Any, Any]:
 
 
 LOADED_PAYLOAD_KG = 15.0  # Table III: rated payload
+RELIEF_HOLD_S = 3.0  # the static-relief hold, s: its last second is averaged, the conduit relaxed
 
 
 def fig14_loaded(ctx: Context) -> Measured:
@@ -421,34 +422,41 @@ def bending_assists_gravity(ctx: Context) -> Measured:
     )
 
 
-def static_relief_on_arm(ctx: Context) -> Measured:
-    """Joint-2 motor torque holding the upper arm horizontal, with and without the shaft's
-    bending moment (elastic and conduit), after the conduit has relaxed."""
+def relief_hold_tau2(config: Any, backend: Any) -> dict[str, float]:
+    """Joint-2 motor torque holding the upper arm horizontal (q2 = 90°, no payload), mean of
+    the last second of a ``RELIEF_HOLD_S`` hold (the conduit relaxed), ``"with"`` and
+    ``"without"`` the shaft's bending moment (elastic and conduit)."""
     from dataclasses import replace
 
-    from fsarm_sim.engine.model import SimConfig
     from fsarm_sim.kernels import layout
     from fsarm_sim.sim.simulation import Simulation
 
-    base = SimConfig()
-    hold_s = 3.0
-    table = np.zeros((round(hold_s / base.gains.ctrl_dt_s) + 1, layout.REF_COLS))
+    table = np.zeros((round(RELIEF_HOLD_S / config.gains.ctrl_dt_s) + 1, layout.REF_COLS))
     table[:, 1] = math.pi / 2.0
     tau2 = {}
     for label, fx in (
-        ("with", base.effects),
-        ("without", replace(base.effects, bending=False, conduit=False)),
+        ("with", config.effects),
+        ("without", replace(config.effects, bending=False, conduit=False)),
     ):
-        sim = Simulation(base.with_(effects=fx), table, ctx.backend)
-        cols, _ = sim.run(hold_s)
-        sel = cols["t"] >= hold_s - 1.0
+        sim = Simulation(config.with_(effects=fx), table, backend)
+        cols, _ = sim.run(RELIEF_HOLD_S)
+        sel = cols["t"] >= RELIEF_HOLD_S - 1.0
         tau2[label] = float(np.mean(cols["tau2"][sel]))
+    return tau2
+
+
+def static_relief_on_arm(ctx: Context) -> Measured:
+    """Joint-2 motor torque holding the upper arm horizontal, with and without the shaft's
+    bending moment (elastic and conduit), after the conduit has relaxed."""
+    from fsarm_sim.engine.model import SimConfig
+
+    tau2 = relief_hold_tau2(SimConfig(), ctx.backend)
     relief = abs(tau2["without"]) - abs(tau2["with"])
     return Measured(
         ours=relief,
         text=f"|τ2| {abs(tau2['without']):.3g} → {abs(tau2['with']):.3g} N·m (relief {relief:.3g})",
         details=tau2,
-        note="arm holding q2 = 90° (no payload), last second of a 3 s hold",
+        note=f"arm holding q2 = 90° (no payload), last second of a {RELIEF_HOLD_S:g} s hold",
     )
 
 

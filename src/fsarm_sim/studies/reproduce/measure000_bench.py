@@ -69,17 +69,25 @@ def _series_fits(ctx: Context) -> list[Any]:
     return [r["fit"] for r in series_sweep(ctx)]
 
 
+def _sides_vs_bend(
+    bends: list[float], names: tuple[str, str, str], pos: list[float], neg: list[float], unit: str
+) -> Measured:
+    """A per-side quantity over the bends: ``names`` = (label, positive side's, negative's)."""
+    label, p_key, n_key = names
+    a, b = f"{label}p", f"{label}n"
+    return Measured(
+        ours={a: pos, b: neg},
+        text=f"{a} {pos[0]:.3g}→{pos[-1]:.3g}, {b} {neg[0]:.3g}→{neg[-1]:.3g} {unit} "
+        f"({bends[0]:g}→{bends[-1]:g}°)",
+        details={"bend_deg": bends, p_key: pos, n_key: neg},
+    )
+
+
 def series_k_vs_bend(ctx: Context) -> Measured:
     fits = _series_fits(ctx)
     kp = [f.k_pos for f in fits]
     kn = [f.k_neg for f in fits]
-    bends = [f.bend_deg for f in fits]
-    return Measured(
-        ours={"K_sp": kp, "K_sn": kn},
-        text=f"K_sp {kp[0]:.3g}→{kp[-1]:.3g}, K_sn {kn[0]:.3g}→{kn[-1]:.3g} N·m/rad "
-        f"({bends[0]:g}→{bends[-1]:g}°)",
-        details={"bend_deg": bends, "k_pos": kp, "k_neg": kn},
-    )
+    return _sides_vs_bend([f.bend_deg for f in fits], ("K_s", "k_pos", "k_neg"), kp, kn, "N·m/rad")
 
 
 def series_k_linearity(ctx: Context) -> Measured:
@@ -181,12 +189,7 @@ def series_hysteresis_rmse(ctx: Context) -> Measured:
 
 def series_hysteresis_vs_bend(ctx: Context) -> Measured:
     bends, rp, rn = rmse_table(ctx)
-    return Measured(
-        ours={"RMSE_p": rp, "RMSE_n": rn},
-        text=f"RMSE_p {rp[0]:.3g}→{rp[-1]:.3g}, RMSE_n {rn[0]:.3g}→{rn[-1]:.3g} N·m "
-        f"({bends[0]:g}→{bends[-1]:g}°)",
-        details={"bend_deg": bends, "rmse_pos": rp, "rmse_neg": rn},
-    )
+    return _sides_vs_bend(bends, ("RMSE_", "rmse_pos", "rmse_neg"), rp, rn, "N·m")
 
 
 def series_hysteresis_sides(ctx: Context) -> Measured:

@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from fsarm_sim.plant.roots import bisect
 from fsarm_sim.studies.reproduce.claims import Context, Measured, MeasureFn
 from fsarm_sim.studies.reproduce.measure001_bench import (
     BENCH_NOTE,
@@ -61,13 +62,7 @@ PRINTED_C = 0.00003
 def _twist_for(tr: Any, block: Any, torque: float, bend: float) -> float:
     """Twist at which the RTCA law gives ``torque`` (bisection; the law rises with the twist)."""
     lo, hi = (0.0, 3.0) if torque > 0 else (-3.0, 0.0)
-    for _ in range(100):
-        mid = 0.5 * (lo + hi)
-        if tr.sensor_torque(block, mid, bend) < torque:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+    return bisect(lambda x: bool(tr.sensor_torque(block, x, bend) < torque), lo, hi, 100)
 
 
 def rating_6nm(ctx: Context) -> Measured:

@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from fsarm_sim.plant.roots import bisect
 from fsarm_sim.studies.reproduce.claims import Context, Measured
 
 DEG = math.pi / 180.0
@@ -45,14 +46,12 @@ def design_block() -> tuple[Any, Any, Any]:
 
 
 def _deflection_for(qa: Any, block: Any, torque: float, sigma: float) -> float:
-    lo, hi = -sigma - 0.5, sigma + 0.5
-    for _ in range(100):
-        mid = 0.5 * (lo + hi)
-        if qa.elastic_torque_nm(block, mid, sigma) < torque:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+    return bisect(
+        lambda x: bool(qa.elastic_torque_nm(block, x, sigma) < torque),
+        -sigma - 0.5,
+        sigma + 0.5,
+        100,
+    )
 
 
 def _presets(tr: Any, block: Any) -> np.ndarray:

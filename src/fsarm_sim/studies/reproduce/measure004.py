@@ -7,10 +7,10 @@
   start (Sec. III); the pitch joint carries the 1 kg load (eq. 16: tau_2 = M g l cos theta_2,
   lever l = 0.1 m: estimate) and follows quasi-statically ("the effects of acceleration are
   negligible"), the law's friction state advanced with the tendon's sliding (the sum of the
-  motor's and the joint's steps, solved together). One full cycle after a warm-up stroke is recorded, eq. 19 is fitted per
-  direction over the moving phases (phases C/F, the joint static, belong to neither), and the
-  gap between the two curves at theta_2 = 0 (M(R.C.) - M(R.A.)) and the fits' maximal errors
-  are compared; Table 1 at bend pi (the text), Table 2 at 0.06 rad/s (``DEFAULT_SPEED``).
+  motor's and the joint's steps, solved together). One full cycle after a warm-up stroke is
+  recorded, eq. 19 is fitted per direction over the moving phases (phases C/F, the joint
+  static, belong to neither), and the gap between the two curves at theta_2 = 0
+  (M(R.C.) - M(R.A.)) and the fits' maximal errors are compared; Table 1 at bend pi (the text), Table 2 at 0.06 rad/s (``DEFAULT_SPEED``).
 * Bandwidth (Sec. V-C): joint-3 torque on the held arm with the tendon-sheath transmission, which
   runs seed 004's dual-encoder position loop (``controllers/tendon_sheath_compliance.py``; the
   controller's stiffness fixed at the straight value), its sheath's own bend set to pi/2, pi,
@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import brentq
 
+from fsarm_sim.plant.roots import bisect
 from fsarm_sim.studies.reproduce.claims import Context, Measured, MeasureFn
 
 LOAD_KG = 1.0  # Sec. III: "The joint is connected to a load of 1 kg"
@@ -91,6 +92,64 @@ def _solve_twist(residual: Callable[[float], float], x: float) -> float:
     return float(brentq(residual, lo, hi, xtol=TWIST_TOL_RAD))
 
 
+def _start_twist(ts: Any, block: Any, load_nm: float) -> float:
+    """The tendon's stretch (as twist) that holds ``load_nm`` with the friction relaxed (z = 0),
+    by bisection."""
+
+    def below(x: float) -> bool:
+        return float(ts.sensor_torque_nm(block, x, 0.0)) < load_nm
+
+    hi = 1.0
+    while below(hi):
+        hi *= 2.0
+    return bisect(below, 0.0, hi, 60)
+
+
+def _fit_eq19(
+    t1: np.ndarray, t2: np.ndarray, d: np.ndarray, moving: np.ndarray
+) -> dict[str, dict[str, float]]:
+    """Eq. 19 (theta_1 quadratic in theta_2) fitted per direction, with its maximal error.
+
+    Eq. 19 describes "the state of motion" (omega_2 > 0 or < 0); phases C and F (the joint
+    static while the motor turns) belong to neither branch."""
+    fits = {}
+    for name, sel in (("up", (d > 0.0) & moving), ("down", (d < 0.0) & moving)):
+        coef = np.polyfit(t2[sel], t1[sel], 2)
+        err = float(np.max(np.abs(np.polyval(coef, t2[sel]) - t1[sel])))
+        fits[name] = {
+            "P": float(coef[0]),
+            "Q": float(coef[1]),
+            "M": float(coef[2]),
+            "max_error": err,
+        }
+    return fits
+
+
+def _motor_step(
+    ts: Any,
+    block: Any,
+    act: np.ndarray,
+    residual: Callable[[float], float],
+    now: tuple[float, float, float, float],
+) -> tuple[float, float, float]:
+    """One motor increment from ``now`` = (twist, motor step, friction state, duration):
+    (the joint's step, the friction state, the twist) after it. The tendon slides with the sum
+    of its ends' travels (tendon_sheath.state_rate): the motor's step and the joint's, solved
+    together, the root nearest the joint held (phases C/F; a root far from it is another
+    equilibrium of the load); ``act[0]`` holds the friction state ``residual`` reads."""
+    x, step, z_start, dt = now
+
+    def joint_gap(j: float) -> float:
+        """The joint step that z(j) implies, minus j (0 at the solution)."""
+        act[0] = float(ts.friction_step(block, x, step, 0.0, z_start, dt, j))
+        return step - (_solve_twist(residual, x) - x) - j
+
+    joint_step = _bracketed_root(joint_gap, abs(step))
+    z = float(ts.friction_step(block, x, step, 0.0, z_start, dt, joint_step))
+    act[0] = z
+    return joint_step, z, _solve_twist(residual, x)
+
+
 def position_transmission(
     wrap: float,
     speed: float,
@@ -104,9 +163,10 @@ def position_transmission(
     The motor runs a triangle at ``speed`` (rad/s) between -pi/4 and +pi/4 (counted from the
     start, where theta_1 = theta_2) - or, with ``sine_period_s``, Sec. III's sine
     ``theta_1 = pi/4 sin(2 pi t / period - pi/2)`` over the same strokes (each step lasts as long
-    as the sine takes over it; ``speed`` is then its peak speed, for the record); each motor increment advances the law's friction state z by
-    :func:`tendon_sheath.friction_step` over the tendon's sliding (the motor's step plus the
-    joint's, solved together) and its duration, then solves the joint-end torque ``tau(x, z) = M g l cos(theta_2)``,
+    as the sine takes over it; ``speed`` is then its peak speed, for the record); each motor
+    increment advances the law's friction state z by :func:`tendon_sheath.friction_step` over
+    the tendon's sliding (the motor's step plus the joint's, solved together) and its duration,
+    then solves the joint-end torque ``tau(x, z) = M g l cos(theta_2)``,
     ``theta_2 = theta_1 - x``, for the twist x."""
     tr, ts = _ts()
     over: dict[str, float] = {**ts.SEED004_BENCH, "wrap_rad": wrap}
@@ -120,16 +180,7 @@ def position_transmission(
     # equivalent": the motor angle is counted from where it holds the joint at theta_1's start
     # (-pi/4, the sine's start), so theta_2 swings about 0 as theta_1 does; x0 is the tendon's
     # stretch (as twist) there, the friction relaxed (z = 0)
-    lo0, hi0 = 0.0, 1.0
-    while float(ts.sensor_torque_nm(block, hi0, 0.0)) < mgl * math.cos(a):
-        hi0 *= 2.0
-    for _ in range(60):
-        mid0 = 0.5 * (lo0 + hi0)
-        if float(ts.sensor_torque_nm(block, mid0, 0.0)) < mgl * math.cos(a):
-            lo0 = mid0
-        else:
-            hi0 = mid0
-    x0 = 0.5 * (lo0 + hi0)
+    x0 = _start_twist(ts, block, mgl * math.cos(a))
     legs = [(-a, a, False), (a, -a, True), (-a, a, True)]  # warm-up stroke, then one cycle
     act = np.zeros(3)
     z = 0.0
@@ -150,27 +201,7 @@ def position_transmission(
             if sine_period_s is not None:  # the sine's speed at the step's middle
                 mid = th1 - x0 - 0.5 * step
                 dt = STEP_RAD / ((2.0 * math.pi / sine_period_s) * math.sqrt(a * a - mid * mid))
-            # the tendon slides with the sum of its ends' travels (tendon_sheath.state_rate):
-            # the motor's step and the joint's, solved together, the root nearest the joint
-            # held (phases C/F; a root far from it is another equilibrium of the load)
-            z_start = z
-
-            def joint_gap(
-                j: float,
-                z_start: float = z_start,
-                step: float = step,
-                x: float = x,
-                dt: float = dt,
-            ) -> float:
-                """The joint step that z(j) implies, minus j (0 at the solution)."""
-                act[0] = float(ts.friction_step(block, x, step, 0.0, z_start, dt, j))
-                return step - (_solve_twist(residual, x) - x) - j
-
-            joint_step = _bracketed_root(joint_gap, abs(step))
-            z = float(ts.friction_step(block, x, step, 0.0, z_start, dt, joint_step))
-            act[0] = z
-            x_new = _solve_twist(residual, x)
-            x = x_new
+            joint_step, z, x = _motor_step(ts, block, act, residual, (x, step, z, dt))
             if keep:
                 recm.append(joint_step * math.copysign(1.0, step) >= MOVING_FRACTION * STEP_RAD)
                 rec1.append(th1 - x0)
@@ -178,18 +209,7 @@ def position_transmission(
                 recd.append(math.copysign(1.0, step))
                 recz.append(z)
     t1, t2, d, moving = np.array(rec1), np.array(rec2), np.array(recd), np.array(recm)
-    fits = {}
-    # eq. 19 describes "the state of motion" (omega_2 > 0 or < 0); phases C and F (the joint
-    # static while the motor turns) belong to neither branch
-    for name, sel in (("up", (d > 0.0) & moving), ("down", (d < 0.0) & moving)):
-        coef = np.polyfit(t2[sel], t1[sel], 2)
-        err = float(np.max(np.abs(np.polyval(coef, t2[sel]) - t1[sel])))
-        fits[name] = {
-            "P": float(coef[0]),
-            "Q": float(coef[1]),
-            "M": float(coef[2]),
-            "max_error": err,
-        }
+    fits = _fit_eq19(t1, t2, d, moving)
     return {
         "speed_rad_s": speed,
         "gap": abs(fits["up"]["M"] - fits["down"]["M"]),
