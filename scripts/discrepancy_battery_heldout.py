@@ -159,19 +159,19 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument(
         "--set",
-        choices=("dev", "heldout", "round1-heldout", "round2-heldout"),
+        choices=("dev", "heldout", "round1-heldout", "round2-heldout", "round3-heldout"),
         default="dev",
-        help="dev, heldout: round 3's split; round1-heldout, round2-heldout: the held-out kinds "
-        "of rounds 1 and 2 (seen since: development now)",
+        help="dev, heldout: round 4's split; round1-heldout .. round3-heldout: the held-out "
+        "kinds of rounds 1 to 3 (seen since: development now)",
     )
     ap.add_argument("--per-kind", type=int, default=3)
     ap.add_argument("--only", default="", help="kinds whose name contains this text")
     ap.add_argument(
         "--round",
         type=int,
-        choices=(1, 2, 3),
+        choices=(1, 2, 3, 4),
         default=0,
-        help="only the kinds of this round (1, 2: seen in earlier development; 3: added since)",
+        help="only the kinds of this round (1-3: seen in earlier development; 4: added since)",
     )
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--out", default="", help="JSON lines, one per record (appended)")
@@ -187,7 +187,7 @@ def main() -> None:
                 r["signature_right"] = signature_right({"findings": r["findings"]}, want)
         print(summarise(rows))
         return
-    rounds = (args.round,) if args.round else (1, 2, 3)
+    rounds = (args.round,) if args.round else (1, 2, 3, 4)
     if args.set == "round1-heldout":
         r1 = gen_bench.split_round1()
         recs = [
@@ -198,6 +198,8 @@ def main() -> None:
         ]
     elif args.set == "round2-heldout":
         recs = gen_bench.battery("heldout", args.per_kind, rounds=(2,), rnd=2)
+    elif args.set == "round3-heldout":
+        recs = gen_bench.battery("heldout", args.per_kind, rounds=(3,), rnd=3)
     else:
         recs = gen_bench.battery(args.set, args.per_kind, rounds=rounds)
     recs = [r for r in recs if args.only in r.kind.name]

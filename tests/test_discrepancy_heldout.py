@@ -86,6 +86,29 @@ HELDOUT_ROUND3 = {
 }
 
 
+# round 4's held-out kinds, as the seeded split drew them (seed 4028) before any diagnosis ran
+# on them; round 3's held-out kinds above have been evaluated and looked at: development now.
+# Run once, with the diagnosis unchanged since round 3 (2 records per kind): strict 14/28,
+# unexplained wrongly true 3/12, library effects for an outside cause 4/16, signature 8/16
+# (round-4 development: 14/28, 4/12, 4/16, 12/16; CHANGELOG).
+HELDOUT_ROUND4 = {
+    "backlash+nonlinear_stiffness",
+    "delay+viscous_damping",
+    "hysteresis+nonlinear_stiffness+delay",
+    "backlash+coulomb_friction+sensor_offset",
+    "gain_temp_cycle",
+    "gain_temp_cycle+viscous_damping",
+    "encoder_interp_4x",
+    "encoder_interp_4x+nonlinear_stiffness+sensor_offset",
+    "thermostat_offset",
+    "thermostat_offset+backlash+hysteresis",
+    "pump_vibration",
+    "pump_vibration+delay+nonlinear_stiffness",
+    "null_ar2_hump30",
+    "null_pink_short_quantised",
+}
+
+
 def test_round2_split_is_as_it_was() -> None:
     sp = gen_bench.split(2)
     assert set(sp) == {k.name for k in gen_bench.KINDS if k.round <= 2}
@@ -94,17 +117,26 @@ def test_round2_split_is_as_it_was() -> None:
     assert sum(s == "heldout" for s in r1.values()) == 18  # round 1's, as it was
 
 
+def test_round3_split_is_as_it_was() -> None:
+    sp = gen_bench.split(3)
+    assert set(sp) == {k.name for k in gen_bench.KINDS if k.round <= 3}
+    assert {n for n, s in sp.items() if s == "heldout"} == HELDOUT_ROUND3
+    names = {r.kind.name for r in gen_bench.battery("heldout", 1, rounds=(3,), rnd=3)}
+    assert names == HELDOUT_ROUND3
+
+
 def test_split_is_fixed_and_covers_every_category() -> None:
     sp = gen_bench.split()
     assert sp == gen_bench.split()
     assert set(sp) == {k.name for k in gen_bench.KINDS}
     held_names = {n for n, s in sp.items() if s == "heldout"}
-    assert held_names == HELDOUT_ROUND3
-    # every kind seen before (rounds 1 and 2, both of their sets) is development now
-    assert all(sp[k.name] == "dev" for k in gen_bench.KINDS if k.round < 3)
+    assert held_names == HELDOUT_ROUND4
+    last = gen_bench.LAST_ROUND
+    # every kind seen before (rounds 1 to 3, both of their sets) is development now
+    assert all(sp[k.name] == "dev" for k in gen_bench.KINDS if k.round < last)
     held = [k for k in gen_bench.KINDS if sp[k.name] == "heldout"]
     for cat in ("library_multi", "outside", "outside_plus", "null"):
-        assert {sp[k.name] for k in gen_bench.KINDS if k.category == cat and k.round == 3} == {
+        assert {sp[k.name] for k in gen_bench.KINDS if k.category == cat and k.round == last} == {
             "dev",
             "heldout",
         }, cat
@@ -116,21 +148,42 @@ def test_split_is_fixed_and_covers_every_category() -> None:
     # nor does a held-out multi-effect set appear in development
     dev_sets = {frozenset(k.library) for k in gen_bench.KINDS if sp[k.name] == "dev"}
     assert not dev_sets & {frozenset(k.library) for k in held if k.category == "library_multi"}
-    new_outside = [k for k in gen_bench.KINDS if k.category == "outside" and k.round == 3]
+    # every multi-effect set of the last round is new
+    old_sets = {frozenset(k.library) for k in gen_bench.KINDS if k.round < last}
+    assert not old_sets & {
+        frozenset(k.library)
+        for k in gen_bench.KINDS
+        if k.round == last and k.category == "library_multi"
+    }
+    new_outside = [k for k in gen_bench.KINDS if k.category == "outside" and k.round == last]
     assert len(new_outside) >= 6
-    assert not {k.outside for k in new_outside} & (
-        set(gen_bench.OUTSIDE_ROUND1) | set(gen_bench.OUTSIDE_ROUND2)
-    )
+    earlier = set(gen_bench.OUTSIDE_ROUND1) | set(gen_bench.OUTSIDE_ROUND2)
+    assert not {k.outside for k in new_outside} & (earlier | set(gen_bench.OUTSIDE_ROUND3))
     assert all(k.noise != "white" for k in held if k.category == "null")
     # the battery's held-out records are of held-out kinds only
-    names = {r.kind.name for r in gen_bench.battery("heldout", 1, rounds=(3,))}
-    assert names == HELDOUT_ROUND3
+    names = {r.kind.name for r in gen_bench.battery("heldout", 1, rounds=(last,))}
+    assert names == HELDOUT_ROUND4
 
 
 @pytest.mark.parametrize(
-    "kind", ["stiffness_drift", "clock_drift", "logger_dropouts", "cable_tether", "belt_error"]
+    "kind",
+    [
+        "stiffness_drift",
+        "clock_drift",
+        "logger_dropouts",
+        "cable_tether",
+        "belt_error",
+        "gain_temp_cycle",
+        "encoder_interp_4x",
+        "mount_expansion",
+        "intermittent_contact",
+        "magnet_pickup",
+        "thermostat_offset",
+        "excitation_ripple",
+        "pump_vibration",
+    ],
 )
-def test_round3_causes_are_well_above_the_noise(kind: str) -> None:
+def test_later_causes_are_well_above_the_noise(kind: str) -> None:
     """Each new outside cause moves tau_s (against the stated shaft's torque of the recorded
     angle) by at least twice the noise in RMS; a null by the noise only."""
     from fsarm_sim.records.measured import stated_shaft
