@@ -133,23 +133,22 @@ def _quantise(x: FloatArray, counts: int) -> FloatArray:
 Disturbance = Callable[[FloatArray, dict[str, FloatArray]], dict[str, FloatArray]]
 
 
-def synthesize_arm(
-    truth: arm_model.ArmModel,
-    rec: ArmRecording,
-    shaft: ShaftParams | None = None,
-    disturbance: Disturbance | None = None,
-) -> tuple[dict[str, FloatArray], dict[str, Any]]:
-    """(columns, sidecar) of a SYNTHETIC arm record: the scenario run by the simulator with
-    ``truth`` acting on the plant (the controller keeps the stated model), recorded with the
-    truth's delays and offsets, Gaussian angle noise and encoder quantisation.
+@dataclass(frozen=True)
+class _ArmTicks:
+    """The synthetic run's timing and reference: the control ticks, their reference table and
+    the record's sampling."""
 
-    ``disturbance(t, channels)``: what outside the library adds to recorded channels (e.g. a
-    pickup line, a drifting offset, an encoder's cyclic error), given the time and the channels
-    as measured before noise; added before the noise and the quantisation. Not recorded in the
-    sidecar's truth (the caller knows it)."""
-    rec.validate()
+    run: arm_run.ArmRun
+    gains: Gains
+    timestep: float | None
+    duration: float
+    payload: float
+    every: int  # control ticks per sample
+
+
+def _arm_ticks(rec: ArmRecording, sh: ShaftParams) -> _ArmTicks:
+    """The run of ``rec``'s scenario at its rate (the truth not yet applied)."""
     sc = scenarios.get(rec.scenario)
-    sh = shaft or stated_shaft()
     ctrl_dt, every = rec.sampling(Gains().ctrl_dt_s)
     gains = Gains(ctrl_dt_s=ctrl_dt)
     # a controller faster than the model's physics step steps the physics at its own period
@@ -171,15 +170,27 @@ def synthesize_arm(
         "",
         transmission=rec.transmission,
     )
+    return _ArmTicks(run, gains, timestep, duration, payload, every)
+
+
+def _arm_columns(
+    ticks: _ArmTicks,
+    truth: arm_model.ArmModel,
+    rec: ArmRecording,
+    disturbance: Disturbance | None,
+) -> dict[str, FloatArray]:
+    """The recorded columns: the truth's run, measured, sampled, disturbed, noisy, quantised."""
+    run = ticks.run
+    ctrl_dt = run.ctrl_dt
     raw, _ = arm_model.simulate_config(run, arm_model.to_config(run, truth))
     meas = arm_model.apply_measurement(raw, truth, ctrl_dt)
     # the record: every ``every``-th control tick (the truth's delays act at the control rate)
-    pick = np.arange(0, n_ticks, every)
+    pick = np.arange(0, run.t.size, ticks.every)
     n = pick.size
-    t: FloatArray = t_ticks[pick]
+    t: FloatArray = run.t[pick]
     raw = {ch: v[pick] for ch, v in raw.items()}
     meas = {ch: v[pick] for ch, v in meas.items()}
-    table = table[pick]
+    table = run.ref_table[pick]
     rng = np.random.default_rng(rec.seed + 104729)
     cols: dict[str, FloatArray] = {"t": t}
     clean = {ch: meas[ch] if ch in meas else raw[ch] for ch in ("q1", "q2", "q3", "theta_m")}
@@ -194,15 +205,27 @@ def synthesize_arm(
             cols[f"qd{j + 1}_ref"] = table[:n, 3 + j]
         for j in range(3):
             cols[f"qdd{j + 1}_ref"] = table[:n, 6 + j]
+    return cols
+
+
+def _arm_sidecar(
+    ticks: _ArmTicks,
+    truth: arm_model.ArmModel,
+    rec: ArmRecording,
+    cols: dict[str, FloatArray],
+) -> dict[str, Any]:
+    """The synthetic record's sidecar, the hidden truth under ``"synthetic"``."""
+    run, gains = ticks.run, ticks.gains
+    sh, ctrl_dt = run.shaft, run.ctrl_dt
     hidden = truth.labels
     side = records.Sidecar(
         schema=records.SCHEMA,
         writer=records.WRITER_SYNTH,
         setup="arm",
         shaft=records.ShaftRef(diameter_mm=sh.diameter_mm, length_mm=sh.length_mm),
-        payload_kg=payload,
+        payload_kg=ticks.payload,
         ctrl_dt_s=gains.ctrl_dt_s,
-        timestep_s=timestep,
+        timestep_s=ticks.timestep,
         scenario=rec.scenario,
         gains=records.gains_entry(gains),
         transmission=(
@@ -212,8 +235,8 @@ def synthesize_arm(
         ),
         notes=(
             f"SYNTHETIC data from fsarm synth --setup arm (not a measurement): scenario "
-            f"{rec.scenario}, joint 3 by {rec.transmission}, {duration:g} s at "
-            f"{1 / (every * ctrl_dt):g} Hz (control at {1 / ctrl_dt:g} Hz), angle noise "
+            f"{rec.scenario}, joint 3 by {rec.transmission}, {ticks.duration:g} s at "
+            f"{1 / (ticks.every * ctrl_dt):g} Hz (control at {1 / ctrl_dt:g} Hz), angle noise "
             f"{rec.noise_rad:g} rad, {rec.encoder_counts} counts/rev, hidden effects: "
             f"{', '.join(hidden) if hidden else 'none'}"
         ),
@@ -227,7 +250,27 @@ def synthesize_arm(
             }
         ),
     )
-    return cols, side.to_json()
+    return side.to_json()
+
+
+def synthesize_arm(
+    truth: arm_model.ArmModel,
+    rec: ArmRecording,
+    shaft: ShaftParams | None = None,
+    disturbance: Disturbance | None = None,
+) -> tuple[dict[str, FloatArray], dict[str, Any]]:
+    """(columns, sidecar) of a SYNTHETIC arm record: the scenario run by the simulator with
+    ``truth`` acting on the plant (the controller keeps the stated model), recorded with the
+    truth's delays and offsets, Gaussian angle noise and encoder quantisation.
+
+    ``disturbance(t, channels)``: what outside the library adds to recorded channels (e.g. a
+    pickup line, a drifting offset, an encoder's cyclic error), given the time and the channels
+    as measured before noise; added before the noise and the quantisation. Not recorded in the
+    sidecar's truth (the caller knows it)."""
+    rec.validate()
+    ticks = _arm_ticks(rec, shaft or stated_shaft())
+    cols = _arm_columns(ticks, truth, rec, disturbance)
+    return cols, _arm_sidecar(ticks, truth, rec, cols)
 
 
 def write_arm_synthetic(

@@ -54,27 +54,14 @@ def channel_nrmse(diag: core.Diagnosis[candidate_structure.Fit]) -> dict[str, di
     return out
 
 
-def write_plots(
-    diag: core.Diagnosis[candidate_structure.Fit],
-    folder: str | Path,
-    signal_set: Callable[[candidate_structure.Fit], Signals] | None = None,
-) -> list[Path]:
-    """Time series and loops before/after, NRMSE per channel; with ``signal_set`` (the bench
-    setup's :meth:`~.bench_setup.BenchSetup.signal_set`) the residual signature too."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    out = Path(folder)
-    out.mkdir(parents=True, exist_ok=True)
+def _plot_timeseries(
+    plt: Any, diag: core.Diagnosis[candidate_structure.Fit], path: Path, unit: str
+) -> Path:
+    """The first held-out block (a few seconds): input, measured and replayed output,
+    residuals before and after."""
     ctx = diag.ctx
     inp = ctx.inp
     ds = diag.dataset
-    unit = "N·m"
-    files: list[Path] = []
-
-    # 1. time series in the first held-out block (a few seconds)
     idx = np.flatnonzero(ctx.held)
     i0 = int(idx[0]) if idx.size else 0
     i1 = min(inp.n, i0 + round(4.0 / inp.h))
@@ -102,11 +89,16 @@ def write_plots(
     ax[2].set_xlabel("t [s]")
     ax[2].legend(loc="upper right", fontsize=8)
     fig.tight_layout()
-    files.append(out / "timeseries.png")
-    fig.savefig(files[-1], dpi=110)
+    fig.savefig(path, dpi=110)
     plt.close(fig)
+    return path
 
-    # 2. torque-deflection loops
+
+def _plot_loops(
+    plt: Any, diag: core.Diagnosis[candidate_structure.Fit], path: Path, unit: str
+) -> Path:
+    """Torque-deflection loops, measured and replayed, before and after."""
+    inp = diag.ctx.inp
     s = inp.theta_s if inp.inertia_load and inp.theta_s is not None else inp.s
     x = inp.u - s
     step = max(1, inp.n // 8000)
@@ -127,24 +119,43 @@ def write_plots(
         a.set_title(title)
         a.set_xlabel("deflection (input - output angle) [rad]")
         a.legend(loc="upper left", fontsize=8, markerscale=6)
-    ax[0].set_ylabel(f"{ds.output_column} [{unit}]")
+    ax[0].set_ylabel(f"{diag.dataset.output_column} [{unit}]")
     fig.tight_layout()
-    files.append(out / "loops.png")
-    fig.savefig(files[-1], dpi=110)
+    fig.savefig(path, dpi=110)
     plt.close(fig)
+    return path
 
-    # 3. what the final model leaves: spectrum, drift, dependence, where
+
+def write_plots(
+    diag: core.Diagnosis[candidate_structure.Fit],
+    folder: str | Path,
+    signal_set: Callable[[candidate_structure.Fit], Signals] | None = None,
+) -> list[Path]:
+    """Time series and loops before/after, NRMSE per channel; with ``signal_set`` (the bench
+    setup's :meth:`~.bench_setup.BenchSetup.signal_set`) the residual signature too."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out = Path(folder)
+    out.mkdir(parents=True, exist_ok=True)
+    ctx = diag.ctx
+    unit = "N·m"
+    files = [
+        _plot_timeseries(plt, diag, out / "timeseries.png", unit),
+        _plot_loops(plt, diag, out / "loops.png", unit),
+    ]
+    # what the final model leaves: spectrum, drift, dependence, where
     sig = diag.extras.get("residual_signature")
     if signal_set is not None and sig is not None:
         files.append(plot_signature(sig, signal_set(diag.final), out / "residual_signature.png"))
-
-    # 4. NRMSE per channel
-    floor = nrmse_floor(inp.y, ctx.sigma_y, ctx.held)
+    floor = nrmse_floor(ctx.inp.y, ctx.sigma_y, ctx.held)
     files.append(
         plot_channel_nrmse(
             channel_nrmse(diag),
             out / "nrmse.png",
-            floor=(floor, f"noise floor ({ds.output_column})"),
+            floor=(floor, f"noise floor ({diag.dataset.output_column})"),
         )
     )
     return files

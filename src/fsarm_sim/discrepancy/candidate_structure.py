@@ -269,6 +269,18 @@ def to_model(ctx: Context, st: Structure, coef: dict[str, float]) -> BenchModel:
     """The bench model (nominal + effects) of a structure with fitted coefficients."""
     m = ctx.stated.copy()
     m.effects = []
+    _set_nominal(ctx, m, coef)
+    m.effects.extend(_coupling_effects(ctx, st, coef))
+    m.effects.extend(_hysteresis_effects(st, coef))
+    if st.out_offset:
+        m.effects.append(
+            EffectInstance(variants.OFFSET, "output", {"offset_nm": coef["offset_nm"]})
+        )
+    return m
+
+
+def _set_nominal(ctx: Context, m: BenchModel, coef: dict[str, float]) -> None:
+    """The fitted nominal parameters into ``m``."""
     if ctx.setup == "series_bench":
         if ctx.multi_bend:
             for k in ("k_pos", "s_pos", "k_neg", "s_neg"):
@@ -282,12 +294,17 @@ def to_model(ctx: Context, st: Structure, coef: dict[str, float]) -> BenchModel:
     else:
         m.nominal["kb"] = coef["kb"]
         m.nominal["j_link"] = coef["j_link"]
+
+
+def _coupling_effects(ctx: Context, st: Structure, coef: dict[str, float]) -> list[EffectInstance]:
+    """The structure's delay, offset, backlash, nonlinear stiffness and friction, fitted."""
+    out: list[EffectInstance] = []
     if st.delay_s is not None:
-        m.effects.append(EffectInstance(variants.DELAY, "input", {"delay_s": st.delay_s}))
+        out.append(EffectInstance(variants.DELAY, "input", {"delay_s": st.delay_s}))
     if st.in_offset is not None:
-        m.effects.append(EffectInstance(variants.OFFSET, "input", {"offset_rad": st.in_offset}))
+        out.append(EffectInstance(variants.OFFSET, "input", {"offset_rad": st.in_offset}))
     if st.backlash is not None:
-        m.effects.append(
+        out.append(
             EffectInstance(
                 variants.BACKLASH,
                 "coupling",
@@ -295,7 +312,7 @@ def to_model(ctx: Context, st: Structure, coef: dict[str, float]) -> BenchModel:
             )
         )
     if st.poly == "poly":
-        m.effects.append(
+        out.append(
             EffectInstance(
                 variants.NONLINEAR,
                 "poly",
@@ -305,9 +322,9 @@ def to_model(ctx: Context, st: Structure, coef: dict[str, float]) -> BenchModel:
     elif st.poly == "poly_per_sign":
         p = {k: coef[k] for k in ("c2_pos_nm", "c3_pos_nm", "c2_neg_nm", "c3_neg_nm")}
         p["x_ref_rad"] = ctx.x_ref
-        m.effects.append(EffectInstance(variants.NONLINEAR, "poly_per_sign", p))
+        out.append(EffectInstance(variants.NONLINEAR, "poly_per_sign", p))
     if st.coulomb is not None:
-        m.effects.append(
+        out.append(
             EffectInstance(
                 variants.COULOMB,
                 "shaft",
@@ -315,13 +332,19 @@ def to_model(ctx: Context, st: Structure, coef: dict[str, float]) -> BenchModel:
             )
         )
     if st.viscous:
-        m.effects.append(EffectInstance(variants.VISCOUS, "shaft", {"b_nms": coef["b_nms"]}))
+        out.append(EffectInstance(variants.VISCOUS, "shaft", {"b_nms": coef["b_nms"]}))
     if st.load_coulomb:
-        m.effects.append(EffectInstance(variants.COULOMB, "load", {"f_c_nm": coef["f_load_nm"]}))
+        out.append(EffectInstance(variants.COULOMB, "load", {"f_c_nm": coef["f_load_nm"]}))
     if st.load_viscous:
-        m.effects.append(EffectInstance(variants.VISCOUS, "load", {"b_nms": coef["b_load_nms"]}))
+        out.append(EffectInstance(variants.VISCOUS, "load", {"b_nms": coef["b_load_nms"]}))
+    return out
+
+
+def _hysteresis_effects(st: Structure, coef: dict[str, float]) -> list[EffectInstance]:
+    """The structure's slip and viscoelastic elements, fitted."""
+    out: list[EffectInstance] = []
     if st.slip is not None and st.slip.size:
-        m.effects.append(
+        out.append(
             EffectInstance(
                 variants.HYSTERESIS,
                 "maxwell_slip",
@@ -332,7 +355,7 @@ def to_model(ctx: Context, st: Structure, coef: dict[str, float]) -> BenchModel:
             )
         )
     if st.ve is not None and st.ve.size:
-        m.effects.append(
+        out.append(
             EffectInstance(
                 variants.HYSTERESIS,
                 "viscoelastic",
@@ -342,11 +365,7 @@ def to_model(ctx: Context, st: Structure, coef: dict[str, float]) -> BenchModel:
                 },
             )
         )
-    if st.out_offset:
-        m.effects.append(
-            EffectInstance(variants.OFFSET, "output", {"offset_nm": coef["offset_nm"]})
-        )
-    return m
+    return out
 
 
 def split_mse(ctx: Context, yhat: FloatArray) -> tuple[float, float]:

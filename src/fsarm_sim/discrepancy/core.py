@@ -76,6 +76,56 @@ __all__ = [
 D = TypeVar("D", bound=Diagnosis[Any])
 
 
+def _select(
+    setup: Setup[Any], nom: Any, max_effects: int, *, joint: bool, restart: bool
+) -> tuple[Any, list[str], list[Step], list[tuple[Any, list[tuple[Score, Any]]]]]:
+    """(the model, the named effects, the steps, each step's starting model and ranking) of the
+    forward selection from the nominal model ``nom`` (:func:`diagnose`), before pruning."""
+    cur = nom
+    named: list[str] = []
+    steps: list[Step] = []
+    trail: list[tuple[Any, list[tuple[Score, Any]]]] = []
+    restarted = not (joint and restart)
+    while True:
+        st, accepted, ranked = (
+            step_with_ranking(setup, cur, named, len(steps) + 1, nom)
+            if len(named) < max_effects
+            else (None, None, [])
+        )
+        if st is not None:
+            steps.append(st)
+            trail.append((cur, ranked))
+        if accepted is not None and st is not None and st.added is not None:
+            named.append(st.added)
+            cur = setup.accept(accepted)
+            continue
+        room = max_effects - len(named)
+        over = residual_over_noise(setup, cur)
+        if joint and ranked and room >= 2 and over >= JOINT_TRIGGER:
+            jst, jfit = joint_step(
+                setup, cur, named, len(steps) + 1, nom, ranked, room, both_orders=restart
+            )
+            steps.append(jst)
+            if jfit is not None:
+                members = list(
+                    zip(jst.added_effects, (jfit.variant or "").split("+"), strict=False)
+                )
+                named.extend(jst.added_effects)
+                cur = accept_joint(setup, jfit, members)
+                continue
+        if restarted or not named or over < RESTART_TRIGGER or not trail:
+            break
+        restarted = True
+        rst, rfit = restart_step(setup, cur, named, len(steps) + 1, nom, trail[0][1], max_effects)
+        steps.append(rst)
+        if rfit is None:
+            break
+        members = list(zip(rst.added_effects, (rfit.variant or "").split("+"), strict=False))
+        named = list(rst.added_effects)
+        cur = accept_joint(setup, rfit, members)
+    return cur, named, steps, trail
+
+
 @overload
 def diagnose(
     setup: Setup[F],
@@ -118,49 +168,8 @@ def diagnose(
     diagnosis class to return; ``started``: ``time.perf_counter()`` at the start of the work
     (the record's preparation included), for ``runtime_s``."""
     t0 = time.perf_counter() if started is None else started
-    cat, cur = setup.nominal()
-    nom = cur
-    named: list[str] = []
-    steps: list[Step] = []
-    trail: list[tuple[Any, list[tuple[Score, Any]]]] = []
-    restarted = not (joint and restart)
-    while True:
-        st, accepted, ranked = (
-            step_with_ranking(setup, cur, named, len(steps) + 1, nom)
-            if len(named) < max_effects
-            else (None, None, [])
-        )
-        if st is not None:
-            steps.append(st)
-            trail.append((cur, ranked))
-        if accepted is not None and st is not None and st.added is not None:
-            named.append(st.added)
-            cur = setup.accept(accepted)
-            continue
-        room = max_effects - len(named)
-        over = residual_over_noise(setup, cur)
-        if joint and ranked and room >= 2 and over >= JOINT_TRIGGER:
-            jst, jfit = joint_step(
-                setup, cur, named, len(steps) + 1, nom, ranked, room, both_orders=restart
-            )
-            steps.append(jst)
-            if jfit is not None:
-                members = list(
-                    zip(jst.added_effects, (jfit.variant or "").split("+"), strict=False)
-                )
-                named.extend(jst.added_effects)
-                cur = accept_joint(setup, jfit, members)
-                continue
-        if restarted or not named or over < RESTART_TRIGGER or not trail:
-            break
-        restarted = True
-        rst, rfit = restart_step(setup, cur, named, len(steps) + 1, nom, trail[0][1], max_effects)
-        steps.append(rst)
-        if rfit is None:
-            break
-        members = list(zip(rst.added_effects, (rfit.variant or "").split("+"), strict=False))
-        named = list(rst.added_effects)
-        cur = accept_joint(setup, rfit, members)
+    cat, nom = setup.nominal()
+    cur, named, steps, trail = _select(setup, nom, max_effects, joint=joint, restart=restart)
     if joint and restart and len(named) >= 2:
         cur, named = prune(setup, cur, named, nom, steps)
     final = setup.finish(cur, named)

@@ -164,6 +164,59 @@ def _tie(diag: BenchDiagnosis) -> tuple[int, Any, Any, Any, str, str]:
     return best[1], best[2], best[3][1], best[4][1], best[3][0].label, best[4][0].label
 
 
+def _design_row(
+    d: Design | None,
+    u: np.ndarray,
+    tie: tuple[Any, Any, Any],
+    ds: Dataset,
+    t: np.ndarray,
+    sigma: float,
+    n_held: float,
+) -> dict[str, Any]:
+    """Both directions' expected margins of one candidate input (``d`` None: the record's own),
+    ``tie`` the near-tie's (base, A, B) fits."""
+    base, fa, fb = tie
+    m_b, k_b, m0_a, k0 = wrong_fit_mse(fa.model, ds, t, u, base.structure, fb)
+    m_a, k_a, m0_b, _ = wrong_fit_mse(fb.model, ds, t, u, base.structure, fa)
+    marg_a = expected_margin(m_b, sigma, n_held, k_a - k_b)  # A true, B fitted
+    marg_b = expected_margin(m_a, sigma, n_held, k_b - k_a)  # B true, A fitted
+    # either must still be found at all: its margin over the model without it, and its
+    # contribution above the selection's floor (MIN_EXPLAINED_EXTRA of the noise variance)
+    det = min(
+        expected_margin(m0_a, sigma, n_held, k_a - k0),
+        expected_margin(m0_b, sigma, n_held, k_b - k0),
+    )
+    seen = min(m0_a, m0_b) >= MIN_VISIBLE * sigma**2
+    return {
+        "design": d.label if d else "the record's own input",
+        "shape": d.shape if d else None,
+        "amplitude_rad": d.amplitude if d else None,
+        "bias_rad": d.bias if d else None,
+        "speed": d.speed if d else None,
+        "expected_margin_if_A": marg_a,
+        "expected_margin_if_B": marg_b,
+        "expected_margin_over_base": det,
+        "seen": seen,
+        "wrong_mse_over_noise": (m_b / sigma**2, m_a / sigma**2),
+        "u": u,
+    }
+
+
+def _score(rows: list[dict[str, Any]]) -> list[bool]:
+    """Sets each row's ``expected_margin``; returns (A inside B, B inside A).
+
+    A direction where the wrong model holds the right one (backlash of zero width *is* an input
+    offset) leaves the wrong fit at the right one's noise on every input: no experiment moves
+    its margin from -dk ln n, so it is left out of the design's score (and said)."""
+    nested = [all(r["wrong_mse_over_noise"][j] < NESTED for r in rows) for j in (0, 1)]
+    for r in rows:
+        dirs = [r[f"expected_margin_if_{x}"] for x, n in zip("AB", nested, strict=True) if not n]
+        r["expected_margin"] = (
+            min([*dirs, r["expected_margin_over_base"]]) if r["seen"] else -math.inf
+        )
+    return nested
+
+
 def design(
     ds: Dataset,
     diag: BenchDiagnosis | None = None,
@@ -195,41 +248,8 @@ def design(
     for k, (d, u) in enumerate(cands):
         if progress is not None:
             progress("both fits on each candidate input", k + 1, len(cands) + 1)
-        m_b, k_b, m0_a, k0 = wrong_fit_mse(fa.model, ds, t, u, base.structure, fb)
-        m_a, k_a, m0_b, _ = wrong_fit_mse(fb.model, ds, t, u, base.structure, fa)
-        marg_a = expected_margin(m_b, sigma, n_held, k_a - k_b)  # A true, B fitted
-        marg_b = expected_margin(m_a, sigma, n_held, k_b - k_a)  # B true, A fitted
-        # either must still be found at all: its margin over the model without it, and its
-        # contribution above the selection's floor (MIN_EXPLAINED_EXTRA of the noise variance)
-        det = min(
-            expected_margin(m0_a, sigma, n_held, k_a - k0),
-            expected_margin(m0_b, sigma, n_held, k_b - k0),
-        )
-        seen = min(m0_a, m0_b) >= MIN_VISIBLE * sigma**2
-        rows.append(
-            {
-                "design": d.label if d else "the record's own input",
-                "shape": d.shape if d else None,
-                "amplitude_rad": d.amplitude if d else None,
-                "bias_rad": d.bias if d else None,
-                "speed": d.speed if d else None,
-                "expected_margin_if_A": marg_a,
-                "expected_margin_if_B": marg_b,
-                "expected_margin_over_base": det,
-                "seen": seen,
-                "wrong_mse_over_noise": (m_b / sigma**2, m_a / sigma**2),
-                "u": u,
-            }
-        )
-    # a direction where the wrong model holds the right one (backlash of zero width *is* an
-    # input offset) leaves the wrong fit at the right one's noise on every input: no experiment
-    # moves its margin from -dk ln n, so it is left out of the design's score (and said)
-    nested = [all(r["wrong_mse_over_noise"][j] < NESTED for r in rows) for j in (0, 1)]
-    for r in rows:
-        dirs = [r[f"expected_margin_if_{x}"] for x, n in zip("AB", nested, strict=True) if not n]
-        r["expected_margin"] = (
-            min([*dirs, r["expected_margin_over_base"]]) if r["seen"] else -math.inf
-        )
+        rows.append(_design_row(d, u, (base, fa, fb), ds, t, sigma, n_held))
+    nested = _score(rows)
     own, others = rows[0], rows[1:]
     best = max(others, key=lambda r: float(r["expected_margin"]))
     st = diag.steps[i]

@@ -14,7 +14,7 @@ import numpy.typing as npt
 
 from fsarm_sim.engine import hysteresis_model
 from fsarm_sim.errors import InvalidParameterError, real_number
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 from fsarm_sim.plant import transmissions
 from fsarm_sim.plant.effects import registry
 from fsarm_sim.plant.shaft import ShaftParams, load_catalogue
@@ -30,10 +30,10 @@ PAYLOAD_HEIGHT_M = 0.10
 
 
 CONTROLLERS: dict[str, float] = {
-    "default": L.CTRL_DEFAULT,
-    "hysteresis-comp": L.CTRL_HYSTERESIS,
-    "dob": L.CTRL_DOB,
-    "paper-pid": L.CTRL_PAPER_PID,
+    "default": layout.CTRL_DEFAULT,
+    "hysteresis-comp": layout.CTRL_HYSTERESIS,
+    "dob": layout.CTRL_DOB,
+    "paper-pid": layout.CTRL_PAPER_PID,
 }
 
 

@@ -37,7 +37,7 @@ from fsarm_sim.engine.structure import fixed_tendon as fixed_tendon
 from fsarm_sim.engine.structure import named_id
 from fsarm_sim.engine.structure import read_structure as read_structure
 from fsarm_sim.errors import InvalidParameterError, ModelStructureError
-from fsarm_sim.kernels import layout as L
+from fsarm_sim.kernels import layout
 from fsarm_sim.plant.effects import registry
 from fsarm_sim.plant.effects.base import model_writes
 from fsarm_sim.plant.transmissions.base import Transmission, TransmissionError
@@ -125,13 +125,15 @@ def build_spec(
             act.actlimited = mujoco.mjtLimited.mjLIMITED_TRUE
             act.actrange = [lim[0], lim[1]]
     add_law_states(spec, config.effects)
-    spec.add_numeric(name=L.PARAMS_NAME, size=L.N_PARAMS, data=np.zeros(L.N_PARAMS))
+    spec.add_numeric(name=layout.PARAMS_NAME, size=layout.N_PARAMS, data=np.zeros(layout.N_PARAMS))
     if ref_data:
-        spec.add_numeric(name=L.REF_NAME, size=ref_table.size, data=ref_table.ravel())
+        spec.add_numeric(name=layout.REF_NAME, size=ref_table.size, data=ref_table.ravel())
     else:
-        spec.add_numeric(name=L.REF_NAME, size=ref_table.size)
+        spec.add_numeric(name=layout.REF_NAME, size=ref_table.size)
     # the kernels' userdata and the run recorder's buffer (layout.U_REC_*)
-    spec.nuserdata = L.N_USERDATA + L.REC_ROWS_DEFAULT * L.rec_width(*spec_sizes(spec))
+    spec.nuserdata = layout.N_USERDATA + layout.REC_ROWS_DEFAULT * layout.rec_width(
+        *spec_sizes(spec)
+    )
     return spec
 
 
@@ -170,9 +172,9 @@ def build_model(
     """
     config.validate()
     ref = np.ascontiguousarray(ref_table, dtype=np.float64)
-    if ref.ndim != 2 or ref.shape[1] != L.REF_COLS or ref.shape[0] < 1:
+    if ref.ndim != 2 or ref.shape[1] != layout.REF_COLS or ref.shape[0] < 1:
         raise InvalidParameterError(
-            f"reference table must have shape (n_ticks >= 1, {L.REF_COLS}), got {ref.shape}"
+            f"reference table must have shape (n_ticks >= 1, {layout.REF_COLS}), got {ref.shape}"
         )
     if not np.all(np.isfinite(ref)):
         raise InvalidParameterError("reference table contains NaN or infinite values")
@@ -186,7 +188,7 @@ def build_model(
     for a, lim in zip(base.slip_actuators, limits, strict=True):
         if lim is not None:  # (build_spec writes these; the key holds which are limited)
             model.actuator_actrange[a] = (lim[0], lim[1])
-    model.numeric(L.REF_NAME).data[:] = ref.ravel()  # (the spec sized it: build_spec)
+    model.numeric(layout.REF_NAME).data[:] = ref.ravel()  # (the spec sized it: build_spec)
     if config.timestep_s is not None:
         model.opt.timestep = config.timestep_s
     if config.integrator is not None:
@@ -354,7 +356,7 @@ def write_params(
 ) -> None:
     """Fill ``fsarm_params`` (layout.P_*). ``lever_arms``: :func:`payload_lever_arms_m` of this
     model if known (None: computed here)."""
-    p = model.numeric(L.PARAMS_NAME).data
+    p = model.numeric(layout.PARAMS_NAME).data
     sh, cm_sh, g, fx = (
         config.shaft,
         config.controller_shaft or config.shaft,
@@ -363,44 +365,44 @@ def write_params(
     )
     on = {True: 1.0, False: 0.0}
     p[:] = 0.0
-    p[L.P_MAGIC] = L.MAGIC
-    p[L.P_QADR_Q1], p[L.P_QADR_Q2], p[L.P_QADR_Q3], p[L.P_QADR_ROT] = st.qadr
-    p[L.P_DOF_Q1], p[L.P_DOF_Q2], p[L.P_DOF_Q3], p[L.P_DOF_ROT] = st.dof
-    p[L.P_COEF_M], p[L.P_COEF_S] = st.coef_m, st.coef_s
-    p[L.P_ACT_BR1], p[L.P_ACT_BR2] = st.act_branch
-    p[L.P_ACT_SLIP1] = st.act_slip
-    p[L.P_CTRL_J1], p[L.P_CTRL_J2], p[L.P_CTRL_J3] = st.ctrl
-    p[L.P_MADR_Q1], p[L.P_MADR_Q2], p[L.P_MADR_Q3] = st.madr
-    p[L.P_KB], p[L.P_BETA] = sh.kb, sh.beta
-    p[L.P_BR_K1], p[L.P_BR_K2] = sh.conduit_k
-    p[L.P_BR_TAU1], p[L.P_BR_TAU2] = sh.conduit_tau
-    p[L.P_EN_SERIES] = on[fx.series]
-    p[L.P_EN_BEND] = on[fx.bending]
-    p[L.P_EN_CONDUIT] = on[fx.conduit]
-    p[L.P_EN_COUPLING] = on[fx.coupling]
-    p[L.P_EN_CONTROL] = on[fx.control]
-    p[L.P_CTRL_DT] = g.ctrl_dt_s
-    p[L.P_N_TICKS] = n_ticks
-    p[L.P_TIMESTEP] = model.opt.timestep
-    p[L.P_STEPS_PER_TICK] = max(1, round(g.ctrl_dt_s / model.opt.timestep))
-    p[L.P_WN1], p[L.P_WN2], p[L.P_WN3] = g.wn_rad_s
-    p[L.P_ZETA1], p[L.P_ZETA2], p[L.P_ZETA3] = g.zeta
-    p[L.P_TAU_BW], p[L.P_TAU_WI] = g.torque_bandwidth_rad_s, g.torque_integral_rad_s
-    p[L.P_TAU_KDN] = g.torque_derivative
-    p[L.P_SPD_KP], p[L.P_SPD_KI] = g.speed_kp, g.speed_ki
-    p[L.P_OMEGA_MAX] = st.motor_speed_limit
-    p[L.P_TAU1_MAX], p[L.P_TAU2_MAX], p[L.P_TAU_MOT_MAX] = st.tau_max
-    p[L.P_CM_KB], p[L.P_CM_BETA] = cm_sh.kb, cm_sh.beta
-    p[L.P_CM_BEND_COMP] = on[g.bend_compensation]
-    p[L.P_SPEED_FF] = on[g.speed_ff and g.controller != "paper-pid"]
-    p[L.P_CTRL_KIND] = CONTROLLERS[g.controller]
-    p[L.P_DOB_WQ] = g.dob_bandwidth_rad_s
+    p[layout.P_MAGIC] = layout.MAGIC
+    p[layout.P_QADR_Q1], p[layout.P_QADR_Q2], p[layout.P_QADR_Q3], p[layout.P_QADR_ROT] = st.qadr
+    p[layout.P_DOF_Q1], p[layout.P_DOF_Q2], p[layout.P_DOF_Q3], p[layout.P_DOF_ROT] = st.dof
+    p[layout.P_COEF_M], p[layout.P_COEF_S] = st.coef_m, st.coef_s
+    p[layout.P_ACT_BR1], p[layout.P_ACT_BR2] = st.act_branch
+    p[layout.P_ACT_SLIP1] = st.act_slip
+    p[layout.P_CTRL_J1], p[layout.P_CTRL_J2], p[layout.P_CTRL_J3] = st.ctrl
+    p[layout.P_MADR_Q1], p[layout.P_MADR_Q2], p[layout.P_MADR_Q3] = st.madr
+    p[layout.P_KB], p[layout.P_BETA] = sh.kb, sh.beta
+    p[layout.P_BR_K1], p[layout.P_BR_K2] = sh.conduit_k
+    p[layout.P_BR_TAU1], p[layout.P_BR_TAU2] = sh.conduit_tau
+    p[layout.P_EN_SERIES] = on[fx.series]
+    p[layout.P_EN_BEND] = on[fx.bending]
+    p[layout.P_EN_CONDUIT] = on[fx.conduit]
+    p[layout.P_EN_COUPLING] = on[fx.coupling]
+    p[layout.P_EN_CONTROL] = on[fx.control]
+    p[layout.P_CTRL_DT] = g.ctrl_dt_s
+    p[layout.P_N_TICKS] = n_ticks
+    p[layout.P_TIMESTEP] = model.opt.timestep
+    p[layout.P_STEPS_PER_TICK] = max(1, round(g.ctrl_dt_s / model.opt.timestep))
+    p[layout.P_WN1], p[layout.P_WN2], p[layout.P_WN3] = g.wn_rad_s
+    p[layout.P_ZETA1], p[layout.P_ZETA2], p[layout.P_ZETA3] = g.zeta
+    p[layout.P_TAU_BW], p[layout.P_TAU_WI] = g.torque_bandwidth_rad_s, g.torque_integral_rad_s
+    p[layout.P_TAU_KDN] = g.torque_derivative
+    p[layout.P_SPD_KP], p[layout.P_SPD_KI] = g.speed_kp, g.speed_ki
+    p[layout.P_OMEGA_MAX] = st.motor_speed_limit
+    p[layout.P_TAU1_MAX], p[layout.P_TAU2_MAX], p[layout.P_TAU_MOT_MAX] = st.tau_max
+    p[layout.P_CM_KB], p[layout.P_CM_BETA] = cm_sh.kb, cm_sh.beta
+    p[layout.P_CM_BEND_COMP] = on[g.bend_compensation]
+    p[layout.P_SPEED_FF] = on[g.speed_ff and g.controller != "paper-pid"]
+    p[layout.P_CTRL_KIND] = CONTROLLERS[g.controller]
+    p[layout.P_DOB_WQ] = g.dob_bandwidth_rad_s
     if g.controller == "hysteresis-comp":
         hm = hysteresis_model.resolve(g.hysteresis_model, cm_sh)
-        p[L.P_HM : L.P_HM + L.N_HM] = hm
-    p[L.P_GAIN_SCHED] = on[g.gain_schedule]
-    p[L.P_SETUP] = L.SETUP_ARM
-    p[L.P_RK4] = on[model.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4]
+        p[layout.P_HM : layout.P_HM + layout.N_HM] = hm
+    p[layout.P_GAIN_SCHED] = on[g.gain_schedule]
+    p[layout.P_SETUP] = layout.SETUP_ARM
+    p[layout.P_RK4] = on[model.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4]
     write_transmission(p, config)
     write_arm_effects(model, p, config.effects, lever_arms=lever_arms)
 
@@ -409,13 +411,13 @@ def write_transmission(p: npt.NDArray[np.float64], config: SimConfig) -> None:
     """Joint 3's transmission: id, plant and controller blocks; shaft-only effects off if absent."""
     tr = config.transmission_model()
     plant, ctrl = config.transmission_blocks()
-    p[L.P_TRANS] = tr.kind
-    p[L.P_TR : L.P_TR + L.N_TR] = plant
-    p[L.P_TRC : L.P_TRC + L.N_TR] = ctrl
-    p[L.P_TR_K0] = _reference_stiffness(tr, ctrl)
+    p[layout.P_TRANS] = tr.kind
+    p[layout.P_TR : layout.P_TR + layout.N_TR] = plant
+    p[layout.P_TRC : layout.P_TRC + layout.N_TR] = ctrl
+    p[layout.P_TR_K0] = _reference_stiffness(tr, ctrl)
     if not tr.routed_over_joint2:  # no shaft over joint 2: no bending moment to feel or cancel
-        p[L.P_EN_BEND] = p[L.P_EN_CONDUIT] = p[L.P_EN_COUPLING] = 0.0
-        p[L.P_CM_KB] = p[L.P_CM_BETA] = 0.0
+        p[layout.P_EN_BEND] = p[layout.P_EN_CONDUIT] = p[layout.P_EN_COUPLING] = 0.0
+        p[layout.P_CM_KB] = p[layout.P_CM_BETA] = 0.0
 
 
 REFERENCE_TORQUE_FRACTION = 0.3  # of the rating: the operating point fixed gains are tuned for
@@ -473,7 +475,7 @@ def write_laws(p: npt.NDArray[np.float64], fx: Effects, model: mujoco.MjModel) -
     (declared defaults unless given)."""
     given = dict(fx.laws)
     by_name = {e.name: e for e in registry.arm_laws()}
-    for b in L.ARM_LAW_BLOCKS:
+    for b in layout.ARM_LAW_BLOCKS:
         law = by_name[b.name].law
         assert law is not None
         values = dict(given.get(b.name, ()))
@@ -501,7 +503,7 @@ def write_arm_effects(
     of ``model`` if known)."""
     write_laws(p, fx, model)
     known = model_quantities(model, lever_arms)
-    for b in L.ARM_LAW_BLOCKS:
+    for b in layout.ARM_LAW_BLOCKS:
         law = registry.get(b.name).law
         assert law is not None
         for i, d in enumerate(law.KERNEL_PARAMS):
@@ -542,13 +544,13 @@ def payload_lever_arms_m(model: mujoco.MjModel) -> tuple[float, float]:
 def params(model: mujoco.MjModel) -> npt.NDArray[np.float64] | None:
     """The parameter vector of an fsarm model, or None for any other model."""
     try:
-        p = model.numeric(L.PARAMS_NAME).data
+        p = model.numeric(layout.PARAMS_NAME).data
     except KeyError:
         return None
-    if p.size != L.N_PARAMS or p[L.P_MAGIC] != L.MAGIC:
+    if p.size != layout.N_PARAMS or p[layout.P_MAGIC] != layout.MAGIC:
         return None
     return p
 
 
 def reference(model: mujoco.MjModel) -> npt.NDArray[np.float64]:
-    return model.numeric(L.REF_NAME).data
+    return model.numeric(layout.REF_NAME).data

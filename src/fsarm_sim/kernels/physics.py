@@ -427,6 +427,135 @@ def shaft_potential(prm: FloatArray, qpos: FloatArray, act: FloatArray) -> float
     return v
 
 
+def arm_joint_commands(
+    prm: FloatArray,
+    ref: FloatArray,
+    row: int,
+    qpos: FloatArray,
+    qvel: FloatArray,
+    bias: FloatArray,
+    mass: FloatArray,
+    out: FloatArray,
+) -> None:
+    """Joints 1 and 2: computed-torque position loops (joint 2 with the bending moment's
+    compensation when on) into ``out[0]``, ``out[1]``."""
+    q2 = qpos[int(prm[P_QADR_Q2])]
+    dof1 = int(prm[P_DOF_Q1])
+    dof2 = int(prm[P_DOF_Q2])
+    tau1 = computed_torque(
+        qpos[int(prm[P_QADR_Q1])],
+        qvel[dof1],
+        ref[row],
+        ref[row + 3],
+        ref[row + 6],
+        mass[int(prm[P_MADR_Q1])],
+        bias[dof1],
+        prm[P_WN1],
+        prm[P_ZETA1],
+    )
+    tau2 = computed_torque(
+        q2,
+        qvel[dof2],
+        ref[row + 1],
+        ref[row + 4],
+        ref[row + 7],
+        mass[int(prm[P_MADR_Q2])],
+        bias[dof2],
+        prm[P_WN2],
+        prm[P_ZETA2],
+    )
+    if prm[P_CM_BEND_COMP] > 0.5:
+        tau2 += bending.elastic_moment_nm(q2, prm[P_CM_KB], prm[P_CM_BETA])
+    out[0] = clamp(tau1, prm[P_TAU1_MAX])
+    out[1] = clamp(tau2, prm[P_TAU2_MAX])
+
+
+def observer_torque(
+    prm: FloatArray,
+    bias: FloatArray,
+    mass: FloatArray,
+    qd3: float,
+    tau_m: float,
+    mem_in: FloatArray,
+    mem_out: FloatArray,
+) -> float:
+    """The disturbance observer (controllers/joint3_dob.py): the lumped disturbance that joins
+    the desired joint torque (none on the first tick), its filter advanced into ``mem_out``."""
+    dof3 = int(prm[P_DOF_Q3])
+    cs = prm[P_COEF_S]
+    m33 = mass[int(prm[P_MADR_Q3])]
+    wq = prm[P_DOB_WQ]
+    y = mem_in[M_DOB]
+    d = disturbance(y, m33, qd3, wq) if mem_in[M_INIT] > 0.5 else 0.0
+    u = observer_input(cs * tau_m, bias[dof3], m33, qd3, wq)
+    if mem_in[M_INIT] < 0.5:  # first tick: start the filter at its input (no disturbance)
+        y = u
+    mem_out[M_DOB] = observer_step(y, u, wq, prm[P_CTRL_DT])
+    return d
+
+
+def shaft_speed_command(
+    prm: FloatArray,
+    ref: FloatArray,
+    row: int,
+    qd3: float,
+    theta_m: float,
+    theta_s: float,
+    q2: float,
+    tau_d: float,
+    tau_m: float,
+    mem_in: FloatArray,
+) -> tuple[float, float, float, float, float, float]:
+    """Joint 3's shaft-speed command from the desired shaft torque: (omega_d, PID integral,
+    error, P, I, D terms) of the torque PID with gains scheduled on the model's stiffness, or
+    of seed 004's dual-encoder position loop with the tendon-sheath transmission."""
+    dt = prm[P_CTRL_DT]
+    cm = prm[P_COEF_M]
+    cs = prm[P_COEF_S]
+    trc = prm[P_TRC : P_TRC + N_TR]
+    k_model = max(
+        tr_stiffness(prm[P_TRANS], trc, theta_m - theta_s, q2), STIFFNESS_FLOOR * prm[P_TR_K0]
+    )
+    omega_ff = cs * qd3 if prm[P_SPEED_FF] > 0.5 else 0.0
+    omega_max_shaft = prm[P_OMEGA_MAX] * cm
+    if prm[P_GAIN_SCHED] < 0.5:  # fixed gains, tuned at zero twist, straight (seed 001's PID)
+        k_model = prm[P_TR_K0]
+    kp, ki, kd = scheduled_gains(prm[P_TAU_BW], prm[P_TAU_WI], prm[P_TAU_KDN], k_model)
+    if prm[P_TRANS] == TR_TENDON_SHEATH:
+        # seed 004's dual-encoder position control (controllers/tendon_sheath_compliance.py)
+        theta_c = position_command(cs * ref[row + 2], tau_d, k_model)
+        omega_d = motor_speed_command(
+            theta_c, theta_m, cs * ref[row + 5], MOTOR_POSITION_GAIN_RAD_S, omega_max_shaft
+        )
+        integ, err, p_term, i_term, d_term = 0.0, theta_c - theta_m, 0.0, 0.0, 0.0
+    else:
+        omega_d, integ, err, p_term, i_term, d_term = torque_pid(
+            tau_d,
+            tau_m,
+            mem_in[M_PID_I],
+            mem_in[M_PID_E],
+            mem_in[M_INIT],
+            dt,
+            kp,
+            ki,
+            kd,
+            omega_ff,
+            omega_max_shaft,
+        )
+    return omega_d, integ, err, p_term, i_term, d_term
+
+
+def torque_estimate(
+    prm: FloatArray, x: float, bend: float, mem_in: FloatArray, mem_out: FloatArray
+) -> float:
+    """Joint 3's virtual torque sensor at twist ``x`` and bend ``bend``: the controller's copy of
+    the transmission's law (eq. 8 for the shaft) or the hysteresis model
+    (:func:`hysteresis_estimate`), as ``P_CTRL_KIND`` says."""
+    if prm[P_CTRL_KIND] == CTRL_HYSTERESIS:
+        return hysteresis_estimate(prm, x, bend, mem_in, mem_out)
+    return tr_sensor_torque(prm[P_TRANS], prm[P_TRC : P_TRC + N_TR], x, bend)
+
+
 def control_tick(
     prm: FloatArray,
     ref: FloatArray,
@@ -458,36 +587,8 @@ def control_tick(
     cs = prm[P_COEF_S]
     q2 = qpos[int(prm[P_QADR_Q2])]
     q3 = qpos[int(prm[P_QADR_Q3])]
-    dof1 = int(prm[P_DOF_Q1])
-    dof2 = int(prm[P_DOF_Q2])
     dof3 = int(prm[P_DOF_Q3])
-    # joints 1 and 2: computed-torque position loops
-    tau1 = computed_torque(
-        qpos[int(prm[P_QADR_Q1])],
-        qvel[dof1],
-        ref[row],
-        ref[row + 3],
-        ref[row + 6],
-        mass[int(prm[P_MADR_Q1])],
-        bias[dof1],
-        prm[P_WN1],
-        prm[P_ZETA1],
-    )
-    tau2 = computed_torque(
-        q2,
-        qvel[dof2],
-        ref[row + 1],
-        ref[row + 4],
-        ref[row + 7],
-        mass[int(prm[P_MADR_Q2])],
-        bias[dof2],
-        prm[P_WN2],
-        prm[P_ZETA2],
-    )
-    if prm[P_CM_BEND_COMP] > 0.5:
-        tau2 += bending.elastic_moment_nm(q2, prm[P_CM_KB], prm[P_CM_BETA])
-    out[0] = clamp(tau1, prm[P_TAU1_MAX])
-    out[1] = clamp(tau2, prm[P_TAU2_MAX])
+    arm_joint_commands(prm, ref, row, qpos, qvel, bias, mass, out)
     # joint 3, outer loop: desired joint torque -> desired shaft torque
     tau_d_joint = computed_torque(
         q3,
@@ -503,52 +604,13 @@ def control_tick(
     # virtual torque sensor: eq. 8 on the two encoders and the joint-2 encoder
     theta_m = cm * qpos[int(prm[P_QADR_ROT])]
     theta_s = cs * q3
-    trc = prm[P_TRC : P_TRC + N_TR]
-    kind = prm[P_CTRL_KIND]
-    if kind == CTRL_HYSTERESIS:
-        tau_m = hysteresis_estimate(prm, theta_m - theta_s, q2, mem_in, mem_out)
-    else:
-        tau_m = tr_sensor_torque(prm[P_TRANS], trc, theta_m - theta_s, q2)
-    if kind == CTRL_DOB:
-        # disturbance observer (controllers/joint3_dob.py): the lumped disturbance joins tau_d
-        m33 = mass[int(prm[P_MADR_Q3])]
-        wq = prm[P_DOB_WQ]
-        y = mem_in[M_DOB]
-        tau_d_joint += disturbance(y, m33, qvel[dof3], wq) if mem_in[M_INIT] > 0.5 else 0.0
-        u = observer_input(cs * tau_m, bias[dof3], m33, qvel[dof3], wq)
-        if mem_in[M_INIT] < 0.5:  # first tick: start the filter at its input (no disturbance)
-            y = u
-        mem_out[M_DOB] = observer_step(y, u, wq, dt)
+    tau_m = torque_estimate(prm, theta_m - theta_s, q2, mem_in, mem_out)
+    if prm[P_CTRL_KIND] == CTRL_DOB:
+        tau_d_joint += observer_torque(prm, bias, mass, qvel[dof3], tau_m, mem_in, mem_out)
     tau_d = tau_d_joint / cs
-    k_model = max(
-        tr_stiffness(prm[P_TRANS], trc, theta_m - theta_s, q2), STIFFNESS_FLOOR * prm[P_TR_K0]
+    omega_d, integ, err, p_term, i_term, d_term = shaft_speed_command(
+        prm, ref, row, qvel[dof3], theta_m, theta_s, q2, tau_d, tau_m, mem_in
     )
-    omega_ff = cs * qvel[dof3] if prm[P_SPEED_FF] > 0.5 else 0.0
-    omega_max_shaft = prm[P_OMEGA_MAX] * cm
-    if prm[P_GAIN_SCHED] < 0.5:  # fixed gains, tuned at zero twist, straight (seed 001's PID)
-        k_model = prm[P_TR_K0]
-    kp, ki, kd = scheduled_gains(prm[P_TAU_BW], prm[P_TAU_WI], prm[P_TAU_KDN], k_model)
-    if prm[P_TRANS] == TR_TENDON_SHEATH:
-        # seed 004's dual-encoder position control (controllers/tendon_sheath_compliance.py)
-        theta_c = position_command(cs * ref[row + 2], tau_d, k_model)
-        omega_d = motor_speed_command(
-            theta_c, theta_m, cs * ref[row + 5], MOTOR_POSITION_GAIN_RAD_S, omega_max_shaft
-        )
-        integ, err, p_term, i_term, d_term = 0.0, theta_c - theta_m, 0.0, 0.0, 0.0
-    else:
-        omega_d, integ, err, p_term, i_term, d_term = torque_pid(
-            tau_d,
-            tau_m,
-            mem_in[M_PID_I],
-            mem_in[M_PID_E],
-            mem_in[M_INIT],
-            dt,
-            kp,
-            ki,
-            kd,
-            omega_ff,
-            omega_max_shaft,
-        )
     omega_motor = qvel[int(prm[P_DOF_ROT])]
     tau_mot, s_integ = speed_loop(
         omega_d / cm,
@@ -671,6 +733,60 @@ def record_row(
         ud[at + i] = ud[i]
 
 
+def step_of(prm: FloatArray, time: float, userdata: FloatArray) -> tuple[bool, bool, float, float]:
+    """(at a physics step, a new one, its index, the last step seen: -1 none) of a call at
+    ``time`` (:func:`control`: the clock counts steps)."""
+    h = prm[P_TIMESTEP]
+    tol = STEP_TOLERANCE * h
+    at_step = False
+    new_step = False
+    s = 0.0
+    last = userdata[U_STEP] - 1.0  # index of the last step seen, -1: none yet
+    if last >= 0.0 and time > userdata[U_STEP_T] - tol:
+        elapsed = time - userdata[U_STEP_T]
+        if elapsed < tol:
+            at_step = True
+            s = last
+        elif elapsed > h - tol:
+            at_step = True
+            new_step = True
+            s = last + math.floor(elapsed / h + 0.5)
+    else:  # first call, or time was set back: the step grid of this call's own time
+        x = math.floor(time / h + 0.5)
+        if x >= 0.0 and abs(time - x * h) < tol:
+            at_step = True
+            new_step = True
+            s = x
+            last = -1.0
+    return at_step, new_step, s, last
+
+
+def snapshot(
+    prm: FloatArray, userdata: FloatArray, time: float, s: float, new_step: bool, last: float
+) -> bool:
+    """At physics step ``s`` (:func:`control`): snapshot the run metrics on a new step and the
+    controller memory on a new tick; whether this call is RK4's predicted stage (the held
+    outputs stay)."""
+    predicted = False
+    if new_step:
+        for i in range(N_ACC):
+            userdata[U_ACC_PRE + i] = userdata[U_ACC + i]
+        userdata[U_STEP] = s + 1.0
+        userdata[U_STEP_T] = time
+        # Under RK4 the first call at a step that follows the last one seen is the 4th stage
+        # of the step that ends on it, with a predicted state: keep the held output there
+        # (zero-order hold); mj_step's own forward at that time redoes it from the true state.
+        predicted = prm[P_RK4] > 0.5 and last >= 0.0
+    per_tick = prm[P_STEPS_PER_TICK]
+    k = int(math.floor(s / per_tick))  # noqa: RUF046  the tick this step belongs to (int for Numba)
+    if k + 1.0 > userdata[U_TICK]:
+        for i in range(N_MEM):
+            userdata[U_PRE + i] = userdata[U_MEM + i]
+        userdata[U_TICK] = k + 1.0
+        userdata[U_TICK_STEP] = s
+    return predicted
+
+
 def control(
     prm: FloatArray,
     ref: FloatArray,
@@ -704,73 +820,19 @@ def control(
     """
     if prm[P_EN_CONTROL] < 0.5:
         return
-    h = prm[P_TIMESTEP]
-    tol = STEP_TOLERANCE * h
-    at_step = False
-    new_step = False
-    s = 0.0
-    last = userdata[U_STEP] - 1.0  # index of the last step seen, -1: none yet
-    if last >= 0.0 and time > userdata[U_STEP_T] - tol:
-        elapsed = time - userdata[U_STEP_T]
-        if elapsed < tol:
-            at_step = True
-            s = last
-        elif elapsed > h - tol:
-            at_step = True
-            new_step = True
-            s = last + math.floor(elapsed / h + 0.5)
-    else:  # first call, or time was set back: the step grid of this call's own time
-        x = math.floor(time / h + 0.5)
-        if x >= 0.0 and abs(time - x * h) < tol:
-            at_step = True
-            new_step = True
-            s = x
-            last = -1.0
-    if at_step:
-        predicted = False
-        if new_step:
-            for i in range(N_ACC):
-                userdata[U_ACC_PRE + i] = userdata[U_ACC + i]
-            userdata[U_STEP] = s + 1.0
-            userdata[U_STEP_T] = time
-            # Under RK4 the first call at a step that follows the last one seen is the 4th stage
-            # of the step that ends on it, with a predicted state: keep the held output there
-            # (zero-order hold); mj_step's own forward at that time redoes it from the true state.
-            predicted = prm[P_RK4] > 0.5 and last >= 0.0
-        per_tick = prm[P_STEPS_PER_TICK]
-        k = int(math.floor(s / per_tick))  # noqa: RUF046  the tick this step belongs to (int for Numba)
-        if k + 1.0 > userdata[U_TICK]:
-            for i in range(N_MEM):
-                userdata[U_PRE + i] = userdata[U_MEM + i]
-            userdata[U_TICK] = k + 1.0
-            userdata[U_TICK_STEP] = s
-        if not predicted:
-            if s == userdata[U_TICK_STEP]:
-                control_tick(
-                    prm,
-                    ref,
-                    int(userdata[U_TICK]) - 1,
-                    qpos,
-                    qvel,
-                    bias,
-                    mass,
-                    userdata[U_PRE : U_PRE + N_MEM],
-                    userdata[U_MEM : U_MEM + N_MEM],
-                    userdata[U_OUT : U_OUT + 3],
-                    userdata[U_LOG:],
-                )
-            accumulate_metrics(
-                prm,
-                ref,
-                int(userdata[U_TICK]) - 1,
-                qpos,
-                qvel,
-                userdata[U_ACC_PRE : U_ACC_PRE + N_ACC],
-                userdata[U_ACC : U_ACC + N_ACC],
-                userdata[U_OUT : U_OUT + 3],
-                userdata[U_LOG:],
-            )
-            record_row(s, time, qpos, qvel, act, userdata)
+    at_step, new_step, s, last = step_of(prm, time, userdata)
+    if at_step and not snapshot(prm, userdata, time, s, new_step, last):
+        tick = int(userdata[U_TICK]) - 1
+        out = userdata[U_OUT : U_OUT + 3]
+        log = userdata[U_LOG:]
+        if s == userdata[U_TICK_STEP]:
+            mem_in = userdata[U_PRE : U_PRE + N_MEM]
+            mem_out = userdata[U_MEM : U_MEM + N_MEM]
+            control_tick(prm, ref, tick, qpos, qvel, bias, mass, mem_in, mem_out, out, log)
+        acc_pre = userdata[U_ACC_PRE : U_ACC_PRE + N_ACC]
+        acc = userdata[U_ACC : U_ACC + N_ACC]
+        accumulate_metrics(prm, ref, tick, qpos, qvel, acc_pre, acc, out, log)
+        record_row(s, time, qpos, qvel, act, userdata)
     ctrl[int(prm[P_CTRL_J1])] = userdata[U_OUT]
     ctrl[int(prm[P_CTRL_J2])] = userdata[U_OUT + 1]
     ctrl[int(prm[P_CTRL_J3])] = userdata[U_OUT + 2]
