@@ -168,6 +168,19 @@ def bounded_json(text: str, source: str, error: type[FsarmError]) -> Any:
     return _check_nesting(data, source, error)
 
 
+def read_json_file(path: Path, what: str, error: type[FsarmError], unreadable: str) -> Any:
+    """The JSON in the file ``path`` (:func:`regular_file`, then :func:`bounded_json`); a file
+    that cannot be read or decoded is ``error`` with the message ``unreadable`` (a format
+    string of ``p``, the path, and ``exc``, what went wrong)."""
+    import json
+
+    regular_file(path, what, error)  # loops, long names ...
+    try:
+        return bounded_json(path.read_text("utf-8"), str(path), error)
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise error(unreadable.format(p=path, exc=exc)) from exc
+
+
 def regular_file(
     path: str | os.PathLike[str], what: str, error: type[FsarmError] = FilePathError
 ) -> Path:

@@ -22,7 +22,7 @@ import numpy as np
 from fsarm_sim.discrepancy import arm_fit, arm_model, arm_run, arm_screen, variants
 from fsarm_sim.engine.model import SimConfig
 from fsarm_sim.errors import FsarmError
-from fsarm_sim.paths import bounded_json, regular_file
+from fsarm_sim.paths import read_json_file
 from fsarm_sim.plant import transmissions
 from fsarm_sim.records.measured import resolve_shaft
 from fsarm_sim.records.sidecar import as_record, shaft_params_entry
@@ -193,11 +193,7 @@ def jsonable(x: Any) -> Any:
 
 def load_arm_model(path: str | Path) -> tuple[arm_model.ArmModel, arm_run.ArmRun]:
     p = Path(path)
-    regular_file(p, "model file", ArmModelFileError)  # loops, long names ...
-    try:
-        d = bounded_json(p.read_text("utf-8"), str(p), ArmModelFileError)
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ArmModelFileError(f"{p}: not a readable JSON file ({exc})") from exc
+    d = read_json_file(p, "model file", ArmModelFileError, "{p}: not a readable JSON file ({exc})")
     return model_from_dict(d, str(p))
 
 

@@ -147,6 +147,24 @@ def _derivative_with_steps(y: FloatArray, h: float) -> FloatArray:
     return d
 
 
+def _recorded_or_derived(
+    c: Mapping[str, FloatArray],
+    name: str,
+    of: list[FloatArray],
+    of_name: str,
+    h: float,
+    notes: list[str],
+) -> list[FloatArray]:
+    """The three joints' ``{name}{j}_ref`` columns if all are recorded, else the derivatives
+    (zero across steps) of ``of``, the ``{of_name}_ref`` columns; what was done goes to
+    ``notes``."""
+    if all(f"{name}{j}_ref" in c for j in (1, 2, 3)):
+        notes.append(f"{name}_ref recorded")
+        return [c[f"{name}{j}_ref"] for j in (1, 2, 3)]
+    notes.append(f"{name}_ref = central differences of {of_name}_ref (zero across steps)")
+    return [_derivative_with_steps(v, h) for v in of]
+
+
 def reference_table(ds: Dataset, ctrl_dt: float) -> tuple[FloatArray, str]:
     """The controller's reference table (one row per control tick) from the recorded columns.
 
@@ -159,21 +177,11 @@ def reference_table(ds: Dataset, ctrl_dt: float) -> tuple[FloatArray, str]:
     c = ds.columns
     t = c["t"] - c["t"][0]
     h = ds.dt
-    notes = []
+    notes: list[str] = []
     cols: list[FloatArray] = []
     q = [c[f"q{j}_ref"] for j in (1, 2, 3)]
-    if all(f"qd{j}_ref" in c for j in (1, 2, 3)):
-        qd = [c[f"qd{j}_ref"] for j in (1, 2, 3)]
-        notes.append("qd_ref recorded")
-    else:
-        qd = [_derivative_with_steps(v, h) for v in q]
-        notes.append("qd_ref = central differences of q_ref (zero across steps)")
-    if all(f"qdd{j}_ref" in c for j in (1, 2, 3)):
-        qdd = [c[f"qdd{j}_ref"] for j in (1, 2, 3)]
-        notes.append("qdd_ref recorded")
-    else:
-        qdd = [_derivative_with_steps(v, h) for v in qd]
-        notes.append("qdd_ref = central differences of qd_ref (zero across steps)")
+    qd = _recorded_or_derived(c, "qd", q, "q", h, notes)
+    qdd = _recorded_or_derived(c, "qdd", qd, "qd", h, notes)
     cols = [*q, *qd, *qdd]
     n_ticks = math.floor(t[-1] / ctrl_dt + 1e-6) + 2
     ticks = np.arange(n_ticks) * ctrl_dt

@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any
 
 from fsarm_sim.discrepancy import variants
 from fsarm_sim.errors import FsarmError
-from fsarm_sim.paths import bounded_json, regular_file
+from fsarm_sim.paths import read_json_file
 from fsarm_sim.plant.effects import registry
 from fsarm_sim.plant.shaft import ShaftParams
 
@@ -249,11 +249,7 @@ def model_from_dict(data: Any, source: str = "model") -> BenchModel:
 
 def load_model(path: str | Path) -> BenchModel:
     p = Path(path)
-    regular_file(p, "model file", ModelFileError)  # loops, long names ...
-    try:
-        data = bounded_json(p.read_text("utf-8"), str(p), ModelFileError)
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ModelFileError(f"cannot read model file {p}: {exc}") from exc
+    data = read_json_file(p, "model file", ModelFileError, "cannot read model file {p}: {exc}")
     return model_from_dict(data, str(p))
 
 

@@ -343,28 +343,17 @@ def _coupling_effects(ctx: Context, st: Structure, coef: dict[str, float]) -> li
 def _hysteresis_effects(st: Structure, coef: dict[str, float]) -> list[EffectInstance]:
     """The structure's slip and viscoelastic elements, fitted."""
     out: list[EffectInstance] = []
-    if st.slip is not None and st.slip.size:
-        out.append(
-            EffectInstance(
-                variants.HYSTERESIS,
-                "maxwell_slip",
-                {
-                    "k_nm_per_rad": [coef[f"slip{j}"] for j in range(st.slip.size)],
-                    "delta_rad": [float(d) for d in st.slip],
-                },
+    for variant, grid, prefix, key in (
+        ("maxwell_slip", st.slip, "slip", "delta_rad"),
+        ("viscoelastic", st.ve, "ve", "tau_s"),
+    ):
+        if grid is not None and grid.size:
+            k = [coef[f"{prefix}{j}"] for j in range(grid.size)]
+            out.append(
+                EffectInstance(
+                    variants.HYSTERESIS, variant, {"k_nm_per_rad": k, key: [float(g) for g in grid]}
+                )
             )
-        )
-    if st.ve is not None and st.ve.size:
-        out.append(
-            EffectInstance(
-                variants.HYSTERESIS,
-                "viscoelastic",
-                {
-                    "k_nm_per_rad": [coef[f"ve{j}"] for j in range(st.ve.size)],
-                    "tau_s": [float(t) for t in st.ve],
-                },
-            )
-        )
     return out
 
 

@@ -25,7 +25,7 @@ pruning are here.
 from __future__ import annotations
 
 import math
-from collections.abc import Collection
+from collections.abc import Callable, Collection
 from dataclasses import replace
 from typing import Any
 
@@ -84,93 +84,109 @@ def _search_1d(ctx: Context, make: Any, grid: FloatArray, lo: float, hi: float) 
     return solve(ctx, best.structure) if quick else best
 
 
+def _setting(base: Structure, name: str, to: Callable[[float], Any] | None = None) -> Any:
+    """A function of v: a copy of ``base`` with its setting ``name`` = v (or ``to(v)``), the
+    nonlinear parameter a 1-D search varies."""
+
+    def make(v: float) -> Structure:
+        s2 = base.copy()
+        setattr(s2, name, v if to is None else to(v))
+        return s2
+
+    return make
+
+
+def _switched_on(ctx: Context, base: Structure, flag: str) -> Fit | None:
+    """``base`` with the term ``flag`` switched on, fitted; None if it is on already."""
+    if getattr(base, flag):
+        return None
+    st = base.copy()
+    setattr(st, flag, True)
+    return solve(ctx, st)
+
+
+def _coulomb(ctx: Context, base: Structure, variant: str) -> Fit | None:
+    if variant != "shaft":
+        return _switched_on(ctx, base, "load_coulomb")
+    if base.coulomb is not None:
+        return None
+    lo, hi = ctx.delta_c, max(2.0 * ctx.delta_c, coulomb_delta_max(ctx.x_ref))
+    grid = np.linspace(math.log(lo), math.log(hi), 5)
+    make = _setting(base, "coulomb", lambda v: float(math.exp(v)))
+    return _search_1d(ctx, make, grid, math.log(lo), math.log(hi))
+
+
+def _viscous(ctx: Context, base: Structure, variant: str) -> Fit | None:
+    return _switched_on(ctx, base, "viscous" if variant == "shaft" else "load_viscous")
+
+
+def _offset(ctx: Context, base: Structure, variant: str) -> Fit | None:
+    if variant == "output":
+        return _switched_on(ctx, base, "out_offset")
+    if variant != "input" or base.in_offset is not None:
+        return None
+    mags = np.array([0.003, 0.01, 0.03, 0.1, 0.3]) * ctx.x_ref
+    grid = np.r_[-mags[::-1], mags]
+    return _search_1d(ctx, _setting(base, "in_offset"), grid, IN_OFFSET.lower, IN_OFFSET.upper)
+
+
+def _nonlinear(ctx: Context, base: Structure, variant: str) -> Fit | None:
+    if base.poly is not None:
+        return None
+    st = base.copy()
+    st.poly = variant
+    return solve(ctx, st)
+
+
+def _hysteresis(ctx: Context, base: Structure, variant: str) -> Fit | None:
+    st = base.copy()
+    if variant == "maxwell_slip":
+        if base.slip is not None:
+            return None
+        st.slip = ctx.slip_grid.copy()
+    else:
+        if base.ve is not None:
+            return None
+        st.ve = ctx.ve_grid.copy()
+    fit = solve(ctx, st)
+    if (variant == "maxwell_slip" and fit.structure.slip is None) or (
+        variant == "viscoelastic" and fit.structure.ve is None
+    ):
+        return None
+    return fit
+
+
+def _delay(ctx: Context, base: Structure, variant: str) -> Fit | None:
+    if base.delay_s is not None:
+        return None
+    steps = np.array([1, 2, 3, 5, 8, 12, 20, 30, 50, 80], dtype=float) * ctx.inp.h
+    steps = steps[steps <= DELAY_BOUNDS.upper]
+    grid = np.r_[-steps[::-1], steps]
+    make = _setting(base, "delay_s")
+    return _search_1d(ctx, make, grid, DELAY_BOUNDS.lower, DELAY_BOUNDS.upper)
+
+
+def _backlash(ctx: Context, base: Structure, variant: str) -> Fit | None:
+    return None if base.backlash is not None else _fit_backlash(ctx, base)
+
+
+# how each library effect is added to a structure (None: it does not apply or is present)
+_ADD: dict[str, Callable[[Context, Structure, str], Fit | None]] = {
+    variants.COULOMB: _coulomb,
+    variants.VISCOUS: _viscous,
+    variants.OFFSET: _offset,
+    variants.NONLINEAR: _nonlinear,
+    variants.HYSTERESIS: _hysteresis,
+    variants.DELAY: _delay,
+    variants.BACKLASH: _backlash,
+}
+
+
 def candidate(ctx: Context, cur: Fit, effect: str, variant: str) -> Fit | None:
     """Fit the current structure plus one effect; None if it does not apply / is present."""
-    base = cur.structure
-    st = base.copy()
-    h = ctx.inp.h
-    if effect == variants.COULOMB:
-        if variant == "shaft":
-            if base.coulomb is not None:
-                return None
-            lo, hi = ctx.delta_c, max(2.0 * ctx.delta_c, coulomb_delta_max(ctx.x_ref))
-
-            def make_c(v: float) -> Structure:
-                s2 = base.copy()
-                s2.coulomb = float(math.exp(v))
-                return s2
-
-            grid = np.linspace(math.log(lo), math.log(hi), 5)
-            fit = _search_1d(ctx, make_c, grid, math.log(lo), math.log(hi))
-        else:
-            if base.load_coulomb:
-                return None
-            st.load_coulomb = True
-            fit = solve(ctx, st)
-    elif effect == variants.VISCOUS:
-        if variant == "shaft":
-            if base.viscous:
-                return None
-            st.viscous = True
-        else:
-            if base.load_viscous:
-                return None
-            st.load_viscous = True
-        fit = solve(ctx, st)
-    elif effect == variants.OFFSET and variant == "output":
-        if base.out_offset:
-            return None
-        st.out_offset = True
-        fit = solve(ctx, st)
-    elif effect == variants.NONLINEAR:
-        if base.poly is not None:
-            return None
-        st.poly = variant
-        fit = solve(ctx, st)
-    elif effect == variants.HYSTERESIS:
-        if variant == "maxwell_slip":
-            if base.slip is not None:
-                return None
-            st.slip = ctx.slip_grid.copy()
-        else:
-            if base.ve is not None:
-                return None
-            st.ve = ctx.ve_grid.copy()
-        fit = solve(ctx, st)
-        if (variant == "maxwell_slip" and fit.structure.slip is None) or (
-            variant == "viscoelastic" and fit.structure.ve is None
-        ):
-            return None
-    elif effect == variants.DELAY:
-        if base.delay_s is not None:
-            return None
-        steps = np.array([1, 2, 3, 5, 8, 12, 20, 30, 50, 80], dtype=float) * h
-        steps = steps[steps <= DELAY_BOUNDS.upper]
-        grid = np.r_[-steps[::-1], steps]
-
-        def make_d(v: float) -> Structure:
-            s2 = base.copy()
-            s2.delay_s = v
-            return s2
-
-        fit = _search_1d(ctx, make_d, grid, DELAY_BOUNDS.lower, DELAY_BOUNDS.upper)
-    elif effect == variants.OFFSET and variant == "input":
-        if base.in_offset is not None:
-            return None
-        mags = np.array([0.003, 0.01, 0.03, 0.1, 0.3]) * ctx.x_ref
-        grid = np.r_[-mags[::-1], mags]
-
-        def make_o(v: float) -> Structure:
-            s2 = base.copy()
-            s2.in_offset = v
-            return s2
-
-        fit = _search_1d(ctx, make_o, grid, IN_OFFSET.lower, IN_OFFSET.upper)
-    elif effect == variants.BACKLASH:
-        if base.backlash is not None:
-            return None
-        fit = _fit_backlash(ctx, base)
-    else:
+    add = _ADD.get(effect)
+    fit = add(ctx, cur.structure, variant) if add is not None else None
+    if fit is None:
         return None
     fit.label = f"{effect}[{variant}]"
     fit.effect, fit.variant = effect, variant

@@ -7,6 +7,7 @@ windows, cubic), so that encoder quantisation does not turn into velocity spikes
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -79,18 +80,13 @@ def prepare_inputs(ds: Dataset, window_scale: float = 1.0) -> ReplayInputs:
     c = ds.columns
     h = ds.dt
     sc = window_scale
+    rest: dict[str, Any]  # what the setup measures beside its drive u
     if ds.setup == "series_bench":
         u = smooth(c["theta_m"], h, sc)
         s_raw = c["theta_s"]
         s = smooth(s_raw, h, sc)
         inertia = ds.load_inertia_kgm2 is not None
-        return ReplayInputs(
-            setup=ds.setup,
-            t=c["t"],
-            h=h,
-            u=u,
-            udot=derivative(u, h, scale=sc),
-            uacc=derivative(u, h, 2, scale=sc),
+        rest = dict(
             s=s if not inertia else np.zeros_like(u),
             sdot=derivative(s, h, scale=sc) if not inertia else np.zeros_like(u),
             phi=c["phi_b"],
@@ -101,21 +97,18 @@ def prepare_inputs(ds: Dataset, window_scale: float = 1.0) -> ReplayInputs:
             theta_s_smooth=s if inertia else None,
             alpha_s=derivative(s, h, 2, scale=sc) if inertia else None,
         )
-    if ds.setup == "parallel_bench":
+    elif ds.setup == "parallel_bench":
         u = smooth(c["phi_b"], h, sc)
         z = np.zeros_like(u)
-        return ReplayInputs(
-            setup=ds.setup,
-            t=c["t"],
-            h=h,
-            u=u,
-            udot=derivative(u, h, scale=sc),
-            uacc=derivative(u, h, 2, scale=sc),
-            s=z,
-            sdot=z,
-            phi=u,
-            y=c["m_b"],
-            theta_s=None,
-            inertia_load=False,
-        )
-    raise ValueError(f"no bench replay for setup {ds.setup!r}")
+        rest = dict(s=z, sdot=z, phi=u, y=c["m_b"], theta_s=None, inertia_load=False)
+    else:
+        raise ValueError(f"no bench replay for setup {ds.setup!r}")
+    return ReplayInputs(
+        setup=ds.setup,
+        t=c["t"],
+        h=h,
+        u=u,
+        udot=derivative(u, h, scale=sc),
+        uacc=derivative(u, h, 2, scale=sc),
+        **rest,
+    )

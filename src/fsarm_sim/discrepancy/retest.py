@@ -33,10 +33,40 @@ named set then goes through the realness checks of every effect
 from __future__ import annotations
 
 from fsarm_sim.discrepancy import realness, selection
-from fsarm_sim.discrepancy.candidate_structure import Context, Fit
+from fsarm_sim.discrepancy.candidate_structure import BoolArray, Context, Fit
 from fsarm_sim.discrepancy.core_step import rank
 from fsarm_sim.discrepancy.selection import Score, Step
 from fsarm_sim.discrepancy.setup_protocol import Diagnosis, Setup
+
+
+def _first_passing(
+    setup: Setup[Fit], ctx: Context, cur: Fit, named: list[str], nom: Fit, use: BoolArray
+) -> tuple[Score, Fit] | None:
+    """The best-ranked candidate on top of ``cur`` that is no look-alike of an effect ``named``,
+    earns its place by the rule of a first effect and passes the realness checks; None if none."""
+    _, n_t, n_h, ranked, _ = rank(setup, cur, named, nom)
+    for s, f in ranked:
+        if any(frozenset({s.effect, e}) in setup.look_alikes for e in named):
+            continue
+        j = selection.judge(setup.cost(cur), setup.cost(f), n_t, n_h, setup.noise_var)
+        if not j.earns_place:
+            continue
+        eff = f.model.effect(s.effect, s.variant)
+        params = dict(eff.params) if eff is not None else {}
+        c = realness.check(
+            s.effect,
+            s.variant,
+            params,
+            ctx.inp.y,
+            f.yhat,
+            cur.yhat,
+            ctx.inp.t,
+            use,
+            ctx.sigma_y,
+        )
+        if c.passed:
+            return s, f
+    return None
 
 
 def retest(setup: Setup[Fit], ctx: Context, diag: Diagnosis[Fit], max_effects: int) -> bool:
@@ -50,30 +80,7 @@ def retest(setup: Setup[Fit], ctx: Context, diag: Diagnosis[Fit], max_effects: i
     tried: list[Score] = []
     resolved = False
     while len(named) < max_effects:
-        _, n_t, n_h, ranked, _ = rank(setup, cur, named, nom)
-        pick = None
-        for s, f in ranked:
-            if any(frozenset({s.effect, e}) in setup.look_alikes for e in named):
-                continue
-            j = selection.judge(setup.cost(cur), setup.cost(f), n_t, n_h, setup.noise_var)
-            if not j.earns_place:
-                continue
-            eff = f.model.effect(s.effect, s.variant)
-            params = dict(eff.params) if eff is not None else {}
-            c = realness.check(
-                s.effect,
-                s.variant,
-                params,
-                ctx.inp.y,
-                f.yhat,
-                cur.yhat,
-                ctx.inp.t,
-                use,
-                ctx.sigma_y,
-            )
-            if c.passed:
-                pick = s, f
-                break
+        pick = _first_passing(setup, ctx, cur, named, nom, use)
         if pick is None:
             break
         s, f = pick

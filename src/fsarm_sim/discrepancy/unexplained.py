@@ -238,15 +238,15 @@ def concentration(s: Signals) -> dict[str, Any]:
     }
 
 
-def characterise(s: Signals) -> dict[str, Any]:
-    """The ``residual_signature`` of one channel (module docstring)."""
-    r = s.residual
-    rms = float(np.sqrt(np.mean(r * r)))
-    lines = spectral_lines(s)
-    foreign = [ln for ln in lines if not ln["in_input"]]
-    tr = trends(s)
-    dep = dependence(s)
-    where = concentration(s)
+def _descriptions(
+    s: Signals,
+    foreign: list[dict[str, Any]],
+    tr: dict[str, Any],
+    dep: list[dict[str, Any]],
+    where: dict[str, Any],
+) -> list[tuple[float, str, str]]:
+    """The (share, kind, text) of each structure the residual shows (line, drift, signal,
+    localized), those of at least :data:`MIN_SHARE`, largest first."""
     cands: list[tuple[float, str, str]] = []
     if foreign:
         ln = foreign[0]
@@ -309,6 +309,19 @@ def characterise(s: Signals) -> dict[str, Any]:
         )
     cands = [c for c in cands if c[0] >= MIN_SHARE]
     cands.sort(key=lambda c: -c[0])
+    return cands
+
+
+def characterise(s: Signals) -> dict[str, Any]:
+    """The ``residual_signature`` of one channel (module docstring)."""
+    r = s.residual
+    rms = float(np.sqrt(np.mean(r * r)))
+    lines = spectral_lines(s)
+    foreign = [ln for ln in lines if not ln["in_input"]]
+    tr = trends(s)
+    dep = dependence(s)
+    where = concentration(s)
+    cands = _descriptions(s, foreign, tr, dep, where)
     band, _ = input_band(s.inputs, float(s.t[1] - s.t[0]))
     found = residual_search.findings(s, band, dep, tr, WINDOW_S)
     var = float(np.var(r)) or 1.0
