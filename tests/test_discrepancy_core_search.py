@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import math
 
+import pytest
+
 from batteries import battery
 from batteries.battery_expert import truth_values
 from fsarm_sim.discrepancy import (
@@ -135,3 +137,38 @@ def test_intervals_count_the_replays_own_error() -> None:
     assert off > 1.96 * j["sd_fisher"]  # the Fisher interval alone would miss it
     assert _covered(truth, diag)["nominal.j_link"]
     assert "halved" in diag.extras["confidence_intervals"]["method"]
+
+
+def test_a_candidate_is_fitted_once_per_structure(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The bench setup fits a candidate on top of a structure once (the joint search and the
+    restart extend the same structures again) and hands out copies whose labels callers set;
+    another structure or an inertia load's options fit anew."""
+    from types import SimpleNamespace as NS
+
+    import numpy as np
+
+    from fsarm_sim.discrepancy import bench_setup, candidates
+    from fsarm_sim.discrepancy.candidate_structure import Fit, Structure
+
+    calls: list[tuple[str, str]] = []
+
+    def fake(ctx: object, cur: Fit, effect: str, variant: str) -> Fit:
+        calls.append((effect, variant))
+        return Fit(cur.structure, cur.model, cur.yhat, None, 3, 1.0, 2.0, f"{effect}[{variant}]")
+
+    monkeypatch.setattr(candidates, "candidate", fake)
+    setup = NS(ctx=NS(inp=NS(inertia_load=False)), _fits={})
+    cur = Fit(Structure(slip=np.array([1e-3, 2e-3])), None, np.zeros(3), None, 2, 1.0, 2.0)  # type: ignore[arg-type]
+    a = bench_setup.BenchSetup._candidate(setup, cur, "delay", "input")  # type: ignore[arg-type]
+    assert a is not None
+    a.label, a.effect = "changed", "delay"
+    same = Fit(cur.structure.copy(), None, np.zeros(3), None, 2, 1.0, 2.0)  # type: ignore[arg-type]
+    b = bench_setup.BenchSetup._candidate(setup, same, "delay", "input")  # type: ignore[arg-type]
+    assert b is not None and b is not a and b.label == "delay[input]" and len(calls) == 1
+    other = Fit(Structure(slip=np.array([1e-3, 3e-3])), None, np.zeros(3), None, 2, 1.0, 2.0)  # type: ignore[arg-type]
+    bench_setup.BenchSetup._candidate(setup, other, "delay", "input")  # type: ignore[arg-type]
+    bench_setup.BenchSetup._candidate(setup, cur, "backlash", "coupling")  # type: ignore[arg-type]
+    assert len(calls) == 3
+    setup.ctx.inp.inertia_load = True
+    bench_setup.BenchSetup._candidate(setup, cur, "delay", "input")  # type: ignore[arg-type]
+    assert len(calls) == 4

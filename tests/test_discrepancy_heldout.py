@@ -440,7 +440,7 @@ def test_a_bound_is_waived_only_for_a_parameter_at_it() -> None:
 # ----------------------------------------------------------------------------- re-test
 
 
-def _retest_case(outside: float) -> tuple[bool, list[str], str]:
+def _retest_case(outside: float, calls: list[str] | None = None) -> tuple[bool, list[str], str]:
     """The re-test on a stand-in setup: a backlash named, a Coulomb friction of 2 noise RMS
     left out, and ``outside`` x the noise RMS of a 50 Hz line no library effect takes up."""
     from types import SimpleNamespace as NS
@@ -497,9 +497,13 @@ def _retest_case(outside: float) -> tuple[bool, list[str], str]:
             return f
 
         def finish(self, f: NS, named: list[str]) -> NS:
+            if calls is not None:
+                calls.append("finish")
             return f
 
         def conclude(self, nom: NS, final: NS, named: list[str]) -> tuple[str, dict]:
+            if calls is not None:
+                calls.append("conclude")
             return "v", {"unexplained": bool(final.mse_held > 2 * sigma**2)}
 
     ctx = NS(inp=NS(inertia_load=False, y=y, t=t), teach=teach, held=held, sigma_y=sigma)
@@ -517,6 +521,15 @@ def _retest_case(outside: float) -> tuple[bool, list[str], str]:
 def test_the_retest_names_a_lost_effect_that_explains_what_is_left() -> None:
     done, named, why = _retest_case(0.0)
     assert done and named == ["backlash", "coulomb_friction"], why
+
+
+def test_the_retest_keeps_the_model_and_verdict_that_resolved_it() -> None:
+    """The final model and verdict of the effect that left nothing unexplained are the
+    diagnosis's: not refit and judged a second time."""
+    calls: list[str] = []
+    done, named, _ = _retest_case(0.0, calls)
+    assert done and named == ["backlash", "coulomb_friction"]
+    assert calls == ["finish", "conclude"]
 
 
 def test_the_retest_names_nothing_when_the_rest_stays_unexplained() -> None:

@@ -88,6 +88,15 @@ class BenchDiagnosis(core.Diagnosis[candidate_structure.Fit]):
         return gap_excess(self.gap_after, self.noise_floor_nrmse)
 
 
+def _structure_key(st: candidate_structure.Structure) -> tuple[Any, ...]:
+    """A structure's terms and settings as a hashable key (arrays by their bytes)."""
+    return tuple(
+        (f.name, v.tobytes() if isinstance(v, np.ndarray) else v)
+        for f in dataclasses.fields(st)
+        for v in (getattr(st, f.name),)
+    )
+
+
 def _nrmse_cell(sc: Score) -> str:
     return f"{100 * sc.nrmse_held:.3f}"
 
@@ -117,6 +126,9 @@ class BenchSetup:
         self.main_channel = ds.output_column
         self.noise_var = self.ctx.sigma_y**2
         self.pairs = registry.applicable(ds.setup, self.ctx.inp.inertia_load)
+        # each candidate's fit on top of a structure, once: the joint search, the restart and
+        # the re-test extend the same structures again (the fit depends on nothing else)
+        self._fits: dict[tuple[Any, ...], candidate_structure.Fit | None] = {}
 
     # ------------------------------------------------------------------ selection
 
@@ -130,7 +142,7 @@ class BenchSetup:
         inertia = ctx.inp.inertia_load
         if inertia:  # screen with a short output-error refinement, redo the leader
             ctx.options["oe_nfev"] = candidate_inertia.OE_NFEV_SCREEN
-        fits = [candidates.candidate(ctx, cur, e, v) for e, v in self.pairs if e not in named]
+        fits = [self._candidate(cur, e, v) for e, v in self.pairs if e not in named]
         ctx.options.pop("oe_nfev", None)
         good = [f for f in fits if f is not None and math.isfinite(f.mse_held)]
         if inertia and good:
@@ -141,6 +153,20 @@ class BenchSetup:
             if redo.mse_teach <= lead.mse_teach:
                 good[i_lead] = redo
         return good
+
+    def _candidate(
+        self, cur: candidate_structure.Fit, effect: str, variant: str
+    ) -> candidate_structure.Fit | None:
+        """:func:`.candidates.candidate`, fitted once per structure (a blocked series or a
+        parallel bench; an inertia load's screening fits depend on the options too): a copy of
+        the fit, whose label and effect the caller may set."""
+        if self.ctx.inp.inertia_load:
+            return candidates.candidate(self.ctx, cur, effect, variant)
+        key = (_structure_key(cur.structure), effect, variant)
+        if key not in self._fits:
+            self._fits[key] = candidates.candidate(self.ctx, cur, effect, variant)
+        fit = self._fits[key]
+        return None if fit is None else dataclasses.replace(fit)
 
     def cost(self, fit: candidate_structure.Fit) -> tuple[float, float, int]:
         return fit.mse_teach, fit.mse_held, fit.k

@@ -127,11 +127,12 @@ def tau_int(r: FloatArray, max_lag: int = 2000) -> float:
     f = np.fft.rfft(x, m)
     acf = np.fft.irfft(f * np.conj(f), m)[: min(n, max_lag + 1)]
     acf = acf / acf[0]
-    t = 1.0
-    for k in range(1, acf.size):
-        t += 2.0 * acf[k]
-        if k >= 5.0 * t:
-            break
+    # t after each lag, summed in order (the running sum of 1 + 2 acf[1] + 2 acf[2] ...); the
+    # window ends at the first lag k >= 5 t
+    run = np.cumsum(np.concatenate(([1.0], 2.0 * acf[1:])))
+    lags = np.arange(acf.size)
+    stop = np.flatnonzero(lags[1:] >= 5.0 * run[1:])
+    t = float(run[stop[0] + 1] if stop.size else run[-1])
     return float(min(max(t, 1.0), n / 20.0))
 
 

@@ -32,6 +32,8 @@ named set then goes through the realness checks of every effect
 
 from __future__ import annotations
 
+from typing import Any
+
 from fsarm_sim.discrepancy import realness, selection
 from fsarm_sim.discrepancy.candidate_structure import BoolArray, Context, Fit
 from fsarm_sim.discrepancy.core_step import rank
@@ -79,6 +81,7 @@ def retest(setup: Setup[Fit], ctx: Context, diag: Diagnosis[Fit], max_effects: i
     use = ctx.teach | ctx.held
     tried: list[Score] = []
     resolved = False
+    done: tuple[Fit, str, dict[str, Any]] | None = None  # the resolved model and its verdict
     while len(named) < max_effects:
         pick = _first_passing(setup, ctx, cur, named, nom, use)
         if pick is None:
@@ -88,9 +91,11 @@ def retest(setup: Setup[Fit], ctx: Context, diag: Diagnosis[Fit], max_effects: i
         cur = setup.accept(f)
         named.append(s.effect)
         final = setup.finish(cur, named)
-        _, extras = setup.conclude(nom, final, named)
+        final.label = "nominal + " + " + ".join(named)
+        text, extras = setup.conclude(nom, final, named)
         if not extras["unexplained"]:
             resolved = True
+            done = final, text, extras
             break
     if not tried:
         return False
@@ -126,9 +131,8 @@ def retest(setup: Setup[Fit], ctx: Context, diag: Diagnosis[Fit], max_effects: i
             added_effects=[s.effect for s in tried],
         )
     )
-    final = setup.finish(cur, named)
-    final.label = "nominal + " + " + ".join(named)
+    assert done is not None
+    final, diag.verdict, extras = done  # the model and verdict that resolved it, not redone
     diag.final, diag.named = final, named
-    diag.verdict, extras = setup.conclude(nom, final, named)
     diag.extras.update(extras)
     return True
