@@ -105,6 +105,21 @@ def joint_step(
     setup with the optional ``joint_pairs(cur, named)`` method fits its pairs itself (the arm,
     :mod:`.arm_joint`: every pair together from the start) - they replace the extended singles."""
     singles = {s.effect: f for s, f in ranked}
+    combos = _pair_combos(setup, cur, named, singles, both_orders)
+    if room >= 3 and combos and both_orders and _a_pair_earns(setup, cur, nom, combos):
+        room = 2  # triples only when no pair earns its place
+    if room >= 3 and combos:
+        _add_triples(setup, named, combos)
+    if not combos:
+        return Step(index, [], None, None, None, None, False, "no joint candidate", True), None
+    return _judge(setup, cur, index, nom, ranked, combos)
+
+
+def _pair_combos(
+    setup: Setup[F], cur: F, named: Sequence[str], singles: dict[str, F], both_orders: bool
+) -> list[_Combo[F]]:
+    """The pairs of :func:`joint_step`: the setup's own (``joint_pairs``) or the best single
+    fits extended by every other candidate."""
     firsts = sorted(singles.items(), key=lambda ef: setup.cost(ef[1])[1])[:JOINT_FIRST]
     combos: list[_Combo[F]] = []
     done: list[str] = []
@@ -127,31 +142,43 @@ def joint_step(
             combos.append(_Combo(members, f, subs))
         if not both_orders:
             done.append(e_a)
-    if room >= 3 and combos and both_orders:  # triples only when no pair earns its place
-        n_t2, n_h2 = common_n_eff(setup, [c.fit for c in combos])
-        if any(
-            score(setup, cur, c.fit, n_t2, n_h2, nom).earns_place
-            and all(_member_needed(setup, sub, c.fit, n_t2, n_h2, nom) for sub in c.subs.values())
-            and len(c.subs) == len(c.members)
-            for c in combos
-        ):
-            room = 2
-    if room >= 3 and combos:
-        pairs: dict[frozenset[str], _Combo[F]] = {}
-        for c in sorted(combos, key=lambda c: setup.cost(c.fit)[1], reverse=True):
-            pairs[c.effects] = c  # the better order of a pair last
-        best_pairs = sorted(pairs.values(), key=lambda c: setup.cost(c.fit)[1])[:JOINT_TRIPLES_FROM]
-        seen: set[frozenset[str]] = set()
-        for pc in best_pairs:
-            for members, f in _extend(setup, pc.fit, pc.members, [*named, *pc.effects]):
-                effs = frozenset(e for e, _ in members)
-                sub_pairs = {e: pairs.get(effs - {e}) for e in effs}
-                if effs in seen or any(v is None for v in sub_pairs.values()):
-                    continue  # a member's need could not be judged without another fit
-                seen.add(effs)
-                combos.append(_Combo(members, f, {e: c.fit for e, c in sub_pairs.items() if c}))
-    if not combos:
-        return Step(index, [], None, None, None, None, False, "no joint candidate", True), None
+    return combos
+
+
+def _a_pair_earns(setup: Setup[F], cur: F, nom: F, combos: list[_Combo[F]]) -> bool:
+    """Whether a pair earns its place as a whole, each member on top of the other."""
+    n_t2, n_h2 = common_n_eff(setup, [c.fit for c in combos])
+    return any(
+        score(setup, cur, c.fit, n_t2, n_h2, nom).earns_place
+        and all(_member_needed(setup, sub, c.fit, n_t2, n_h2, nom) for sub in c.subs.values())
+        and len(c.subs) == len(c.members)
+        for c in combos
+    )
+
+
+def _add_triples(setup: Setup[F], named: Sequence[str], combos: list[_Combo[F]]) -> None:
+    """The best pairs extended by a third effect, appended to ``combos`` (a triple whose
+    members' need cannot be judged without another fit is left out)."""
+    pairs: dict[frozenset[str], _Combo[F]] = {}
+    for c in sorted(combos, key=lambda c: setup.cost(c.fit)[1], reverse=True):
+        pairs[c.effects] = c  # the better order of a pair last
+    best_pairs = sorted(pairs.values(), key=lambda c: setup.cost(c.fit)[1])[:JOINT_TRIPLES_FROM]
+    seen: set[frozenset[str]] = set()
+    for pc in best_pairs:
+        for members, f in _extend(setup, pc.fit, pc.members, [*named, *pc.effects]):
+            effs = frozenset(e for e, _ in members)
+            sub_pairs = {e: pairs.get(effs - {e}) for e in effs}
+            if effs in seen or any(v is None for v in sub_pairs.values()):
+                continue  # a member's need could not be judged without another fit
+            seen.add(effs)
+            combos.append(_Combo(members, f, {e: c.fit for e, c in sub_pairs.items() if c}))
+
+
+def _scored(
+    setup: Setup[F], cur: F, nom: F, combos: list[_Combo[F]]
+) -> list[tuple[Score, _Combo[F]]]:
+    """Every combination scored against ``cur`` on one effective sample count, best first; one
+    whose member does not earn its place on top of the others does not earn its place."""
     n_t, n_h = common_n_eff(setup, [c.fit for c in combos])
     scored: list[tuple[Score, _Combo[F]]] = []
     for c in combos:
@@ -168,6 +195,19 @@ def joint_step(
             sc.note = (sc.note + "; " if sc.note else "") + "a member does not earn its place"
         scored.append((sc, c))
     scored.sort(key=lambda sc_c: sc_c[0].d_bic_held)
+    return scored
+
+
+def _judge(
+    setup: Setup[F],
+    cur: F,
+    index: int,
+    nom: F,
+    ranked: list[tuple[Score, F]],
+    combos: list[_Combo[F]],
+) -> tuple[Step, F | None]:
+    """The joint step's verdict: the best combination that earns its place, or why none does."""
+    scored = _scored(setup, cur, nom, combos)
     per_set: dict[frozenset[str], tuple[Score, _Combo[F]]] = {}
     for sc, c in scored:
         per_set.setdefault(c.effects, (sc, c))
@@ -303,46 +343,10 @@ def prune(
         return cur, named
     named = list(named)
     holds: Callable[[F, str], bool] | None = getattr(setup, "holds", None)
-
-    def drop_absent() -> None:
-        for e in list(named):
-            if holds is not None and len(named) >= 2 and not holds(cur, e):
-                named.remove(e)
-                steps.append(
-                    Step(
-                        len(steps) + 1,
-                        [],
-                        None,
-                        None,
-                        None,
-                        None,
-                        False,
-                        f"pruning: {e} is no longer in the model (the fits of the other effects "
-                        "dropped all its elements): not named",
-                    )
-                )
-
-    drop_absent()
+    _drop_absent(cur, named, steps, holds)
     if swap is not None:
-        label = cur.label
-        cur, replaced = swap(cur)
-        cur.label = label
-        for old, new in replaced.items():
-            named[named.index(old)] = new
-            steps.append(
-                Step(
-                    len(steps) + 1,
-                    [],
-                    new,
-                    old,
-                    None,
-                    None,
-                    True,
-                    f"pruning: {new} replaces its look-alike {old} (held-out and teaching BIC "
-                    "lower by more than 10 with the other effects refit around it)",
-                )
-            )
-        drop_absent()
+        cur = _swap_lookalikes(cur, named, steps, swap)
+        _drop_absent(cur, named, steps, holds)
     changed = True
     while changed and len(named) >= 2:
         changed = False
@@ -355,28 +359,78 @@ def prune(
                 setup.cost(sub), setup.cost(cur), n_t, n_h, setup.noise_var
             ).earns_place:
                 continue  # it still earns its place by the rule of a first effect: kept
-            sc = score(setup, sub, cur, n_t, n_h)
-            sc.label, sc.effect = f"{e} on top of the others", e
+            steps.append(_drop_step(setup, sub, cur, e, n_t, n_h, len(steps) + 1))
+            label = cur.label
+            named.remove(e)
+            cur = sub
+            cur.label = label
+            _drop_absent(cur, named, steps, holds)
+            changed = True
+            break
+    return cur, named
+
+
+def _drop_absent(
+    cur: F, named: list[str], steps: list[Step], holds: Callable[[F, str], bool] | None
+) -> None:
+    """Named effects the model ``cur`` no longer holds leave ``named`` (a step each)."""
+    for e in list(named):
+        if holds is not None and len(named) >= 2 and not holds(cur, e):
+            named.remove(e)
             steps.append(
                 Step(
                     len(steps) + 1,
-                    [sc],
+                    [],
                     None,
                     None,
                     None,
                     None,
                     False,
-                    f"pruning: {e} no longer earns its place on top of the others (held-out BIC "
-                    f"{sc.d_bic_held:+.1f}, held-out {setup.mse_name} gain "
-                    f"{100 * sc.gain_held:.2f} %, explains {sc.explained_over_noise:.2f} of "
-                    "the noise variance): dropped",
+                    f"pruning: {e} is no longer in the model (the fits of the other effects "
+                    "dropped all its elements): not named",
                 )
             )
-            label = cur.label
-            named.remove(e)
-            cur = sub
-            cur.label = label
-            drop_absent()
-            changed = True
-            break
-    return cur, named
+
+
+def _swap_lookalikes(
+    cur: F, named: list[str], steps: list[Step], swap: Callable[[F], tuple[F, dict[str, str]]]
+) -> F:
+    """The setup's look-alike swaps applied to ``cur`` and ``named`` (a step each)."""
+    label = cur.label
+    cur, replaced = swap(cur)
+    cur.label = label
+    for old, new in replaced.items():
+        named[named.index(old)] = new
+        steps.append(
+            Step(
+                len(steps) + 1,
+                [],
+                new,
+                old,
+                None,
+                None,
+                True,
+                f"pruning: {new} replaces its look-alike {old} (held-out and teaching BIC "
+                "lower by more than 10 with the other effects refit around it)",
+            )
+        )
+    return cur
+
+
+def _drop_step(setup: Setup[F], sub: F, cur: F, e: str, n_t: float, n_h: float, index: int) -> Step:
+    """The step that drops ``e``: it no longer earns its place on top of the others."""
+    sc = score(setup, sub, cur, n_t, n_h)
+    sc.label, sc.effect = f"{e} on top of the others", e
+    return Step(
+        index,
+        [sc],
+        None,
+        None,
+        None,
+        None,
+        False,
+        f"pruning: {e} no longer earns its place on top of the others (held-out BIC "
+        f"{sc.d_bic_held:+.1f}, held-out {setup.mse_name} gain "
+        f"{100 * sc.gain_held:.2f} %, explains {sc.explained_over_noise:.2f} of "
+        "the noise variance): dropped",
+    )
