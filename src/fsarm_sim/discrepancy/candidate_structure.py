@@ -255,11 +255,15 @@ def build_columns(
 def solve_columns(cols: Columns, y: FloatArray, rows: BoolArray) -> FloatArray:
     """Bounded linear least squares on the rows (columns scaled to unit RMS; reduced to k x k
     first, :mod:`fsarm_sim.discrepancy.lsq`)."""
-    a = cols.a[rows]  # a copy (boolean index): scaled in place
+    return _solve_rows(cols.a[rows], y[rows], cols.lower, cols.upper)
+
+
+def _solve_rows(a: FloatArray, y: FloatArray, lower: FloatArray, upper: FloatArray) -> FloatArray:
+    """:func:`solve_columns` on the rows already taken; ``a`` is a copy, scaled in place."""
     scale = np.sqrt(np.mean(a * a, axis=0))
     scale[scale == 0.0] = 1.0
     np.divide(a, scale, out=a)
-    x = lsq.bounded(a, y[rows], cols.lower * scale, cols.upper * scale)
+    x = lsq.bounded(a, y, lower * scale, upper * scale)
     return np.asarray(x / scale, dtype=np.float64)
 
 
@@ -383,6 +387,7 @@ def prune_elements(ctx: Context, st: Structure, coef: dict[str, float], cols: Co
     hyst = {n for n in cols.names if n.startswith(("slip", "ve"))}
     fixed = [i for i, n in enumerate(cols.names) if n not in hyst]
     y, rows = ctx.inp.y, ctx.teach
+    a_rows, y_rows = cols.a[rows], y[rows]  # taken once; each fit takes its columns from these
 
     everything = list(range(len(cols.names)))
 
@@ -391,11 +396,8 @@ def prune_elements(ctx: Context, st: Structure, coef: dict[str, float], cols: Co
         if idx == everything and len(coef) == len(cols.names):  # the caller's solve: reuse it
             r = y - cols.a @ np.array([coef[n] for n in cols.names])
             return float(np.mean(r[rows] ** 2)), r
-        sub = Columns(
-            cols.a[:, idx], [cols.names[i] for i in idx], cols.lower[idx], cols.upper[idx]
-        )
-        c = solve_columns(sub, y, rows)
-        r = y - sub.a @ c
+        c = _solve_rows(a_rows[:, idx], y_rows, cols.lower[idx], cols.upper[idx])
+        r = y - cols.a[:, idx] @ c
         return float(np.mean(r[rows] ** 2)), r
 
     if len(active) > 1:
