@@ -255,10 +255,15 @@ def build_columns(
 def solve_columns(cols: Columns, y: FloatArray, rows: BoolArray) -> FloatArray:
     """Bounded linear least squares on the rows (columns scaled to unit RMS; reduced to k x k
     first, :mod:`fsarm_sim.discrepancy.lsq`)."""
-    a = cols.a[rows]
+    return _solve_rows(cols.a[rows], y[rows], cols.lower, cols.upper)
+
+
+def _solve_rows(a: FloatArray, y: FloatArray, lower: FloatArray, upper: FloatArray) -> FloatArray:
+    """:func:`solve_columns` on the rows already taken; ``a`` is a copy, scaled in place."""
     scale = np.sqrt(np.mean(a * a, axis=0))
     scale[scale == 0.0] = 1.0
-    x = lsq.bounded(a / scale, y[rows], cols.lower * scale, cols.upper * scale)
+    np.divide(a, scale, out=a)
+    x = lsq.bounded(a, y, lower * scale, upper * scale)
     return np.asarray(x / scale, dtype=np.float64)
 
 
@@ -367,7 +372,9 @@ def split_mse(ctx: Context, yhat: FloatArray) -> tuple[float, float]:
 def prune_elements(ctx: Context, st: Structure, coef: dict[str, float], cols: Columns) -> Structure:
     """Drop hysteresis elements that carry (almost) nothing, then - backward elimination - each
     element whose removal lowers the teaching BIC (an element costs two parameters: with strongly
-    correlated residuals the effective sample count is small and so is the evidence per element)."""
+    correlated residuals the effective sample count is small and so is the evidence per element).
+    ``coef`` is :func:`solve_columns` of all of ``cols`` on ``ctx.inp.y`` and the teaching rows
+    (it is not solved again)."""
     thr = PRUNE_FRACTION * float(np.std(ctx.inp.y))
     active = []
     for key, arr in (("slip", st.slip), ("ve", st.ve)):
@@ -380,14 +387,17 @@ def prune_elements(ctx: Context, st: Structure, coef: dict[str, float], cols: Co
     hyst = {n for n in cols.names if n.startswith(("slip", "ve"))}
     fixed = [i for i, n in enumerate(cols.names) if n not in hyst]
     y, rows = ctx.inp.y, ctx.teach
+    a_rows, y_rows = cols.a[rows], y[rows]  # taken once; each fit takes its columns from these
+
+    everything = list(range(len(cols.names)))
 
     def fit(names: list[str]) -> tuple[float, FloatArray]:
         idx = fixed + [cols.names.index(n) for n in names]
-        sub = Columns(
-            cols.a[:, idx], [cols.names[i] for i in idx], cols.lower[idx], cols.upper[idx]
-        )
-        c = solve_columns(sub, y, rows)
-        r = y - sub.a @ c
+        if idx == everything and len(coef) == len(cols.names):  # the caller's solve: reuse it
+            r = y - cols.a @ np.array([coef[n] for n in cols.names])
+            return float(np.mean(r[rows] ** 2)), r
+        c = _solve_rows(a_rows[:, idx], y_rows, cols.lower[idx], cols.upper[idx])
+        r = y - cols.a[:, idx] @ c
         return float(np.mean(r[rows] ** 2)), r
 
     if len(active) > 1:
