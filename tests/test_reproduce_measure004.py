@@ -8,19 +8,19 @@ import numpy as np
 import pytest
 
 from fsarm_sim.plant.transmissions import tendon_sheath as ts
-from fsarm_sim.studies.reproduce import measure004 as m
+from fsarm_sim.studies.reproduce import measure004
 
 
 @pytest.fixture(scope="module")
 def run_pi() -> dict:
-    return m.position_transmission(math.pi, 0.06)
+    return measure004.position_transmission(math.pi, 0.06)
 
 
 def test_the_joint_swings_about_zero_from_equal_start_angles(run_pi: dict) -> None:
     # Sec. III: theta_1 and theta_2 start equal, so theta_2 swings about 0 as theta_1 does
     t1, t2 = run_pi["theta1"], run_pi["theta2"]
-    assert t1.min() == pytest.approx(-m.AMPLITUDE_RAD, abs=2 * m.STEP_RAD)
-    assert t1.max() == pytest.approx(m.AMPLITUDE_RAD, abs=2 * m.STEP_RAD)
+    assert t1.min() == pytest.approx(-measure004.AMPLITUDE_RAD, abs=2 * measure004.STEP_RAD)
+    assert t1.max() == pytest.approx(measure004.AMPLITUDE_RAD, abs=2 * measure004.STEP_RAD)
     # (both sides by a good part of the swing: the joint's range is the motor's less the gap)
     assert t2.min() < -0.15 and t2.max() > 0.15
 
@@ -44,7 +44,7 @@ def test_gap_is_the_difference_of_the_branch_fits_at_zero(run_pi: dict) -> None:
 
 def test_steel_tendon_on_the_arm_defaults_has_a_far_smaller_gap(run_pi: dict) -> None:
     # the arm's rigid-sheath steel tendon, as a single tendon on the same bench
-    steel = m.position_transmission(
+    steel = measure004.position_transmission(
         math.pi,
         0.06,
         overrides={
@@ -61,16 +61,20 @@ def test_the_bench_meets_both_tables_branch_gaps(run_pi: dict) -> None:
     8.2 %): each gap within 10 % of its table, and the shared point (bend pi, 0.06 rad/s) is the
     one run of both tables."""
     gaps_bend = [
-        run_pi["gap"] if w == math.pi else m.position_transmission(w, m.DEFAULT_SPEED)["gap"]
-        for w in m.WRAPS_RAD
+        run_pi["gap"]
+        if w == math.pi
+        else measure004.position_transmission(w, measure004.DEFAULT_SPEED)["gap"]
+        for w in measure004.WRAPS_RAD
     ]
     gaps_speed = [
-        run_pi["gap"] if v == m.DEFAULT_SPEED else m.position_transmission(math.pi, v)["gap"]
-        for v in m.SPEEDS_RAD_S
+        run_pi["gap"]
+        if v == measure004.DEFAULT_SPEED
+        else measure004.position_transmission(math.pi, v)["gap"]
+        for v in measure004.SPEEDS_RAD_S
     ]
     for ours, table in (
-        *zip(gaps_bend, m.TABLE2_GAPS, strict=True),
-        *zip(gaps_speed, m.TABLE1_GAPS, strict=True),
+        *zip(gaps_bend, measure004.TABLE2_GAPS, strict=True),
+        *zip(gaps_speed, measure004.TABLE1_GAPS, strict=True),
     ):
         assert abs(ours / table - 1.0) <= 0.10, (ours, table)
 
@@ -78,9 +82,9 @@ def test_the_bench_meets_both_tables_branch_gaps(run_pi: dict) -> None:
 def test_a_coarse_joint_encoder_adds_about_a_count_to_eq19s_error(run_pi: dict) -> None:
     exact = run_pi["max_error"]
     # a fine encoder reads the same fit; a coarse one adds up to about one count
-    assert m.max_error_read(run_pi, 24) == pytest.approx(exact, rel=1e-3)
+    assert measure004.max_error_read(run_pi, 24) == pytest.approx(exact, rel=1e-3)
     q6 = 2.0 * math.pi / 2**6  # 0.098 rad per count
-    coarse = m.max_error_read(run_pi, 6)
+    coarse = measure004.max_error_read(run_pi, 6)
     assert exact + 0.1 * q6 < coarse < exact + q6
     with pytest.raises(ValueError, match="bits"):
-        m.max_error_read(run_pi, 0)
+        measure004.max_error_read(run_pi, 0)
